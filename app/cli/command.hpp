@@ -1,0 +1,44 @@
+#pragma once
+// Subcommands of the drivetwin executable register themselves here, one file
+// each in app/cli/, so that adding a command never edits main.cpp:
+//
+//   namespace {
+//   const bool kRegistered = app::cli::register_command(
+//       {"torque", "Estimate rotor input torque from SCADA wind speed", &setup_torque});
+//   }
+//
+// setup() adds the subcommand's options to `sub` and sets its callback. A
+// callback reports failure by throwing app::cli::CommandError (or any
+// std::exception) with a message that names the file, row and field; main()
+// prints it and exits non-zero. Start-up / host code only: not real-time.
+
+#include <CLI/CLI.hpp>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace app::cli {
+
+struct Command {
+  const char* name;
+  const char* description;
+  void (*setup)(CLI::App& sub);
+};
+
+/// An error the user caused (bad file, bad value): printed without a stack of context.
+class CommandError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Adds a command to the registry; called from static initialisers.
+bool register_command(const Command& command);
+
+/// The registered commands, sorted by name.
+const std::vector<Command>& commands();
+
+/// Exit status a command's callback sets (default 0); main() returns it.
+int& exit_status();
+
+}  // namespace app::cli

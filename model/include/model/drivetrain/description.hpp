@@ -1,0 +1,149 @@
+#pragma once
+// The drivetrain description: everything the twin knows about one turbine and
+// its gearbox, read once at start-up (app/config/ parses the file format) and
+// immutable afterwards. The reference turbine of shared/reference/drivetrain-2mw.md
+// is built in as `paper-2mw` (paper_2mw.cpp).
+//
+// Units: SI throughout (m, kg, N, N·m, rad, s) unless the name says otherwise
+// (`_rpm`, `_mpa`, `_deg` never appear in stored fields except where noted).
+// Thread context: start-up only; the real-time loop reads derived, fixed-size data.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace model {
+
+/// Gear material and its fatigue data (ISO 6336-5 / -6).
+struct Material {
+  std::string id;                      // e.g. "17CrNiMo6"
+  double youngs_modulus_pa = 206e9;    // [Pa]
+  double poisson_ratio = 0.3;          // [-]
+  double density_kg_m3 = 7850.0;       // [kg/m³]
+  double sigma_hlim_mpa = 1500.0;      // [MPa] allowable contact stress number, ISO 6336-5
+  double sigma_flim_mpa = 500.0;       // [MPa] nominal bending stress number, ISO 6336-5
+  // S-N curves N = (C/σ)^m below the knee (ISO 6336-6 / paper eq. for the sun gear).
+  double sn_contact_m = 17.035;        // [-]
+  double sn_contact_c_mpa = 3090.3;    // [MPa]
+  double sn_bending_m = 8.738;         // [-]
+  double sn_bending_c_mpa = 1500.0;    // [MPa]
+};
+
+/// Power coefficient surface Cp(λ, β): the form is defined in model/wind.
+struct CpSurface {
+  std::array<double, 6> c{};  // [-] surface coefficients c1..c6 (see model/wind/cp_surface.hpp)
+  double lambda_i_beta = 0.08;   // [-] λ_i coupling to pitch
+  double lambda_i_cubic = 0.035; // [-] λ_i pitch cubic term
+};
+
+struct Turbine {
+  double rated_power_w = 0.0;          // [W] electrical
+  double rated_torque_nm = 0.0;        // [N·m] rotor (gearbox input) torque at rated
+  double rated_rotor_speed_rpm = 0.0;  // [rpm]
+  double min_rotor_speed_rpm = 0.0;    // [rpm] lowest controlled speed (0: none)
+  double cut_in_wind_mps = 0.0;        // [m/s]
+  double rated_wind_mps = 0.0;         // [m/s]
+  double cut_out_wind_mps = 0.0;       // [m/s]
+  double rotor_radius_m = 0.0;         // [m]
+  double air_density_kg_m3 = 1.225;    // [kg/m³]
+  double cp_max = 0.0;                 // [-] maximum of the Cp surface at β = 0
+  double lambda_opt = 0.0;             // [-] tip-speed ratio of cp_max
+  CpSurface cp;                        // Cp(λ, β)
+  double drivetrain_efficiency = 1.0;  // [-] rotor (aerodynamic) power → electrical power
+};
+
+enum class StageType { kPlanetary, kParallel };
+
+/// One gear wheel. `id` is a component id (sun, planet, ring, g1..g4 for paper-2mw).
+struct Gear {
+  std::string id;
+  std::string shaft;              // shaft id the gear sits on ("" for the fixed ring, planet pins)
+  int teeth = 0;                  // [-] z (ring: internal teeth)
+  double face_width_m = 0.0;      // [m] b
+  double mass_kg = 0.0;           // [kg]
+  double profile_shift = 0.0;     // [-] x
+  std::string material;           // Material::id
+};
+
+/// A gear stage. Planetary: gears = {sun, planet, ring}, carrier = input, ring fixed,
+/// sun = output. Parallel: gears = {wheel (input shaft), pinion (output shaft)}.
+struct GearStage {
+  std::string id;                 // "planetary", "intermediate", "high_speed"
+  StageType type = StageType::kParallel;
+  double normal_module_m = 0.0;   // [m] m_n
+  double pressure_angle_rad = 0.0;// [rad] α_n
+  double helix_angle_rad = 0.0;   // [rad] β
+  int planets = 0;                // [-] planetary only
+  std::vector<std::string> gears; // Gear ids, order as above
+  std::string input_shaft;        // shaft id driving the stage
+  std::string output_shaft;       // shaft id driven by the stage
+};
+
+struct Shaft {
+  std::string id;                 // lss, sun_shaft, ims, hss
+  double length_m = 0.0;          // [m] between the bearings
+  double diameter_m = 0.0;        // [m] mean solid diameter
+  std::string material;
+};
+
+enum class BearingType { kBall, kRoller };
+
+/// A rolling bearing: geometry fixed by the reference; rating and stiffness are model data.
+struct Bearing {
+  std::string id;                  // b1..b6, pb
+  std::string shaft;               // shaft id ("planet" for the planet bearings)
+  std::string position;            // free text, e.g. "rotor side"
+  int elements = 0;                // [-] Nb per row
+  int rows = 1;                    // [-]
+  double element_diameter_m = 0.0; // [m] d
+  double pitch_diameter_m = 0.0;   // [m] Dp
+  double contact_angle_rad = 0.0;  // [rad] φ
+  BearingType type = BearingType::kRoller;
+  double dynamic_rating_n = 0.0;   // [N] C, ISO 281
+  double radial_stiffness_n_m = 0.0; // [N/m] mean radial stiffness k_a
+};
+
+/// A CMS measurement channel: where the accelerometer sits.
+struct MeasurementPoint {
+  std::string channel;             // "point1"
+  std::string location;            // component id, e.g. "b5"
+  std::string direction;           // "radial"
+};
+
+/// Parameters of the dynamics model that are not geometry; the calibrator moves these.
+struct DynamicsParameters {
+  double rayleigh_eta = 0.0;                  // [1/s] mass-proportional damping η (C = ηM + ζK)
+  double rayleigh_zeta = 0.0;                 // [s] stiffness-proportional damping ζ
+  std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};  // [-] per stage
+  std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
+  double bearing_stiffness_fluctuation = 0.1; // [-] k_θ / k_a
+};
+
+struct Drivetrain {
+  std::string name;
+  Turbine turbine;
+  std::vector<Material> materials;
+  std::vector<Shaft> shafts;
+  std::vector<Gear> gears;
+  std::vector<GearStage> stages;
+  std::vector<Bearing> bearings;
+  std::vector<MeasurementPoint> measurement_points;
+  DynamicsParameters dynamics;
+
+  const Gear* gear(std::string_view id) const;
+  const Bearing* bearing(std::string_view id) const;
+  const Shaft* shaft(std::string_view id) const;
+  const Material* material(std::string_view id) const;
+  const GearStage* stage(std::string_view id) const;
+};
+
+/// The reference 2 MW turbine and gearbox (shared/reference/drivetrain-2mw.md).
+Drivetrain paper_2mw();
+
+/// Names of the built-in drivetrains, and lookup by name.
+std::vector<std::string> builtin_drivetrain_names();
+std::optional<Drivetrain> builtin_drivetrain(std::string_view name);
+
+}  // namespace model
