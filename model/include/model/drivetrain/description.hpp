@@ -39,6 +39,7 @@ struct CpSurface {
 };
 
 struct Turbine {
+  double lambda_scale = 1.0;     // [-] s: the surface is evaluated at s·λ (places λ_opt)
   double rated_power_w = 0.0;          // [W] electrical
   double rated_torque_nm = 0.0;        // [N·m] rotor (gearbox input) torque at rated
   double rated_rotor_speed_rpm = 0.0;  // [rpm]

@@ -1,0 +1,130 @@
+#include "model/wind/wind_load.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace model::wind {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
+}  // namespace
+
+const char* region_name(OperatingRegion region) {
+  switch (region) {
+    case OperatingRegion::kBelowCutIn:
+      return "below_cut_in";
+    case OperatingRegion::kTracking:
+      return "2";
+    case OperatingRegion::kSpeedLimited:
+      return "2.5";
+    case OperatingRegion::kRated:
+      return "3";
+    case OperatingRegion::kAboveCutOut:
+      return "above_cut_out";
+    case OperatingRegion::kStopped:
+      return "stopped";
+  }
+  return "?";
+}
+
+WindLoad::WindLoad(const Turbine& turbine)
+    : turbine_(turbine),
+      peak_(find_cp_peak(turbine.cp)),
+      rated_speed_rad_s_(turbine.rated_rotor_speed_rpm * kRpmToRadS),
+      min_speed_rad_s_(turbine.min_rotor_speed_rpm * kRpmToRadS),
+      rated_torque_nm_(turbine.rated_torque_nm),
+      half_rho_area_(0.5 * turbine.air_density_kg_m3 * kPi * turbine.rotor_radius_m *
+                     turbine.rotor_radius_m) {
+  speed_limit_wind_mps_ =
+      peak_.lambda_opt > 0.0 ? rated_speed_rad_s_ * turbine_.rotor_radius_m / peak_.lambda_opt
+                             : 0.0;
+  double speed = 0.0;
+  torque_at_speed_limit_nm_ = tracking_torque_nm(speed_limit_wind_mps_, &speed);
+}
+
+double WindLoad::aerodynamic_torque_nm(double wind_speed_mps, double rotor_speed_rad_s,
+                                       double pitch_rad) const {
+  if (!(wind_speed_mps > 0.0) || !(rotor_speed_rad_s > 0.0)) return 0.0;
+  const double lambda = rotor_speed_rad_s * turbine_.rotor_radius_m / wind_speed_mps;
+  const double cp = power_coefficient(turbine_.cp, lambda, pitch_rad);
+  // P = ½ρπR²v³·Cp (actuator disc), T = P/ω
+  return half_rho_area_ * wind_speed_mps * wind_speed_mps * wind_speed_mps * cp /
+         rotor_speed_rad_s;
+}
+
+double WindLoad::tracking_torque_nm(double wind_speed_mps, double* speed_rad_s) const {
+  // Region 2: ω = λ_opt·v/R within the controller's speed range.
+  double speed = peak_.lambda_opt * wind_speed_mps / turbine_.rotor_radius_m;
+  speed = std::clamp(speed, min_speed_rad_s_, std::max(min_speed_rad_s_, rated_speed_rad_s_));
+  *speed_rad_s = speed;
+  return std::min(aerodynamic_torque_nm(wind_speed_mps, speed, 0.0), rated_torque_nm_);
+}
+
+double WindLoad::effective_cp(double torque_nm, double speed_rad_s, double wind_speed_mps) const {
+  const double available = half_rho_area_ * wind_speed_mps * wind_speed_mps * wind_speed_mps;
+  return available > 0.0 ? torque_nm * speed_rad_s / available : 0.0;
+}
+
+OperatingRegion WindLoad::region_of(double wind_speed_mps) const {
+  if (!(wind_speed_mps >= turbine_.cut_in_wind_mps)) return OperatingRegion::kBelowCutIn;
+  if (wind_speed_mps >= turbine_.cut_out_wind_mps) return OperatingRegion::kAboveCutOut;
+  if (wind_speed_mps >= turbine_.rated_wind_mps) return OperatingRegion::kRated;
+  if (wind_speed_mps >= speed_limit_wind_mps_) return OperatingRegion::kSpeedLimited;
+  return OperatingRegion::kTracking;
+}
+
+WindLoadOutput WindLoad::steady_state(double wind_speed_mps) const {
+  WindLoadOutput out;
+  out.region = region_of(wind_speed_mps);
+  switch (out.region) {
+    case OperatingRegion::kBelowCutIn:
+    case OperatingRegion::kAboveCutOut:
+    case OperatingRegion::kStopped:
+      return out;
+    case OperatingRegion::kTracking:
+      out.torque_nm = tracking_torque_nm(wind_speed_mps, &out.rotor_speed_rad_s);
+      break;
+    case OperatingRegion::kSpeedLimited: {
+      // Region 2½ ramp (see header: joins T(v_sl) to T_rated at v_rated).
+      const double span = turbine_.rated_wind_mps - speed_limit_wind_mps_;
+      const double fraction = span > 0.0 ? (wind_speed_mps - speed_limit_wind_mps_) / span : 1.0;
+      out.rotor_speed_rad_s = rated_speed_rad_s_;
+      out.torque_nm = torque_at_speed_limit_nm_ +
+                      (rated_torque_nm_ - torque_at_speed_limit_nm_) * fraction;
+      break;
+    }
+    case OperatingRegion::kRated:
+      out.rotor_speed_rad_s = rated_speed_rad_s_;
+      out.torque_nm = rated_torque_nm_;
+      break;
+  }
+  out.tip_speed_ratio = out.rotor_speed_rad_s * turbine_.rotor_radius_m / wind_speed_mps;
+  out.power_coefficient = effective_cp(out.torque_nm, out.rotor_speed_rad_s, wind_speed_mps);
+  return out;
+}
+
+WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
+                                          double pitch_rad, bool has_pitch) const {
+  WindLoadOutput out;
+  out.region = region_of(wind_speed_mps);
+  out.rotor_speed_rad_s = rotor_speed_rad_s;
+  if (out.region == OperatingRegion::kBelowCutIn || out.region == OperatingRegion::kAboveCutOut) {
+    return out;
+  }
+  if (!(rotor_speed_rad_s >= kStoppedRotorSpeedRadS)) {
+    out.region = OperatingRegion::kStopped;
+    return out;
+  }
+  out.tip_speed_ratio = rotor_speed_rad_s * turbine_.rotor_radius_m / wind_speed_mps;
+  if (out.region == OperatingRegion::kRated && !has_pitch) {
+    out.torque_nm = rated_torque_nm_;
+  } else {
+    out.torque_nm = std::min(
+        aerodynamic_torque_nm(wind_speed_mps, rotor_speed_rad_s, has_pitch ? pitch_rad : 0.0),
+        rated_torque_nm_);
+  }
+  out.power_coefficient = effective_cp(out.torque_nm, rotor_speed_rad_s, wind_speed_mps);
+  return out;
+}
+
+}  // namespace model::wind
