@@ -36,10 +36,10 @@ struct CpSurface {
   std::array<double, 6> c{};  // [-] surface coefficients c1..c6 (see model/wind/cp_surface.hpp)
   double lambda_i_beta = 0.08;   // [-] λ_i coupling to pitch
   double lambda_i_cubic = 0.035; // [-] λ_i pitch cubic term
+  double lambda_scale = 1.0;     // [-] s: the surface is evaluated at s·λ (places λ_opt)
 };
 
 struct Turbine {
-  double lambda_scale = 1.0;     // [-] s: the surface is evaluated at s·λ (places λ_opt)
   double rated_power_w = 0.0;          // [W] electrical
   double rated_torque_nm = 0.0;        // [N·m] rotor (gearbox input) torque at rated
   double rated_rotor_speed_rpm = 0.0;  // [rpm]
