@@ -28,7 +28,10 @@ struct Material {
   double sn_contact_m = 17.035;        // [-]
   double sn_contact_c_mpa = 3090.3;    // [MPa]
   double sn_bending_m = 8.738;         // [-]
-  double sn_bending_c_mpa = 1500.0;    // [MPa]
+  double sn_bending_c_mpa = 5512.0;    // [MPa] σ_FE = 2·σ_Flim = 1000 MPa at the knee 3e6 (ISO 6336-3 Y_NT)
+  double sn_contact_knee_cycles = 5e7; // [-] N0, ISO 6336-2 Z_NT knee (case-hardened, some pitting allowed)
+  double sn_bending_knee_cycles = 3e6; // [-] N0, ISO 6336-3 Y_NT knee (case-hardened)
+  double reversed_bending_factor = 0.7;// [-] Y_M for fully reversed root stress (idler / planet), ISO 6336-3 Annex B
 };
 
 /// Power coefficient surface Cp(λ, β): the form is defined in model/wind.

@@ -1,0 +1,119 @@
+#pragma once
+// Gear-mesh load capacity per ISO 6336 (2006 editions): the contact stress of
+// ISO 6336-2 (method B) and the tooth-root stress of ISO 6336-3 (method B) as
+// functions of the transverse tangential force F_t at the reference circle, with
+// every geometry factor computed from the drivetrain description.
+//
+// Factors and where they come from (see mesh_rating() for the equations):
+//   Z_H, Z_E, Z_ε, Z_β, Z_B/Z_D, Y_F, Y_S, Y_β, K_Fβ(N_F), K_Hα/K_Fα : computed from geometry
+//   K_v = 1      always: the dynamic model (or the load spectrum built from it) carries
+//                the dynamic mesh force, so applying K_v would count dynamics twice.
+//   K_A          1 for loads from the dynamics model; the quasi-static fallback spectrum
+//                (load_spectrum.hpp) passes its own application factor.
+//   K_Hβ         a parameter (default 1.15, an assumed value for a lead-corrected wind
+//                gearbox): ISO 6336-1 method C needs misalignment and lead-correction data
+//                the description does not hold.
+//   Y_B = 1      solid gears (rim thickness factor); Y_DT = 1 (ε_αn < 2.05).
+//   Ring bending: not rated (ISO 6336-3 method B form factors are for external gears).
+//   Internal mesh (planet–ring): Z_B = Z_D = 1 (ISO 6336-2 §6.2: Z_D = 1 for internal
+//   gears; Z_B for the planet set to 1 as the concave-convex contact is benign).
+// Basic rack: ISO 53 profile A (h_aP = 1.0·m_n, h_fP = 1.25·m_n, ρ_fP = 0.38·m_n),
+// no protuberance, no tooth-thickness allowance.
+//
+// Thread context: rate_mesh()/mesh_rating() at start-up; MeshRating's stress functions
+// are pure, allocation-free and O(1): safe on the real-time thread.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "model/drivetrain/description.hpp"
+
+namespace model::fatigue {
+
+/// Basic rack profile, in multiples of the normal module (ISO 53).
+struct BasicRack {
+  double addendum = 1.0;      // [-] h_aP / m_n
+  double dedendum = 1.25;     // [-] h_fP / m_n
+  double root_radius = 0.38;  // [-] ρ_fP / m_n
+};
+
+/// Settings of the rating that the description does not hold.
+struct RatingSettings {
+  double k_h_beta = 1.15;     // [-] K_Hβ face load factor (contact), see file comment
+  int accuracy_grade = 6;     // [-] ISO 1328-1 flank tolerance class A, for K_Hα (ISO 6336-1 method B)
+  double c_gamma_n_mm_um = 20.0;  // [N/(mm·µm)] mesh stiffness c_γα, ISO 6336-1 §9 typical steel value
+  BasicRack rack{};
+};
+
+/// Geometry of one gear pair (ISO 21771). Index 0 = pinion (the smaller external gear),
+/// 1 = wheel. z of an internal gear is negative, as in ISO 21771, and so are its diameters.
+struct PairGeometry {
+  double z[2] = {0, 0};                 // [-] tooth numbers (signed)
+  double x[2] = {0, 0};                 // [-] profile shift coefficients
+  double m_n_m = 0.0;                   // [m] normal module
+  double alpha_n_rad = 0.0;             // [rad] normal pressure angle
+  double beta_rad = 0.0;                // [rad] helix angle at the reference circle
+  double b_m = 0.0;                     // [m] common face width
+  // Derived:
+  double alpha_t_rad = 0.0;             // [rad] transverse pressure angle
+  double alpha_wt_rad = 0.0;            // [rad] working transverse pressure angle
+  double beta_b_rad = 0.0;              // [rad] base helix angle
+  double d_m[2] = {0, 0};               // [m] reference diameters (signed)
+  double da_m[2] = {0, 0};              // [m] tip diameters (signed)
+  double db_m[2] = {0, 0};              // [m] base diameters (signed)
+  double a_w_m = 0.0;                   // [m] working centre distance (signed)
+  double eps_alpha = 0.0;               // [-] transverse contact ratio ε_α
+  double eps_beta = 0.0;                // [-] overlap ratio ε_β
+  double u = 0.0;                       // [-] gear ratio z2/z1 (negative for an internal pair)
+  bool internal = false;
+};
+
+/// Builds the pair geometry from tooth data (ISO 21771 §4–5).
+PairGeometry pair_geometry(double z1, double z2, double x1, double x2, double m_n_m,
+                           double alpha_n_rad, double beta_rad, double b_m, const BasicRack& rack);
+
+/// ISO 6336-3:2006 method B form and stress-correction factors of one external gear
+/// (load at the outer point of single pair tooth contact).
+struct BendingFormFactors {
+  double y_f = 0.0;           // [-] Y_F tooth form factor
+  double y_s = 0.0;           // [-] Y_S stress correction factor
+  double s_fn_m = 0.0;        // [m] s_Fn root chord at the 30° tangent
+  double h_fe_m = 0.0;        // [m] h_Fe bending moment arm
+  double rho_f_m = 0.0;       // [m] ρ_F root fillet radius
+  double alpha_fen_rad = 0.0; // [rad] α_Fen load direction angle
+};
+/// @param gear 0 = pinion, 1 = wheel of `pair`; nullopt for an internal gear.
+std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& pair, int gear,
+                                                       const BasicRack& rack);
+
+/// Every factor of one mesh, and the stresses as functions of F_t.
+struct MeshRating {
+  PairGeometry geometry;
+  double z_h = 0.0, z_e_sqrt_mpa = 0.0, z_eps = 0.0, z_beta = 0.0;  // ISO 6336-2
+  double z_b = 1.0, z_d = 1.0;                                       // pinion / wheel
+  double k_a = 1.0, k_v = 1.0, k_h_beta = 1.0, k_f_beta = 1.0;       // ISO 6336-1
+  double y_beta = 1.0;                                               // ISO 6336-3
+  BendingFormFactors bending[2]{};  // per gear; y_f == 0 when not rated (internal gear)
+  bool bending_rated[2] = {false, false};
+  // K_Hα inputs (ISO 6336-1 method B): c_γα·(f_pb − y_α) [N/mm] and the limits.
+  double k_alpha_term_n_mm = 0.0;
+  double k_h_alpha_max = 1.0, k_f_alpha_max = 1.0;
+  double eps_gamma = 0.0;
+
+  /// K_Hα = K_Fα at a tangential load per face width F_t/b (ISO 6336-1:2006 eq. 75–78).
+  double k_alpha(double ft_n) const;
+  /// Nominal contact stress σ_H0 [MPa] (ISO 6336-2:2006 eq. 2), F_t in [N].
+  double contact_stress_nominal_mpa(double ft_n) const;
+  /// Contact stress σ_H [MPa] of gear 0 (pinion, Z_B) or 1 (wheel, Z_D) (ISO 6336-2 eq. 3–4).
+  double contact_stress_mpa(double ft_n, int gear) const;
+  /// Tooth-root stress σ_F [MPa] of gear 0/1 (ISO 6336-3:2006 eq. 3–4); 0 when not rated.
+  double bending_stress_mpa(double ft_n, int gear) const;
+};
+
+/// Rates a pair of materials and geometry. `k_a` is the application factor (1 for
+/// dynamic loads). E, ν from the materials.
+MeshRating mesh_rating(const PairGeometry& pair, const Material& m1, const Material& m2,
+                       double k_a, const RatingSettings& settings);
+
+}  // namespace model::fatigue

@@ -1,0 +1,129 @@
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "model/fatigue/damage_accumulator.hpp"
+
+namespace model::fatigue {
+namespace {
+constexpr std::uint64_t kFnvOffset = 1469598103934665603ull;
+constexpr std::uint64_t kFnvPrime = 1099511628211ull;
+std::uint64_t fnv(std::uint64_t h, const void* data, std::size_t n) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * kFnvPrime;
+  return h;
+}
+}  // namespace
+
+DamageAccumulator::DamageAccumulator(const ChannelSet& channels, const AccumulatorConfig& config)
+    : channels_(&channels), config_(config), state_(std::make_unique<AccumulatorState>()) {
+  config_.bins = std::clamp<std::uint32_t>(config_.bins, 1, kMaxBins);
+  std::uint64_t h = kFnvOffset;
+  h = fnv(h, &config_.bins, sizeof config_.bins);
+  h = fnv(h, &config_.tick_s, sizeof config_.tick_s);
+  for (std::size_t c = 0; c < channels.channel_count(); ++c) {
+    double fs = config_.full_scale[c];
+    if (!(fs > 0.0) || !std::isfinite(fs)) fs = channels.channel(c).stress_full_scale;
+    config_.full_scale[c] = fs;
+    width_[c] = fs / config_.bins;
+    inv_width_[c] = 1.0 / width_[c];
+    const Channel& ch = channels.channel(c);
+    h = fnv(h, ch.component.data(), ch.component.size());
+    h = fnv(h, ch.detail.data(), ch.detail.size());
+    h = fnv(h, &ch.mode, sizeof ch.mode);
+    h = fnv(h, &fs, sizeof fs);
+  }
+  config_hash_ = h;
+  reset();
+}
+
+void DamageAccumulator::reset() {
+  *state_ = AccumulatorState{};
+  state_->channel_count = static_cast<std::uint32_t>(channels_->channel_count());
+  state_->bins = config_.bins;
+  state_->config_hash = config_hash_;
+}
+
+bool DamageAccumulator::restore(const AccumulatorState& saved) {
+  if (saved.version != kAccumulatorStateVersion || saved.channel_count != state_->channel_count ||
+      saved.bins != state_->bins || saved.config_hash != config_hash_) {
+    return false;
+  }
+  std::memcpy(state_.get(), &saved, sizeof saved);
+  return true;
+}
+
+StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_rpm,
+                                   std::uint32_t dt_ticks) {
+  AccumulatorState& s = *state_;
+  if (dt_ticks == 0) {
+    ++s.zero_dt_steps;
+    return StepResult::kZeroDt;
+  }
+  if (!std::isfinite(rotor_speed_rpm) || rotor_speed_rpm < 0.0) {
+    ++s.bad_speed_steps;
+    return StepResult::kBadSpeed;
+  }
+  const ChannelSet& cs = *channels_;
+  for (std::size_t i = 0; i < cs.mesh_count(); ++i) {
+    if (!std::isfinite(loads.mesh_force_n[i])) {
+      ++s.bad_load_steps;
+      return StepResult::kBadLoad;
+    }
+  }
+  for (std::size_t i = 0; i < cs.bearing_count(); ++i) {
+    if (!std::isfinite(loads.bearing_radial_n[i]) || !std::isfinite(loads.bearing_axial_n[i])) {
+      ++s.bad_load_steps;
+      return StepResult::kBadLoad;
+    }
+  }
+  const double revs = rotor_speed_rpm / 60.0 * static_cast<double>(dt_ticks) * config_.tick_s;
+  const auto rev_q = static_cast<std::uint64_t>(std::llround(revs / kRevQuantum));
+  ++s.valid_steps;
+  s.elapsed_ticks += dt_ticks;
+  s.rotor_rev_q += rev_q;
+  const std::size_t overflow = config_.bins;
+  for (std::size_t c = 0; c < cs.channel_count(); ++c) {
+    const Channel& ch = cs.channel(c);
+    for (std::size_t k = 0; k < ch.source_count; ++k) {
+      const double sigma = cs.stress(c, k, loads);
+      std::size_t bin = overflow;
+      if (sigma < config_.full_scale[c]) {
+        bin = std::min(overflow - 1, static_cast<std::size_t>(std::max(0.0, sigma) * inv_width_[c]));
+      } else {
+        s.overflow_max[c] = std::max(s.overflow_max[c], sigma);
+      }
+      s.bin_ticks[c][bin] += dt_ticks;
+      s.bin_rev_q[c][bin] += rev_q;
+      // Palmgren–Miner increment n/N(σ), n = revs·cycles per rotor rev (ISO 6336-6 §5).
+      const double inc = revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
+      // Neumaier compensated summation.
+      const double sum = s.damage[c];
+      const double t = sum + inc;
+      if (std::abs(sum) >= std::abs(inc)) {
+        s.damage_comp[c] += (sum - t) + inc;
+      } else {
+        s.damage_comp[c] += (inc - t) + sum;
+      }
+      s.damage[c] = t;
+    }
+  }
+  return StepResult::kAccumulated;
+}
+
+double DamageAccumulator::histogram_damage(std::size_t c) const {
+  const Channel& ch = channels_->channel(c);
+  if (ch.source_count == 0) return 0.0;
+  // All sources of a channel share cycles per rotor revolution (ChannelSet builds them so).
+  const double cycles = ch.sources[0].cycles_per_rotor_rev;
+  double d = 0.0;
+  for (std::size_t i = 0; i < config_.bins; ++i) {
+    const double revs = static_cast<double>(state_->bin_rev_q[c][i]) * kRevQuantum;
+    if (revs > 0.0) d += revs * cycles * ch.curve.damage_per_cycle((static_cast<double>(i) + 0.5) * width_[c]);
+  }
+  const double over = static_cast<double>(state_->bin_rev_q[c][config_.bins]) * kRevQuantum;
+  if (over > 0.0) d += over * cycles * ch.curve.damage_per_cycle(state_->overflow_max[c]);
+  return d;
+}
+
+}  // namespace model::fatigue

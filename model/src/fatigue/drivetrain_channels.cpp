@@ -1,0 +1,314 @@
+#include "model/fatigue/drivetrain_channels.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "model/drivetrain/kinematics.hpp"
+
+namespace model::fatigue {
+namespace {
+
+// Quasi-static bearing reactions (FALLBACK only; the dynamics model supplies real ones):
+// every gear sits at mid-span between the two bearings of its shaft, so each bearing
+// takes half of the transverse gear force F_t/cos α_wt; where a shaft carries two gear
+// meshes their forces are taken as collinear and added (an upper bound: the layout
+// angles are not in the description). Helical axial forces F_t·tan β add likewise and
+// are taken by the shaft's angular-contact bearing (contact angle > 0), or ignored when
+// the shaft has none. The sun's planet meshes cancel (equal load sharing).
+constexpr double kMidSpanShare = 0.5;
+
+}  // namespace
+
+const char* failure_mode_name(FailureMode mode) {
+  switch (mode) {
+    case FailureMode::kContact: return "contact";
+    case FailureMode::kBending: return "bending";
+    case FailureMode::kBearing: return "bearing";
+  }
+  return "?";
+}
+
+double iso281_exponent(BearingType type) { return type == BearingType::kBall ? 3.0 : 10.0 / 3.0; }
+
+double l10_million_revs(double c_n, double p_n, BearingType type) {
+  if (!(p_n > 0.0)) return std::numeric_limits<double>::infinity();
+  return std::pow(c_n / p_n, iso281_exponent(type));
+}
+
+double equivalent_load_n(const Bearing& b, double radial_n, double axial_n) {
+  const double fr = std::abs(radial_n), fa = std::abs(axial_n);
+  if (b.type == BearingType::kBall || b.contact_angle_rad <= 0.0) return fr;
+  const double e = 1.5 * std::tan(b.contact_angle_rad);
+  const double cot = 1.0 / std::tan(b.contact_angle_rad);
+  const bool low_axial = fa <= e * fr;
+  if (b.rows <= 1) return low_axial ? fr : 0.4 * fr + 0.4 * cot * fa;
+  return low_axial ? fr + 0.45 * cot * fa : 0.67 * fr + 0.67 * cot * fa;
+}
+
+ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : options_(options) {
+  const Kinematics kin(d);
+  const double rpm = 60.0;  // 1 rotor rev/s: speeds in Hz are then ratios to the rotor speed
+  auto fail = [this](std::string what) { error_ = std::move(what); };
+  auto add_channel = [&](Channel c) -> Channel* {
+    if (channel_count_ >= kMaxChannels) {
+      fail("too many damage channels (capacity kMaxChannels)");
+      return nullptr;
+    }
+    channels_[channel_count_] = std::move(c);
+    return &channels_[channel_count_++];
+  };
+  auto material_of = [&](const Gear& g) -> const Material* {
+    const Material* m = d.material(g.material);
+    if (!m) fail("gear '" + g.id + "': unknown material '" + g.material + "'");
+    return m;
+  };
+  auto contact_curve = [&](const Material& m) {
+    SnCurve c;
+    c.m = m.sn_contact_m;
+    c.c = m.sn_contact_c_mpa;
+    c.knee_cycles = m.sn_contact_knee_cycles;
+    c.branch = options.branch;
+    return c;
+  };
+  auto bending_curve = [&](const Material& m, bool reversed) {
+    SnCurve c;
+    c.m = m.sn_bending_m;
+    c.c = m.sn_bending_c_mpa * (reversed ? m.reversed_bending_factor : 1.0);
+    c.knee_cycles = m.sn_bending_knee_cycles;
+    c.branch = options.branch;
+    return c;
+  };
+  auto add_mesh = [&](std::string id, const MeshRating& r, double ft_per_nm) -> int {
+    if (mesh_count_ >= kMaxMeshes) {
+      fail("too many gear meshes (capacity kMaxMeshes)");
+      return -1;
+    }
+    mesh_ids_[mesh_count_] = std::move(id);
+    meshes_[mesh_count_] = r;
+    torque_to_ft_per_nm_[mesh_count_] = ft_per_nm;
+    return static_cast<int>(mesh_count_++);
+  };
+  // Transverse gear forces (per rotor torque) acting on each shaft, for the fallback.
+  struct ShaftForce {
+    std::string shaft;
+    double radial_per_nm = 0.0, axial_per_nm = 0.0;
+  };
+  std::array<ShaftForce, kMaxMeshes * 2> shaft_forces{};
+  std::size_t shaft_force_count = 0;
+  auto add_shaft_force = [&](const std::string& shaft, double radial, double axial) {
+    for (std::size_t i = 0; i < shaft_force_count; ++i) {
+      if (shaft_forces[i].shaft == shaft) {
+        shaft_forces[i].radial_per_nm += radial;
+        shaft_forces[i].axial_per_nm += axial;
+        return;
+      }
+    }
+    if (shaft_force_count < shaft_forces.size()) shaft_forces[shaft_force_count++] = {shaft, radial, axial};
+  };
+  double planet_ft_per_nm = 0.0;
+  int planets = 0;
+  double planet_rev_per_rotor_rev = 0.0;
+
+  for (std::size_t si = 0; si < d.stages.size() && valid(); ++si) {
+    const GearStage& st = d.stages[si];
+    // Torque on the stage's input shaft per rotor torque (lossless).
+    const double in_ratio = kin.stage_input_hz(si, rpm);
+    const double t_in_per_nm = 1.0 / in_ratio;
+    if (st.type == StageType::kPlanetary) {
+      if (st.gears.size() != 3 || st.planets <= 0) {
+        fail("stage '" + st.id + "': planetary stage needs gears {sun, planet, ring} and planets > 0");
+        break;
+      }
+      const Gear* sun = d.gear(st.gears[0]);
+      const Gear* planet = d.gear(st.gears[1]);
+      const Gear* ring = d.gear(st.gears[2]);
+      if (!sun || !planet || !ring) {
+        fail("stage '" + st.id + "': unknown gear id");
+        break;
+      }
+      const Material* ms = material_of(*sun);
+      const Material* mp = material_of(*planet);
+      const Material* mr = material_of(*ring);
+      if (!ms || !mp || !mr) break;
+      const double zs = sun->teeth, zp = planet->teeth, zr = ring->teeth;
+      const double b_sp = std::min(sun->face_width_m, planet->face_width_m);
+      const double b_pr = std::min(planet->face_width_m, ring->face_width_m);
+      const PairGeometry g_sp = pair_geometry(zs, zp, sun->profile_shift, planet->profile_shift,
+                                              st.normal_module_m, st.pressure_angle_rad,
+                                              st.helix_angle_rad, b_sp, options.rating.rack);
+      const PairGeometry g_pr = pair_geometry(zp, -zr, planet->profile_shift, ring->profile_shift,
+                                              st.normal_module_m, st.pressure_angle_rad,
+                                              st.helix_angle_rad, b_pr, options.rating.rack);
+      const MeshRating r_sp = mesh_rating(g_sp, *ms, *mp, options.k_a, options.rating);
+      const MeshRating r_pr = mesh_rating(g_pr, *mp, *mr, options.k_a, options.rating);
+      // Carrier torque T_c = P·F_t·(d_s/2)·(1 + z_r/z_s) (ring fixed): F_t per planet mesh.
+      const double ft_per_nm = t_in_per_nm / (st.planets * 0.5 * std::abs(g_sp.d_m[0]) * (1.0 + zr / zs));
+      planets = st.planets;
+      planet_ft_per_nm = ft_per_nm;
+      planet_rev_per_rotor_rev = zr / zp;
+      std::array<int, kMaxMeshes> sp{}, pr{};
+      for (int k = 0; k < st.planets && valid(); ++k) {
+        sp[k] = add_mesh(sun->id + "-" + planet->id + std::to_string(k + 1), r_sp, ft_per_nm);
+      }
+      for (int k = 0; k < st.planets && valid(); ++k) {
+        pr[k] = add_mesh(planet->id + std::to_string(k + 1) + "-" + ring->id, r_pr, ft_per_nm);
+      }
+      if (!valid()) break;
+      Channel sun_c{sun->id, "", FailureMode::kContact, contact_curve(*ms), {}, 0, 0.0};
+      Channel sun_b{sun->id, "", FailureMode::kBending, bending_curve(*ms, false), {}, 0, 0.0};
+      Channel ring_c{ring->id, "", FailureMode::kContact, contact_curve(*mr), {}, 0, 0.0};
+      for (int k = 0; k < st.planets; ++k) {
+        if (static_cast<std::size_t>(k) >= kMaxSources) {
+          fail("stage '" + st.id + "': more planets than kMaxSources");
+          break;
+        }
+        sun_c.sources[k] = {static_cast<std::uint8_t>(sp[k]), 0, zr / zs};
+        sun_b.sources[k] = {static_cast<std::uint8_t>(sp[k]), 0, zr / zs};
+        ring_c.sources[k] = {static_cast<std::uint8_t>(pr[k]), 1, 1.0};
+      }
+      sun_c.source_count = sun_b.source_count = ring_c.source_count = static_cast<std::size_t>(st.planets);
+      add_channel(sun_c);
+      add_channel(sun_b);
+      for (int k = 0; k < st.planets && valid(); ++k) {
+        const std::string pid = planet->id + std::to_string(k + 1);
+        Channel c1{pid, "sun-side flank", FailureMode::kContact, contact_curve(*mp), {}, 1, 0.0};
+        c1.sources[0] = {static_cast<std::uint8_t>(sp[k]), 1, zr / zp};
+        Channel c2{pid, "ring-side flank", FailureMode::kContact, contact_curve(*mp), {}, 1, 0.0};
+        c2.sources[0] = {static_cast<std::uint8_t>(pr[k]), 0, zr / zp};
+        Channel c3{pid, "reversed (Y_M)", FailureMode::kBending, bending_curve(*mp, true), {}, 1, 0.0};
+        c3.sources[0] = {static_cast<std::uint8_t>(sp[k]), 1, zr / zp};
+        add_channel(c1);
+        add_channel(c2);
+        add_channel(c3);
+      }
+      add_channel(ring_c);
+    } else {
+      if (st.gears.size() != 2) {
+        fail("stage '" + st.id + "': parallel stage needs gears {wheel, pinion}");
+        break;
+      }
+      const Gear* wheel = d.gear(st.gears[0]);
+      const Gear* pinion = d.gear(st.gears[1]);
+      if (!wheel || !pinion) {
+        fail("stage '" + st.id + "': unknown gear id");
+        break;
+      }
+      const Material* mw = material_of(*wheel);
+      const Material* mpn = material_of(*pinion);
+      if (!mw || !mpn) break;
+      const PairGeometry g = pair_geometry(pinion->teeth, wheel->teeth, pinion->profile_shift,
+                                           wheel->profile_shift, st.normal_module_m,
+                                           st.pressure_angle_rad, st.helix_angle_rad,
+                                           std::min(pinion->face_width_m, wheel->face_width_m),
+                                           options.rating.rack);
+      const MeshRating r = mesh_rating(g, *mpn, *mw, options.k_a, options.rating);
+      const double ft_per_nm = t_in_per_nm / (0.5 * std::abs(g.d_m[1]));
+      const int slot = add_mesh(wheel->id + "-" + pinion->id, r, ft_per_nm);
+      if (slot < 0) break;
+      const double wheel_rev = in_ratio;
+      const double pinion_rev = in_ratio * kin.stage_ratio(si);
+      const Gear* gears[2] = {pinion, wheel};
+      const Material* mats[2] = {mpn, mw};
+      const double revs[2] = {pinion_rev, wheel_rev};
+      for (int i : {1, 0}) {  // wheel first: the description's order
+        Channel c{gears[i]->id, "", FailureMode::kContact, contact_curve(*mats[i]), {}, 1, 0.0};
+        c.sources[0] = {static_cast<std::uint8_t>(slot), static_cast<std::uint8_t>(i), revs[i]};
+        Channel bnd{gears[i]->id, "", FailureMode::kBending, bending_curve(*mats[i], false), {}, 1, 0.0};
+        bnd.sources[0] = c.sources[0];
+        add_channel(c);
+        add_channel(bnd);
+      }
+      const double radial = ft_per_nm / std::cos(g.alpha_wt_rad);
+      const double axial = ft_per_nm * std::tan(st.helix_angle_rad);
+      add_shaft_force(wheel->shaft, radial, axial);
+      add_shaft_force(pinion->shaft, radial, axial);
+    }
+  }
+  // Bearings.
+  for (const Bearing& b : d.bearings) {
+    if (!valid()) break;
+    const bool on_planet = b.shaft == "planet";
+    const int copies = on_planet ? std::max(planets, 0) : 1;
+    double rev = 0.0;
+    if (on_planet) {
+      rev = planet_rev_per_rotor_rev;
+    } else if (auto hz = kin.shaft_hz(b.shaft, rpm)) {
+      rev = std::abs(*hz);
+    } else {
+      fail("bearing '" + b.id + "': unknown shaft '" + b.shaft + "'");
+      break;
+    }
+    double radial = 0.0, axial = 0.0;
+    if (on_planet) {
+      radial = 2.0 * planet_ft_per_nm;  // sun and ring tangential forces add on the pin
+    } else {
+      for (std::size_t i = 0; i < shaft_force_count; ++i) {
+        if (shaft_forces[i].shaft == b.shaft) {
+          radial = kMidSpanShare * shaft_forces[i].radial_per_nm;
+          if (b.contact_angle_rad > 0.0) axial = shaft_forces[i].axial_per_nm;
+        }
+      }
+    }
+    for (int k = 0; k < copies; ++k) {
+      if (bearing_count_ >= kMaxBearings) {
+        fail("too many bearings (capacity kMaxBearings)");
+        break;
+      }
+      const std::size_t slot = bearing_count_++;
+      bearing_ids_[slot] = on_planet ? b.id + std::to_string(k + 1) : b.id;
+      bearings_[slot] = b;
+      torque_to_radial_per_nm_[slot] = radial;
+      torque_to_axial_per_nm_[slot] = axial;
+      if (!(b.dynamic_rating_n > 0.0)) {
+        fail("bearing '" + b.id + "': dynamic rating C must be > 0");
+        break;
+      }
+      Channel c{bearing_ids_[slot], "", FailureMode::kBearing, {}, {}, 1, 0.0};
+      c.curve.m = iso281_exponent(b.type);
+      c.curve.c = b.dynamic_rating_n;
+      c.curve.n_ref = 1e6;
+      c.curve.branch = KneeBranch::kNone;
+      c.sources[0] = {static_cast<std::uint8_t>(slot), 0, rev};
+      add_channel(c);
+    }
+  }
+  if (valid() && channel_count_ == 0) fail("drivetrain has no gear stages or bearings to rate");
+  // Suggested histogram ranges: the quasi-static stress at twice the rated torque.
+  if (valid()) {
+    const double t2 = 2.0 * std::max(d.turbine.rated_torque_nm, 1.0);
+    const LoadSample l = quasi_static_loads(t2);
+    for (std::size_t c = 0; c < channel_count_; ++c) {
+      double s = 0.0;
+      for (std::size_t k = 0; k < channels_[c].source_count; ++k) s = std::max(s, stress(c, k, l));
+      channels_[c].stress_full_scale = s > 0.0 ? s : 1.0;
+    }
+  }
+}
+
+double ChannelSet::stress(std::size_t c, std::size_t s, const LoadSample& loads) const {
+  const Channel& ch = channels_[c];
+  const Source& src = ch.sources[s];
+  switch (ch.mode) {
+    case FailureMode::kContact:
+      return meshes_[src.slot].contact_stress_mpa(loads.mesh_force_n[src.slot], src.gear);
+    case FailureMode::kBending:
+      return meshes_[src.slot].bending_stress_mpa(loads.mesh_force_n[src.slot], src.gear);
+    case FailureMode::kBearing:
+      return equivalent_load_n(bearings_[src.slot], loads.bearing_radial_n[src.slot],
+                               loads.bearing_axial_n[src.slot]);
+  }
+  return 0.0;
+}
+
+LoadSample ChannelSet::quasi_static_loads(double rotor_torque_nm) const {
+  LoadSample l;
+  const double t = std::abs(rotor_torque_nm);
+  for (std::size_t i = 0; i < mesh_count_; ++i) l.mesh_force_n[i] = torque_to_ft_per_nm_[i] * t;
+  for (std::size_t i = 0; i < bearing_count_; ++i) {
+    l.bearing_radial_n[i] = torque_to_radial_per_nm_[i] * t;
+    l.bearing_axial_n[i] = torque_to_axial_per_nm_[i] * t;
+  }
+  return l;
+}
+
+}  // namespace model::fatigue

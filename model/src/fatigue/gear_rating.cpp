@@ -1,0 +1,219 @@
+// ISO 6336-1/-2/-3 (2006 editions) and ISO 21771 geometry. Equation numbers refer
+// to those editions.
+#include "model/fatigue/gear_rating.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace model::fatigue {
+namespace {
+constexpr double kPi = std::numbers::pi;
+constexpr double kMm = 1e3;  // [mm/m]
+
+double involute(double a) { return std::tan(a) - a; }
+
+// Inverse involute by Newton's method (inv' = tan²).
+double inverse_involute(double inv) {
+  double a = std::cbrt(3.0 * inv);  // series start: inv ≈ a³/3
+  for (int i = 0; i < 30; ++i) {
+    const double t = std::tan(a);
+    const double step = (involute(a) - inv) / (t * t);
+    a -= step;
+    if (std::abs(step) < 1e-15) break;
+  }
+  return a;
+}
+double sign(double v) { return v < 0.0 ? -1.0 : 1.0; }
+}  // namespace
+
+PairGeometry pair_geometry(double z1, double z2, double x1, double x2, double m_n_m,
+                           double alpha_n_rad, double beta_rad, double b_m, const BasicRack& rack) {
+  PairGeometry g;
+  g.z[0] = z1;
+  g.z[1] = z2;
+  g.x[0] = x1;
+  g.x[1] = x2;
+  g.m_n_m = m_n_m;
+  g.alpha_n_rad = alpha_n_rad;
+  g.beta_rad = beta_rad;
+  g.b_m = b_m;
+  g.internal = z2 < 0.0;
+  const double m_t = m_n_m / std::cos(beta_rad);                              // ISO 21771 eq. 5
+  g.alpha_t_rad = std::atan(std::tan(alpha_n_rad) / std::cos(beta_rad));      // eq. 9
+  g.beta_b_rad = std::asin(std::sin(beta_rad) * std::cos(alpha_n_rad));       // eq. 13
+  for (int i = 0; i < 2; ++i) {
+    g.d_m[i] = g.z[i] * m_t;                                                  // eq. 7
+    g.db_m[i] = g.d_m[i] * std::cos(g.alpha_t_rad);                           // eq. 11
+    g.da_m[i] = g.d_m[i] + 2.0 * m_n_m * (rack.addendum + g.x[i]);            // eq. 19 (signed)
+  }
+  // Working pressure angle: inv α_wt = inv α_t + 2·tan α_n·(x1+x2)/(z1+z2) (ISO 21771 eq. 38).
+  g.alpha_wt_rad = inverse_involute(involute(g.alpha_t_rad) +
+                                    2.0 * std::tan(alpha_n_rad) * (x1 + x2) / (z1 + z2));
+  g.a_w_m = (g.db_m[0] + g.db_m[1]) / (2.0 * std::cos(g.alpha_wt_rad));       // eq. 40 (signed)
+  // Length of path of contact (ISO 21771 eq. 69, signed form covers internal pairs).
+  const double g_alpha =
+      0.5 * (std::sqrt(g.da_m[0] * g.da_m[0] - g.db_m[0] * g.db_m[0]) +
+             sign(z2) * std::sqrt(g.da_m[1] * g.da_m[1] - g.db_m[1] * g.db_m[1])) -
+      g.a_w_m * std::sin(g.alpha_wt_rad);
+  g.eps_alpha = g_alpha / (kPi * m_t * std::cos(g.alpha_t_rad));              // eq. 72
+  g.eps_beta = b_m * std::sin(beta_rad) / (kPi * m_n_m);                      // eq. 74
+  g.u = z2 / z1;
+  return g;
+}
+
+std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, int gear,
+                                                       const BasicRack& rack) {
+  const double z = p.z[gear];
+  if (z < 0.0) return std::nullopt;
+  const double x = p.x[gear];
+  const double m_n = p.m_n_m;
+  const double an = p.alpha_n_rad;
+  const double cb = std::cos(p.beta_b_rad);
+  const double z_n = z / (cb * cb * std::cos(p.beta_rad));                    // ISO 6336-3 eq. 34
+  const double h_fp = rack.dedendum * m_n;
+  const double rho_fp = rack.root_radius * m_n;
+  // eq. 35–37 (no protuberance: s_pr = 0); T = π/3 for external gears.
+  const double e = kPi / 4.0 * m_n - h_fp * std::tan(an) - (1.0 - std::sin(an)) * rho_fp / std::cos(an);
+  const double g_ = rho_fp / m_n - h_fp / m_n + x;
+  const double h = 2.0 / z_n * (kPi / 2.0 - e / m_n) - kPi / 3.0;
+  // eq. 38: θ = 2G/z_n·tan θ − H, fixed-point iteration from π/6 (converges in a few steps).
+  double theta = kPi / 6.0;
+  for (int i = 0; i < 50; ++i) {
+    const double next = 2.0 * g_ / z_n * std::tan(theta) - h;
+    if (std::abs(next - theta) < 1e-14) {
+      theta = next;
+      break;
+    }
+    theta = next;
+  }
+  BendingFormFactors f;
+  const double s_fn = m_n * (z_n * std::sin(kPi / 3.0 - theta) +
+                             std::sqrt(3.0) * (g_ / std::cos(theta) - rho_fp / m_n));       // eq. 39
+  const double ct = std::cos(theta);
+  const double rho_f = m_n * (rho_fp / m_n + 2.0 * g_ * g_ / (ct * (z_n * ct * ct - 2.0 * g_)));  // eq. 40
+  // Outer point of single pair contact in the virtual spur gear, eq. 42–47.
+  const double eps_an = p.eps_alpha / (cb * cb);
+  const double d_n = m_n * z_n;
+  const double d_bn = d_n * std::cos(an);
+  const double d_an = d_n + p.da_m[gear] - p.d_m[gear];
+  const double p_bn = kPi * m_n * std::cos(an);
+  const double root = std::sqrt(d_an * d_an / 4.0 - d_bn * d_bn / 4.0) - p_bn * (eps_an - 1.0);
+  const double d_en = 2.0 * std::sqrt(root * root + d_bn * d_bn / 4.0);
+  const double alpha_en = std::acos(d_bn / d_en);
+  const double gamma_e = (0.5 * kPi + 2.0 * x * std::tan(an)) / z_n + involute(an) - involute(alpha_en);
+  const double alpha_fen = alpha_en - gamma_e;
+  const double h_fe = 0.5 * m_n *
+                      ((std::cos(gamma_e) - std::sin(gamma_e) * std::tan(alpha_fen)) * d_en / m_n -
+                       z_n * std::cos(kPi / 3.0 - theta) - g_ / ct + rho_fp / m_n);        // eq. 41
+  f.s_fn_m = s_fn;
+  f.rho_f_m = rho_f;
+  f.h_fe_m = h_fe;
+  f.alpha_fen_rad = alpha_fen;
+  f.y_f = (6.0 * h_fe / m_n * std::cos(alpha_fen)) / ((s_fn / m_n) * (s_fn / m_n) * std::cos(an));  // eq. 33
+  const double l = s_fn / h_fe;
+  const double q_s = s_fn / (2.0 * rho_f);
+  f.y_s = (1.2 + 0.13 * l) * std::pow(q_s, 1.0 / (1.21 + 2.3 / l));                        // eq. 45
+  return f;
+}
+
+MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material& m2, double k_a,
+                       const RatingSettings& s) {
+  MeshRating r;
+  r.geometry = p;
+  const double cbb = std::cos(p.beta_b_rad);
+  const double cat = std::cos(p.alpha_t_rad);
+  // ISO 6336-2:2006 eq. 9: zone factor.
+  r.z_h = std::sqrt(2.0 * cbb * std::cos(p.alpha_wt_rad) / (cat * cat * std::sin(p.alpha_wt_rad)));
+  // eq. 22: elasticity factor, E in N/mm² so that Z_E is in √(N/mm²).
+  const double e1 = m1.youngs_modulus_pa * 1e-6, e2 = m2.youngs_modulus_pa * 1e-6;
+  r.z_e_sqrt_mpa = std::sqrt(1.0 / (kPi * ((1.0 - m1.poisson_ratio * m1.poisson_ratio) / e1 +
+                                           (1.0 - m2.poisson_ratio * m2.poisson_ratio) / e2)));
+  // eq. 34–36: contact ratio factor.
+  const double ea = p.eps_alpha, eb = p.eps_beta;
+  r.z_eps = eb < 1.0 ? std::sqrt((4.0 - ea) / 3.0 * (1.0 - eb) + eb / ea) : std::sqrt(1.0 / ea);
+  // eq. 37 (2006 edition): helix angle factor.
+  r.z_beta = std::sqrt(std::cos(p.beta_rad));
+  // eq. 10–13: single pair tooth contact factors.
+  if (!p.internal) {
+    const double t1 = std::sqrt(p.da_m[0] * p.da_m[0] / (p.db_m[0] * p.db_m[0]) - 1.0);
+    const double t2 = std::sqrt(p.da_m[1] * p.da_m[1] / (p.db_m[1] * p.db_m[1]) - 1.0);
+    const double m_1 = std::tan(p.alpha_wt_rad) /
+                       std::sqrt((t1 - 2.0 * kPi / p.z[0]) * (t2 - (ea - 1.0) * 2.0 * kPi / p.z[1]));
+    const double m_2 = std::tan(p.alpha_wt_rad) /
+                       std::sqrt((t2 - 2.0 * kPi / p.z[1]) * (t1 - (ea - 1.0) * 2.0 * kPi / p.z[0]));
+    auto factor = [eb](double m) {
+      if (eb >= 1.0) return 1.0;
+      return std::max(1.0, m - eb * (m - 1.0));
+    };
+    r.z_b = factor(m_1);
+    r.z_d = factor(m_2);
+  }
+  r.k_a = k_a;
+  r.k_v = 1.0;
+  r.k_h_beta = s.k_h_beta;
+  // ISO 6336-1:2006 eq. 73–74: K_Fβ = K_Hβ^N_F, b/h the smaller of the pair, not below 3.
+  const double h_tooth = (s.rack.addendum + s.rack.dedendum) * p.m_n_m;
+  const double bh = std::max(3.0, p.b_m / h_tooth);
+  const double n_f = bh * bh / (1.0 + bh + bh * bh);
+  r.k_f_beta = std::pow(s.k_h_beta, n_f);
+  // ISO 6336-3:2006 eq. 47: helix angle factor, ε_β ≤ 1 and β ≤ 30° in the formula.
+  const double beta_deg = std::min(30.0, p.beta_rad * 180.0 / kPi);
+  r.y_beta = 1.0 - std::min(1.0, eb) * beta_deg / 120.0;
+  for (int i = 0; i < 2; ++i) {
+    if (auto f = bending_form_factors(p, i, s.rack)) {
+      r.bending[i] = *f;
+      r.bending_rated[i] = true;
+    }
+  }
+  // K_Hα inputs: ISO 1328-1:2013 single pitch tolerance f_pT = (0.001·d + 0.4·m_n + 5)·√2^(A−5) µm
+  // (d, m_n in mm), of the larger gear; f_pb = f_pt·cos α_t; y_α = 0.075·f_pb for
+  // case-hardened steel (ISO 6336-1:2006 eq. 77).
+  const double d_big_mm = std::max(std::abs(p.d_m[0]), std::abs(p.d_m[1])) * kMm;
+  const double f_pt_um = (0.001 * d_big_mm + 0.4 * p.m_n_m * kMm + 5.0) *
+                         std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
+  const double f_pb_um = f_pt_um * cat;
+  const double y_alpha_um = std::min(3.0, 0.075 * f_pb_um);
+  r.k_alpha_term_n_mm = s.c_gamma_n_mm_um * (f_pb_um - y_alpha_um);
+  r.eps_gamma = ea + eb;
+  r.k_h_alpha_max = r.eps_gamma / (ea * r.z_eps * r.z_eps);   // eq. 76
+  r.k_f_alpha_max = r.eps_gamma / (0.25 * ea + 0.75);          // eq. 78
+  return r;
+}
+
+double MeshRating::k_alpha(double ft_n) const {
+  const double b_mm = geometry.b_m * kMm;
+  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * k_h_beta / b_mm);  // [N/mm]
+  double k;
+  if (eps_gamma <= 2.0) {
+    k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);                      // eq. 75
+  } else {
+    k = 0.9 + 0.4 * std::sqrt(2.0 * (eps_gamma - 1.0) / eps_gamma) * k_alpha_term_n_mm / fth_per_b;  // eq. 76
+  }
+  return std::max(1.0, k);
+}
+
+double MeshRating::contact_stress_nominal_mpa(double ft_n) const {
+  const double d1_mm = std::abs(geometry.d_m[0]) * kMm;
+  const double b_mm = geometry.b_m * kMm;
+  const double u = geometry.u;
+  return z_h * z_e_sqrt_mpa * z_eps * z_beta * std::sqrt(std::abs(ft_n) / (d1_mm * b_mm) * (u + 1.0) / u);
+}
+
+double MeshRating::contact_stress_mpa(double ft_n, int gear) const {
+  const double k_ha = std::min(k_alpha(ft_n), std::max(1.0, k_h_alpha_max));
+  const double z = gear == 0 ? z_b : z_d;
+  return z * contact_stress_nominal_mpa(ft_n) * std::sqrt(k_a * k_v * k_h_beta * k_ha);
+}
+
+double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
+  if (!bending_rated[gear]) return 0.0;
+  const double k_fa = std::min(k_alpha(ft_n), std::max(1.0, k_f_alpha_max));
+  const double b_mm = geometry.b_m * kMm;
+  const double m_mm = geometry.m_n_m * kMm;
+  const BendingFormFactors& f = bending[gear];
+  // σ_F = F_t/(b·m_n)·Y_F·Y_S·Y_β·Y_B·Y_DT·K_A·K_v·K_Fβ·K_Fα, Y_B = Y_DT = 1.
+  return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * k_f_beta * k_fa;
+}
+
+}  // namespace model::fatigue
