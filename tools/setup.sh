@@ -18,6 +18,8 @@ host_pkgs=(
   libkissfft-dev libboost-dev libcpp-httplib-dev libmatio-dev libpagmo-dev
   libmodbus-dev libgpiod-dev mbpoll
   qemu-user g++-aarch64-linux-gnu
+  # emulated aarch64 rig (tools/rig): the arm64 .debs it boots are fetched by build-rig.sh
+  qemu-system-arm cpio kmod xz-utils
 )
 # Target (aarch64) libraries through multiarch: the cross build links these and
 # qemu-aarch64 runs the test binaries against the multiarch libc6:arm64.
