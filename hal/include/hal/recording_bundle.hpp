@@ -38,7 +38,7 @@ struct BundleOperatingPoint {
 };
 
 /// One row of scada.csv. Columns other than t_s and wind_speed_mps may be absent.
-struct ScadaSample {
+struct BundleScadaRow {
   double t_s = 0.0;                             // [s] since the start of the recording
   double wind_speed_mps = 0.0;                  // [m/s]
   std::optional<double> rotor_speed_rpm;        // [rpm]
@@ -58,7 +58,7 @@ struct Recording {
   std::string notes;
   /// samples[c][i]: channel c (order of `channels`), sample i, in the channel's unit.
   std::vector<std::vector<double>> samples;
-  std::vector<ScadaSample> scada;               // empty: no scada.csv
+  std::vector<BundleScadaRow> scada;               // empty: no scada.csv
 
   std::size_t sample_count() const { return samples.empty() ? 0 : samples.front().size(); }
   /// Index of the channel named `name`, if any.
@@ -133,7 +133,7 @@ struct WavData {
 /// Parses scada.csv text (header `t_s,wind_speed_mps,...`).
 [[nodiscard]] std::optional<BundleError> parse_scada_csv(const std::string& text,
                                                          const std::string& file,
-                                                         std::vector<ScadaSample>& out);
+                                                         std::vector<BundleScadaRow>& out);
 
 /// Parses recording.json text into `rec` (metadata only; samples untouched).
 [[nodiscard]] std::optional<BundleError> parse_recording_json(const std::string& text,

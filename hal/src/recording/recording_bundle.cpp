@@ -289,7 +289,7 @@ std::optional<BundleError> validate_recording(const Recording& rec, const Operat
   }
   double last_t = -1.0;
   for (std::size_t i = 0; i < rec.scada.size(); ++i) {
-    const ScadaSample& s = rec.scada[i];
+    const BundleScadaRow& s = rec.scada[i];
     const std::string field = "row " + std::to_string(i + 1);
     if (!std::isfinite(s.t_s) || s.t_s <= last_t)
       return error(kScadaFile, field + ", column 't_s'", "is " + format_double(s.t_s) + "; expected finite and increasing");
@@ -434,7 +434,7 @@ std::optional<BundleError> parse_samples_csv(const std::string& text, const std:
 }
 
 std::optional<BundleError> parse_scada_csv(const std::string& text, const std::string& file,
-                                           std::vector<ScadaSample>& out) {
+                                           std::vector<BundleScadaRow>& out) {
   // TODO(wind): switch to the streaming reader of hal/scada_csv.hpp once it lands.
   enum Col { kT, kWind, kRpm, kPower, kPitch, kTorque, kCount };
   static const char* const kNames[kCount] = {"t_s", "wind_speed_mps", "rotor_speed_rpm", "power_kw", "pitch_deg", "torque_nm"};
@@ -476,7 +476,7 @@ std::optional<BundleError> parse_scada_csv(const std::string& text, const std::s
                                                                std::to_string(header.size()) + " like the header");
       return false;
     }
-    ScadaSample s;
+    BundleScadaRow s;
     for (std::size_t k = 0; k < cells.size(); ++k) {
       double v = 0.0;
       if (!parse_number(cells[k], v) || !std::isfinite(v)) {
@@ -690,9 +690,9 @@ std::optional<BundleError> write_bundle(const fs::path& dir, const Recording& re
     return error(rec.samples_file, "channels", "too many channels for a WAV file");
   if (rec.scada.size() > 0) {
     // A row that leaves out a column others carry cannot be written as CSV.
-    const ScadaSample& f = rec.scada.front();
+    const BundleScadaRow& f = rec.scada.front();
     for (std::size_t i = 0; i < rec.scada.size(); ++i) {
-      const ScadaSample& r = rec.scada[i];
+      const BundleScadaRow& r = rec.scada[i];
       if (r.rotor_speed_rpm.has_value() != f.rotor_speed_rpm.has_value() || r.power_kw.has_value() != f.power_kw.has_value() ||
           r.pitch_deg.has_value() != f.pitch_deg.has_value() || r.torque_nm.has_value() != f.torque_nm.has_value())
         return error(kScadaFile, "row " + std::to_string(i + 1), "has a different set of columns than row 1; expected the same columns in every row");
