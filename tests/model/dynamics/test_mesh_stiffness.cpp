@@ -1,0 +1,130 @@
+// Gear-mesh geometry and stiffness against hand calculations (ISO 21771 contact
+// ratios, ISO 6336-1 §9 method B stiffness) and against properties of the
+// contact-line model that hold whatever the implementation.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "model/dynamics/mesh_stiffness.hpp"
+
+namespace {
+
+using model::dynamics::GearPair;
+using model::dynamics::PeriodicTable;
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+GearPair sun_planet() { return {21, 39, false, 0.017, 20 * kDeg, 0.0, 0.370, 0.0, 0.0}; }
+GearPair planet_ring() { return {39, 99, true, 0.017, 20 * kDeg, 0.0, 0.370, 0.0, 0.0}; }
+GearPair intermediate() { return {21, 92, false, 0.014, 20 * kDeg, 10 * kDeg, 0.300, 0.0, 0.0}; }
+
+TEST(ContactRatio, SunPlanetSpurMeshMatchesTheHandCalculation) {
+  // Arrange: m = 17 mm, α = 20°, z = 21/39, addendum = m.
+  // r_b1 = 178.5·cos20° = 167.736 mm, r_a1 = 195.5 mm; r_b2 = 331.5·cos20° = 311.512 mm,
+  // r_a2 = 348.5 mm; a = 510 mm; p_b = π·17·cos20° = 50.186 mm.
+  // ε_α = (√(195.5² − 167.736²) + √(348.5² − 311.512²) − 510·sin20°) / 50.186
+  //     = (100.425 + 156.253 − 174.430) / 50.186 = 1.6388
+  // Act
+  const auto g = model::dynamics::mesh_geometry(sun_planet());
+  // Assert
+  EXPECT_NEAR(g.transverse_contact_ratio, 1.6388, 2e-4);
+  EXPECT_DOUBLE_EQ(g.overlap_ratio, 0.0);
+  EXPECT_NEAR(g.base_pitch_m, 0.050186, 1e-6);
+}
+
+TEST(ContactRatio, PlanetRingInternalMeshMatchesTheHandCalculation) {
+  // Internal gear: the ring's tip circle is inside its pitch circle, r_a2 = 841.5 − 17 = 824.5 mm,
+  // r_b2 = 841.5·cos20° = 790.751 mm, a = 841.5 − 331.5 = 510 mm;
+  // ε_α = (√(348.5² − 311.512²) − √(824.5² − 790.751²) + 510·sin20°) / 50.186
+  //     = (156.253 − 233.479 + 174.430) / 50.186 = 1.9369
+  const auto g = model::dynamics::mesh_geometry(planet_ring());
+  EXPECT_NEAR(g.transverse_contact_ratio, 1.9369, 2e-4);
+}
+
+TEST(ContactRatio, HelicalIntermediateMeshHasTransverseAndOverlapRatios) {
+  // m_n = 14 mm, β = 10°: m_t = 14/cos10° = 14.2158 mm, α_t = atan(tan20°/cos10°) = 20.284°.
+  // Transverse ratio by the same formula with transverse quantities: ε_α = 1.6691.
+  // ε_β = b·sinβ / (π m_n) = 300·sin10° / (π·14) = 1.1844.
+  const auto g = model::dynamics::mesh_geometry(intermediate());
+  EXPECT_NEAR(g.transverse_pressure_angle_rad / kDeg, 20.284, 1e-3);
+  EXPECT_NEAR(g.transverse_contact_ratio, 1.6691, 2e-4);
+  EXPECT_NEAR(g.overlap_ratio, 1.1844, 1e-4);
+}
+
+TEST(IsoStiffness, SingleAndMeshStiffnessFollowMethodBOfIso6336) {
+  // q' = 0.04723 + 0.15551/21 + 0.25791/39 = 0.061249 mm·µm/N → c'_th = 16.327 N/(mm·µm);
+  // c' = c'_th·C_M·C_R·C_B = 16.327·0.8·1·0.975 = 12.735; c_γα = c'·(0.75·1.6388 + 0.25) = 18.837.
+  EXPECT_NEAR(model::dynamics::iso_single_pair_stiffness(sun_planet()), 12.735, 1e-3);
+  EXPECT_NEAR(model::dynamics::iso_mesh_stiffness(sun_planet()), 18.837, 1e-3);
+  // The mean mesh stiffness of the stage: c_γα·b = 18.837 N/(mm·µm)·370 mm = 6.970e9 N/m.
+  EXPECT_NEAR(model::dynamics::mesh_stiffness(sun_planet()).mean_n_m, 6.970e9, 0.001e9);
+}
+
+TEST(MeshStiffnessShape, SpurMeshAlternatesBetweenOneAndTwoPairsForTheContactRatioFraction) {
+  // Arrange
+  const auto g = model::dynamics::mesh_geometry(sun_planet());
+  const auto k = model::dynamics::mesh_stiffness(sun_planet());
+  // Act: samples with two pairs in contact are those above the mean.
+  const auto& v = k.shape.values;
+  const double lo = *std::min_element(v.begin(), v.end());
+  const double hi = *std::max_element(v.begin(), v.end());
+  const auto doubles = std::count_if(v.begin(), v.end(), [&](double x) { return x > 0.5 * (lo + hi); });
+  // Assert: stiffness ratio 2:1 (rectangular single/double contact), double contact for
+  // (ε_α − 1) of the cycle, and the shape has mean 1 (the ISO mean is kept).
+  EXPECT_NEAR(hi / lo, 2.0, 1e-12);
+  EXPECT_NEAR(static_cast<double>(doubles) / PeriodicTable::kSize, g.transverse_contact_ratio - 1.0,
+              1.5 / PeriodicTable::kSize);
+  EXPECT_NEAR(k.shape.mean(), 1.0, 1e-12);
+}
+
+TEST(MeshStiffnessShape, HelicalContactLinesAverageToTransverseContactRatioTimesFaceWidth) {
+  // The mean contact-line length of any involute helical pair is ε_α·b/cos β_b
+  // (each pair sweeps the plane of action once per ε_α base pitches).
+  const auto pair = intermediate();
+  const auto g = model::dynamics::mesh_geometry(pair);
+  double sum = 0.0;
+  constexpr int kSamples = 4000;
+  for (int i = 0; i < kSamples; ++i) {
+    sum += model::dynamics::contact_line_length_m(g, pair.face_width_m, static_cast<double>(i) / kSamples);
+  }
+  EXPECT_NEAR(sum / kSamples, g.transverse_contact_ratio * pair.face_width_m / std::cos(g.base_helix_angle_rad),
+              1e-3 * pair.face_width_m);
+}
+
+TEST(MeshStiffnessShape, HelicalMeshVariesLessThanTheSpurMesh) {
+  const auto spur = model::dynamics::mesh_stiffness(sun_planet());
+  const auto helical = model::dynamics::mesh_stiffness(intermediate());
+  auto range = [](const PeriodicTable& t) {
+    return *std::max_element(t.values.begin(), t.values.end()) - *std::min_element(t.values.begin(), t.values.end());
+  };
+  EXPECT_LT(range(helical.shape), 0.25 * range(spur.shape));
+  EXPECT_GT(range(helical.shape), 0.0);
+}
+
+TEST(MeshPhasing, EquallySpacedPlanetsMeshInPhaseWhenToothCountsDivideByThePlanetCount) {
+  // Parker & Lin 2004: γ_sn = z_s ψ_n / 2π mod 1. z_s = 21, ψ = 120°: 7 → 0.
+  EXPECT_NEAR(model::dynamics::sun_planet_phase(21, 2 * kPi / 3), 0.0, 1e-9);
+  EXPECT_NEAR(model::dynamics::ring_planet_phase(99, 2 * kPi / 3), 0.0, 1e-9);
+  // z_s = 20: 20/3 = 6.667 → 2/3; ring 100: −100/3 = −33.333 → 2/3.
+  EXPECT_NEAR(model::dynamics::sun_planet_phase(20, 2 * kPi / 3), 2.0 / 3.0, 1e-9);
+  EXPECT_NEAR(model::dynamics::ring_planet_phase(100, 2 * kPi / 3), 2.0 / 3.0, 1e-9);
+}
+
+TEST(MeshPhasing, RingMeshLagsTheSunMeshByHalfACycleOnlyForAnEvenPlanet) {
+  EXPECT_NEAR(model::dynamics::ring_sun_phase(39), 0.0, 1e-12);
+  EXPECT_NEAR(model::dynamics::ring_sun_phase(40), 0.5, 1e-12);
+}
+
+TEST(PeriodicTableLookup, InterpolatesLinearlyAndWrapsAround) {
+  PeriodicTable t = PeriodicTable::constant(0.0);
+  t.values[0] = 1.0;
+  t.values[1] = 3.0;
+  const double step = 1.0 / PeriodicTable::kSize;
+  EXPECT_DOUBLE_EQ(t.value(0.5 * step), 2.0);
+  EXPECT_DOUBLE_EQ(t.value(-1.0 + 0.5 * step), 2.0);
+  EXPECT_NEAR(t.value(1.0 - 0.5 * step), 0.5, 1e-9);  // last sample (0) → first (1)
+}
+
+}  // namespace
