@@ -222,10 +222,16 @@ done
 
 # --- wait for the host's checks of the daemons, then stop them ---------------------------------
 if [ -n "$daemons" ]; then
-  echo "RIG-WAIT-HOST"
   # The host connects to forwarded port 1599 and sends one line when it is done.
-  if line=$(timeout 90 nc -l -p 1599); then
-    echo "  | host: $line"
+  # QEMU's forward accepts the host's connection even when nothing listens in the
+  # guest, so the listener must be up before the host is told to connect.
+  timeout 90 nc -l -p 1599 > /tmp/host-done 2>/dev/null &
+  listener=$!
+  sleep 1
+  echo "RIG-WAIT-HOST"
+  wait $listener
+  if [ -s /tmp/host-done ]; then
+    echo "  | host: $(cat /tmp/host-done)"
   else
     echo "  | host never signalled (90 s)"
   fi
