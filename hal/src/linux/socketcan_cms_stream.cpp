@@ -1,6 +1,8 @@
 // SocketCAN CMS stream: see hal/socketcan_cms_stream.hpp.
 #include "hal/socketcan_cms_stream.hpp"
 
+#include "hal/cms_ingest.hpp"
+
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
@@ -33,7 +35,7 @@ constexpr int kMaxFramesPerWake = 256;  // bounded burst before re-checking stop
 }  // namespace
 
 struct SocketCanCmsStream::Impl {
-  Impl(const SocketCanConfig& c, const Clock& clk) : config(c), clock(clk) {}
+  Impl(const SocketCanConfig& c, const Clock& clk) : config(c), clock(clk), ingest(ingest_config(c)) {}
 
   SocketCanConfig config;
   const Clock& clock;
@@ -45,15 +47,17 @@ struct SocketCanCmsStream::Impl {
   std::atomic<bool> active{false};
 
   boost::lockfree::spsc_queue<CmsBlock, boost::lockfree::capacity<kSocketCanQueueBlocks>> queue;
-  std::array<SequenceTracker, kCmsMaxChannels> trackers{};
-  std::array<TimestampUnwrapper, kCmsMaxChannels> unwrappers{};
+  CmsIngest ingest;
 
-  std::atomic<std::uint64_t> blocks{0}, gaps{0}, lost{0}, duplicates{0}, reordered{0}, malformed{0},
-      error_frames{0}, bus_off_events{0}, recoveries{0}, overflows{0};
-  std::atomic<bool> bus_off{false};
-  std::atomic<bool> link_down{false};
-  std::atomic<std::int64_t> last_frame_ns{0};
-  std::atomic<std::int64_t> last_error_ns{INT64_MIN / 2};
+  static CmsIngestConfig ingest_config(const SocketCanConfig& c) {
+    CmsIngestConfig i;
+    i.base_id = c.base_id;
+    i.classic_format = c.classic_format;
+    i.scale = c.scale;
+    i.stale_after = c.stale_after;
+    i.error_hold = c.error_hold;
+    return i;
+  }
 
   int open_socket() {
     const int s = ::socket(PF_CAN, SOCK_RAW | SOCK_NONBLOCK | SOCK_CLOEXEC, CAN_RAW);
@@ -90,61 +94,23 @@ struct SocketCanCmsStream::Impl {
     return s;
   }
 
-  void on_error_frame(const canfd_frame& f, Timestamp now) {
-    ++error_frames;
-    last_error_ns = now.count();
+  void on_frame(const canfd_frame& f, bool is_fd, Timestamp now) {
     CanFrame cf;
-    cf.error = true;
-    std::memcpy(cf.data.data(), f.data, std::min<std::size_t>(f.len, CAN_MAX_DLEN));
-    const CanErrorInfo info = classify_error_frame(f.can_id & CAN_ERR_MASK, cf.data);
-    if (info.bus_off && !bus_off.exchange(true)) ++bus_off_events;
-    if (info.restarted && bus_off.exchange(false)) ++recoveries;
-  }
-
-  void on_data_frame(const canfd_frame& f, bool is_fd, Timestamp now) {
-    CanFrame cf;
-    cf.id = f.can_id & (f.can_id & CAN_EFF_FLAG ? CAN_EFF_MASK : CAN_SFF_MASK);
-    cf.extended = (f.can_id & CAN_EFF_FLAG) != 0;
+    cf.error = (f.can_id & CAN_ERR_FLAG) != 0;
+    cf.extended = !cf.error && (f.can_id & CAN_EFF_FLAG) != 0;
+    cf.id = f.can_id & (cf.error ? CAN_ERR_MASK : cf.extended ? CAN_EFF_MASK : CAN_SFF_MASK);
     cf.fd = is_fd;
     cf.len = std::min<std::uint8_t>(f.len, CANFD_MAX_DLEN);
     std::memcpy(cf.data.data(), f.data, cf.len);
     cf.stamp = now;
-    CmsFrame frame;
-    if (decode_cms_frame(cf, config.base_id, config.classic_format, frame) != CmsDecodeError::kNone ||
-        config.scale[frame.channel] == 0.0f) {
-      ++malformed;
-      return;
-    }
-    last_frame_ns = now.count();
-    if (bus_off.exchange(false)) ++recoveries;  // a good frame: the bus is back
-    const auto verdict = trackers[frame.channel].on_sequence(frame.sequence);
-    using V = SequenceTracker::Verdict;
-    if (verdict.verdict == V::kDuplicate) {
-      ++duplicates;
-      return;
-    }
-    if (verdict.verdict == V::kReordered) {
-      ++reordered;
-      return;
-    }
-    if (verdict.verdict == V::kGap) {
-      ++gaps;
-      lost += verdict.lost;
-    }
     CmsBlock b;
-    b.channel = frame.channel;
-    b.sequence = frame.sequence;
-    b.count = frame.count;
-    b.received = now;
-    b.stamp = frame.t0_us ? unwrappers[frame.channel].unwrap(*frame.t0_us) : now;
-    const float scale = config.scale[frame.channel];
-    for (std::size_t i = 0; i < frame.count; ++i) b.samples[i] = static_cast<float>(frame.raw[i]) * scale;
-    if (!active.load()) return;
+    const Status s = ingest.ingest(cf, now, b);
+    if ((s != Status::kOk && s != Status::kGap) || !active.load()) return;
     if (!queue.push(b)) {
-      ++overflows;
+      ingest.count_overflow();
       return;
     }
-    ++blocks;
+    ingest.count_delivered();
   }
 
   /// Reads what is waiting. @return false if the socket failed (must re-open).
@@ -154,19 +120,9 @@ struct SocketCanCmsStream::Impl {
       const ssize_t n = ::read(s, &f, sizeof f);
       if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
       const Timestamp now = clock.now();
-      if (n != CAN_MTU && n != CANFD_MTU) {
-        ++malformed;
-        continue;
-      }
-      if (f.can_id & CAN_ERR_FLAG) {
-        on_error_frame(f, now);
-        continue;
-      }
-      if (f.can_id & CAN_RTR_FLAG) {
-        ++malformed;
-        continue;
-      }
-      on_data_frame(f, n == CANFD_MTU, now);
+      if (n != CAN_MTU && n != CANFD_MTU) continue;  // cannot happen on a raw CAN socket
+      if ((f.can_id & CAN_RTR_FLAG) && !(f.can_id & CAN_ERR_FLAG)) f.len = 0;  // remote frame: malformed below
+      on_frame(f, n == CANFD_MTU, now);
     }
     return true;
   }
@@ -181,8 +137,8 @@ struct SocketCanCmsStream::Impl {
           s = open_socket();
           if (s >= 0) {
             sock = s;
-            link_down = false;
-            ++recoveries;
+            ingest.set_link_down(false);
+            ingest.count_recovery();
             backoff = config.min_backoff;
           } else {
             next_open = std::chrono::steady_clock::now() + backoff;
@@ -203,7 +159,7 @@ struct SocketCanCmsStream::Impl {
           // Interface gone or down (ENETDOWN, ENODEV): close and re-open with back-off.
           ::close(s);
           sock = -1;
-          link_down = true;
+          ingest.set_link_down(true);
           next_open = std::chrono::steady_clock::now() + backoff;
         }
       }
@@ -244,7 +200,7 @@ Status SocketCanCmsStream::configure() {
   m.sock = s;
   m.wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (m.wake_fd < 0) return Status::kIoError;
-  m.last_frame_ns = m.clock.now().count();
+  m.ingest.start(m.clock.now());
   m.thread = std::thread([&m] { m.run(); });
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;
@@ -272,34 +228,13 @@ Status SocketCanCmsStream::read(CmsBlock& out) {
   Impl& m = *impl_;
   if (m.lifecycle != LifecycleState::kActive) return Status::kWrongState;
   if (m.queue.pop(out)) return Status::kOk;
-  if (m.bus_off) return Status::kBusOff;
+  if (m.ingest.bus_off()) return Status::kBusOff;
   return Status::kNoData;
 }
 
-CmsStreamStats SocketCanCmsStream::stats() const {
-  const Impl& m = *impl_;
-  CmsStreamStats s;
-  s.blocks = m.blocks;
-  s.gaps = m.gaps;
-  s.lost_blocks = m.lost;
-  s.duplicates = m.duplicates;
-  s.reordered = m.reordered;
-  s.malformed = m.malformed;
-  s.error_frames = m.error_frames;
-  s.bus_off = m.bus_off_events;
-  s.recoveries = m.recoveries;
-  s.overflows = m.overflows;
-  return s;
-}
+CmsStreamStats SocketCanCmsStream::stats() const { return impl_->ingest.stats(); }
 
-Status SocketCanCmsStream::health(Timestamp now) const {
-  const Impl& m = *impl_;
-  if (m.bus_off) return Status::kBusOff;
-  if (m.link_down) return Status::kDisconnected;
-  if (now - Timestamp{m.last_error_ns.load()} < m.config.error_hold) return Status::kBusError;
-  if (now - Timestamp{m.last_frame_ns.load()} > m.config.stale_after) return Status::kStale;
-  return Status::kOk;
-}
+Status SocketCanCmsStream::health(Timestamp now) const { return impl_->ingest.health(now); }
 
 Status SocketCanCmsStream::send_heartbeat(std::uint16_t counter, std::uint16_t status_word) {
   Impl& m = *impl_;
