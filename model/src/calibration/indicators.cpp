@@ -15,34 +15,33 @@ Indicators compute_indicators(const dsp::PointFeatures& sim, const dsp::PointFea
     out.f1 = kIndicatorPenalty;
     out.valid = false;
   }
-  const std::size_t n = meas.count;
-  if (n < 2 || sim.count != n) {
+  const std::size_t count = meas.count;
+  out.tones = meas.resolved_count();
+  if (sim.count != count || out.tones < kMinTones) {
     out.f2 = out.f3 = kIndicatorPenalty;
     out.valid = false;
     return out;
   }
-  // f3: MAPE.
+  const auto n = static_cast<double>(out.tones);
+  // f3: MAPE over the resolved tones (resolved implies A_m > 0).
   double mean_s = 0.0;
   double mean_m = 0.0;
   double ape = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!meas.resolved[i]) continue;
     mean_s += sim.amplitude[i];
     mean_m += meas.amplitude[i];
-    if (meas.amplitude[i] > 0.0) {
-      ape += std::abs(sim.amplitude[i] - meas.amplitude[i]) / meas.amplitude[i];
-    } else {
-      ape = kIndicatorPenalty * static_cast<double>(n);
-      out.valid = false;
-    }
+    ape += std::abs(sim.amplitude[i] - meas.amplitude[i]) / meas.amplitude[i];
   }
-  out.f3 = std::min(ape / static_cast<double>(n), kIndicatorPenalty);
+  out.f3 = std::min(ape / n, kIndicatorPenalty);
   // f2: 1 − Pearson ρ.
-  mean_s /= static_cast<double>(n);
-  mean_m /= static_cast<double>(n);
+  mean_s /= n;
+  mean_m /= n;
   double sxy = 0.0;
   double sxx = 0.0;
   double syy = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!meas.resolved[i]) continue;
     const double dx = sim.amplitude[i] - mean_s;
     const double dy = meas.amplitude[i] - mean_m;
     sxy += dx * dy;

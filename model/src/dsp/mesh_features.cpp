@@ -57,11 +57,29 @@ DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz
   const double lines_per_order = static_cast<double>(config_.revolutions);
   out.rms = rms(x, n);
   out.count = config_.mesh_count * config_.harmonics;
+  const auto lines = static_cast<long long>(analyzer_.lines());
+  const auto lobe = static_cast<long long>(config_.lobe_half_width);
+  const auto reach = static_cast<long long>(std::min<std::size_t>(config_.noise_half_width, kMaxNoiseLines / 2));
+  const double lobe_gain = std::sqrt(static_cast<double>(2 * lobe + 1) / SpectrumAnalyzer::kHannEnbwLines);
   for (std::size_t m = 0; m < config_.mesh_count; ++m) {
     for (std::size_t h = 1; h <= config_.harmonics; ++h) {
+      const std::size_t i = m * config_.harmonics + (h - 1);
       const double line = static_cast<double>(h) * config_.mesh_orders[m] * lines_per_order;
-      out.amplitude[m * config_.harmonics + (h - 1)] =
-          analyzer_.tone_amplitude(spectrum_.data(), line, config_.lobe_half_width);
+      out.amplitude[i] = analyzer_.tone_amplitude(spectrum_.data(), line, config_.lobe_half_width);
+      // Noise floor: median of the neighbouring lines outside the main lobe.
+      const long long c = std::llround(line);
+      std::size_t k = 0;
+      for (long long j = c - reach; j <= c + reach; ++j) {
+        if (j < 1 || j >= lines || std::abs(j - c) <= lobe + 1) continue;
+        neighbours_[k++] = spectrum_[static_cast<std::size_t>(j)];
+      }
+      double floor = 0.0;
+      if (k > 0) {
+        std::nth_element(neighbours_.begin(), neighbours_.begin() + static_cast<long>(k / 2), neighbours_.begin() + static_cast<long>(k));
+        floor = neighbours_[k / 2] * lobe_gain;
+      }
+      out.noise_floor[i] = floor;
+      out.resolved[i] = out.amplitude[i] > 0.0 && out.amplitude[i] >= config_.resolved_ratio * floor;
     }
   }
   return DspStatus::kOk;

@@ -17,7 +17,10 @@ using model::dsp::PointFeatures;
 PointFeatures features(double rms, std::initializer_list<double> amps) {
   PointFeatures f;
   f.rms = rms;
-  for (double a : amps) f.amplitude[f.count++] = a;
+  for (double a : amps) {
+    f.resolved[f.count] = a > 0.0;  // hand-made: every non-zero tone stands out of the noise
+    f.amplitude[f.count++] = a;
+  }
   return f;
 }
 
@@ -64,13 +67,27 @@ TEST(Indicators, UndefinedCasesAreFlaggedInvalidAndPenalised) {
   const auto flat = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {2.0, 2.0, 2.0}));
   EXPECT_FALSE(flat.valid);
   EXPECT_EQ(flat.f2, model::calibration::kIndicatorPenalty);
-  // A zero measured amplitude: the percentage error is undefined.
+  // A zero measured amplitude is not resolved; 2 tones are fewer than kMinTones.
   const auto zero = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {0.0, 2.0, 3.0}));
   EXPECT_FALSE(zero.valid);
   EXPECT_FALSE(model::calibration::within_thresholds(zero));
   // A dead measured channel (RMS 0).
   const auto dead = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(0.0, {1.0, 2.0, 3.0}));
   EXPECT_FALSE(dead.valid);
+}
+
+TEST(Indicators, TonesTheMeasurementDoesNotResolveAreLeftOutOfF2AndF3) {
+  // Arrange: the 4th measured tone is in the noise; the simulation puts 100 there.
+  auto meas = features(1.0, {1.0, 2.0, 3.0, 0.01});
+  meas.resolved[3] = false;
+  const auto sim = features(1.0, {1.0, 2.0, 3.0, 100.0});
+  // Act
+  const auto i = compute_indicators(sim, meas);
+  // Assert: over tones 1–3 the amplitudes agree exactly: f2 = 0, f3 = 0.
+  EXPECT_TRUE(i.valid);
+  EXPECT_EQ(i.tones, 3u);
+  EXPECT_NEAR(i.f2, 0.0, 1e-12);
+  EXPECT_NEAR(i.f3, 0.0, 1e-12);
 }
 
 TEST(Indicators, FromHandMadeWaveformsMatchTheHandComputedValues) {

@@ -17,6 +17,12 @@
 //   f3 = 1/n · Σ |A_s,i − A_m,i| / A_m,i        (mean absolute percentage error,
 //        as a fraction, not ×100)
 //
+// The sums of f2 and f3 run over the tones the measurement resolves above its
+// noise floor (PointFeatures::resolved of the measured point; a tone buried
+// in noise carries no information about the model, and its "amplitude" would
+// only measure the noise). This skip is ours, not the paper's; the number of
+// tones used is reported in Indicators::tones.
+//
 // Thresholds (paper): f1 ≤ 0.5, f2 ≤ 0.2, f3 ≤ 0.2. A point "fits" when all
 // three are at or below their thresholds.
 //
@@ -38,12 +44,16 @@ struct Indicators {
   double f2 = 0.0;  // [-] 1 − Pearson correlation of mesh amplitudes, in [0, 2]
   double f3 = 0.0;  // [-] MAPE of mesh amplitudes (fraction)
   bool valid = false;  // false when an indicator is undefined (see compute_indicators)
+  std::size_t tones = 0;  // [-] amplitudes compared by f2 and f3 (resolved in the measurement)
 };
+
+/// Fewest resolved tones f2 and f3 are computed from.
+inline constexpr std::size_t kMinTones = 3;
 
 /// Indicators of a simulated point against a measured one.
 /// Undefined cases give valid = false and the offending indicator set to a
 /// large penalty (kIndicatorPenalty) so that an optimizer moves away from it:
-/// RMS_m ≤ 0, counts that differ or are < 2, a measured amplitude ≤ 0, or a
+/// RMS_m ≤ 0, counts that differ, fewer than kMinTones resolved tones, or a
 /// constant amplitude vector (Pearson ρ undefined).
 Indicators compute_indicators(const dsp::PointFeatures& simulated, const dsp::PointFeatures& measured);
 

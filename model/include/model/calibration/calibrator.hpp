@@ -1,0 +1,179 @@
+#pragma once
+// Calibration of the twin (VBDM-DT §2.3.2, §3.2): when a similarity
+// indicator of either measurement point exceeds its threshold, MOGOA moves the
+// uncertain dynamics parameters to minimise the six indicators
+// (f1, f2, f3 at point1 and point2) of the simulated against the measured
+// vibration, and the calibrator picks from the Pareto archive:
+//   the member with every indicator within its threshold that is nearest the
+//   ideal point (the archive's component-wise minimum), distances measured in
+//   units of each indicator's threshold; if no member is within all
+//   thresholds, the member nearest the ideal point.
+//
+// Decision variables (8): Rayleigh η [1/s] and ζ [s], the mesh stiffness
+// scale of each of the 3 stages and the bearing stiffness scale of each of the
+// 3 parallel shafts (model::DynamicsParameters). The optimiser searches their
+// logarithms within CalibrationSpace's bounds (ratios, not differences, are
+// what is uncertain about a damping or a stiffness).
+//
+// Thread context: a low-priority worker owns the Calibrator and calls
+// start() and then step() until it returns a final status; each step() is one
+// MOGOA iteration (population × one simulation). cancel() and read_result()
+// may be called from any thread at any time: cancel() sets an atomic flag
+// that the next step() honours, and read_result() reads the last published
+// result through a seqlock of atomic words (lock-free, never blocks the
+// writer; the real-time loop can poll it and swap the parameters in at a cycle
+// boundary). Construct at start-up: all buffers, the FFT plan and the MOGOA
+// storage are allocated there; start()/step() do not allocate (the simulator
+// must not either).
+
+#include <array>
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <type_traits>
+
+#include "model/calibration/indicators.hpp"
+#include "model/calibration/mogoa.hpp"
+#include "model/calibration/simulator.hpp"
+#include "model/drivetrain/description.hpp"
+#include "model/drivetrain/kinematics.hpp"
+#include "model/dsp/mesh_features.hpp"
+
+namespace model::calibration {
+
+inline constexpr std::size_t kCalibrationVariables = 8;
+inline constexpr std::size_t kCalibrationObjectives = 3 * kMeasurementPoints;
+
+/// Bounds of the decision variables.
+struct CalibrationSpace {
+  double eta_min_1_s = 0.5, eta_max_1_s = 50.0;        // [1/s] Rayleigh η
+  double zeta_min_s = 1e-6, zeta_max_s = 1e-4;         // [s] Rayleigh ζ
+  double mesh_scale_min = 0.5, mesh_scale_max = 2.0;   // [-]
+  double bearing_scale_min = 0.5, bearing_scale_max = 2.0;  // [-]
+
+  /// Bounds of variable i in the optimiser's (logarithmic) coordinates.
+  double lower(std::size_t i) const;
+  double upper(std::size_t i) const;
+  /// Variables → parameters (fields not calibrated are copied from `base`).
+  DynamicsParameters to_parameters(const double* x, const DynamicsParameters& base) const;
+  /// Parameters → variables (clamped into the bounds).
+  void to_variables(const DynamicsParameters& p, double* x) const;
+};
+
+using PointIndicators = std::array<Indicators, kMeasurementPoints>;
+
+/// True when any indicator of either point is above its threshold (or invalid):
+/// the paper's trigger for a calibration.
+bool needs_calibration(const PointIndicators& indicators);
+
+enum class CalibrationMethod : std::uint8_t {
+  kPublishedMogoa,  // MOGOA as published, random initial population
+  kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target
+};
+
+struct CalibratorConfig {
+  CalibrationMethod method = CalibrationMethod::kImprovedMogoa;
+  MogoaConfig mogoa{};                   // population, iterations, seed (archive_size kept ≤ kMaxArchive)
+  double preference_target_share = 0.5;  // [-] improved method only
+  bool stop_at_threshold = false;        // finish as soon as one evaluated solution fits everywhere
+  CalibrationSpace space{};
+};
+
+/// What a calibration produced; trivially copyable so that it can be published atomically.
+struct CalibrationResult {
+  std::uint32_t generation = 0;       // [-] 1 for the first published result, +1 per publication
+  bool finished = false;              // the optimiser ran to its end (or to the threshold)
+  bool cancelled = false;
+  bool fits = false;                  // every indicator of the chosen parameters within its threshold
+  DynamicsParameters parameters{};    // chosen parameters
+  PointIndicators indicators{};       // their indicators
+  std::size_t iterations = 0;         // [-] MOGOA iterations made
+  std::size_t evaluations = 0;        // [-] model evaluations made
+  std::size_t evaluations_to_threshold = 0;  // [-] at the first fitting evaluation; 0: none
+};
+static_assert(std::is_trivially_copyable_v<CalibrationResult>);
+
+enum class StepStatus : std::uint8_t { kIdle, kRunning, kFinished, kCancelled, kFailed };
+
+class Calibrator {
+ public:
+  /// @param simulator  the dynamics model (outlives the calibrator)
+  /// @param drivetrain its description (outlives the calibrator)
+  /// @param features   order-tracking/feature configuration; mesh orders are
+  ///                   filled here from the drivetrain (hss as reference shaft)
+  Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain, const dsp::FeatureConfig& features,
+             const CalibratorConfig& config);
+
+  /// The feature configuration to extract the measured features with.
+  const dsp::FeatureConfig& feature_config() const { return features_.config(); }
+  /// kOk when the configuration can be used; otherwise why not.
+  dsp::DspStatus status() const { return features_.config_status(); }
+
+  /// Sets the measurement to calibrate against (measured features of point1, point2).
+  void set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured, const OperatingPoint& op);
+
+  /// Indicators of `params` against the measurement (one simulation).
+  /// @return false when the simulation or the feature extraction failed
+  bool evaluate(const DynamicsParameters& params, PointIndicators& out);
+
+  /// Begins a calibration from `current` (the fields not calibrated are kept).
+  /// `previous`, when given, is the last calibration's result (warm start of
+  /// the improved method). Returns false for an unusable configuration.
+  bool start(const DynamicsParameters& current, const std::optional<DynamicsParameters>& previous = std::nullopt);
+
+  /// One MOGOA iteration (the first step evaluates the initial population).
+  /// Publishes the result when the run ends.
+  StepStatus step();
+
+  /// Requests the running calibration to stop at the next step(); any thread.
+  void cancel() { cancel_requested_.store(true, std::memory_order_relaxed); }
+
+  /// Copies the last published result; false when none was published yet or
+  /// the writer kept publishing while this reader retried. Any thread, lock-free.
+  bool read_result(CalibrationResult& out) const;
+
+  std::size_t evaluations() const { return problem_.evaluations; }
+  std::size_t evaluations_to_threshold() const { return problem_.evaluations_to_threshold; }
+  std::size_t iteration() const { return mogoa_ ? mogoa_->iteration() : 0; }
+  /// Smallest worst_threshold_ratio over both points seen so far (≤ 1: fits).
+  double best_ratio() const { return problem_.best_ratio; }
+
+ private:
+  // The optimiser's view: x (log variables) → 6 indicators.
+  struct Problem : MultiObjectiveProblem {
+    Calibrator* owner = nullptr;
+    std::size_t evaluations = 0;
+    std::size_t evaluations_to_threshold = 0;
+    double best_ratio = 1e300;
+    std::size_t variables() const override { return kCalibrationVariables; }
+    std::size_t objectives() const override { return kCalibrationObjectives; }
+    double lower(std::size_t i) const override { return owner->config_.space.lower(i); }
+    double upper(std::size_t i) const override { return owner->config_.space.upper(i); }
+    void evaluate(const double* x, double* f) override;
+    double preference(const double* f) const override;
+  };
+
+  void finish(bool cancelled);
+  void publish(const CalibrationResult& result);
+
+  VibrationSimulator& simulator_;
+  Kinematics kinematics_;
+  CalibratorConfig config_;
+  dsp::FeatureExtractor features_;
+  std::array<dsp::PointFeatures, kMeasurementPoints> measured_{};
+  OperatingPoint op_{};
+  DynamicsParameters base_{};
+  Problem problem_;
+  std::optional<Mogoa> mogoa_;
+  StepStatus state_ = StepStatus::kIdle;
+  std::atomic<bool> cancel_requested_{false};
+
+  // Seqlock: an odd sequence means a write is in progress.
+  static constexpr std::size_t kResultWords = (sizeof(CalibrationResult) + 7) / 8;
+  std::atomic<std::uint32_t> sequence_{0};
+  std::array<std::atomic<std::uint64_t>, kResultWords> result_words_{};
+  std::uint32_t generation_ = 0;
+};
+
+}  // namespace model::calibration

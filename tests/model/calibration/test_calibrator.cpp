@@ -1,0 +1,236 @@
+// The calibrator against the lumped stand-in simulator: recordings simulated
+// with known off-nominal parameters, which the model can therefore reproduce
+// exactly (up to the added noise) — a fit within the thresholds exists.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <new>
+#include <thread>
+
+#include "model/calibration/calibrator.hpp"
+#include "model/calibration/lumped_simulator.hpp"
+
+namespace {
+std::atomic<std::size_t> g_allocations{0};
+}
+void* operator new(std::size_t size) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(size)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+using namespace model::calibration;
+using model::DynamicsParameters;
+
+DynamicsParameters nominal_parameters() {
+  DynamicsParameters p;
+  p.rayleigh_eta = 2.0;    // [1/s]
+  p.rayleigh_zeta = 2e-5;  // [s]
+  return p;
+}
+
+// Table 3 style drift: damping ×2, mesh stiffness ×0.8, bearing stiffness ×1.3.
+DynamicsParameters drifted_parameters() {
+  DynamicsParameters p = nominal_parameters();
+  p.rayleigh_eta *= 2.0;
+  p.rayleigh_zeta *= 2.0;
+  p.mesh_stiffness_scale = {0.8, 0.8, 0.8};
+  p.bearing_stiffness_scale = {1.3, 1.3, 1.3};
+  return p;
+}
+
+// A small, quick configuration: 256 samples/rev × 32 revolutions.
+model::dsp::FeatureConfig small_features() {
+  model::dsp::FeatureConfig c;
+  c.samples_per_rev = 256;
+  c.revolutions = 32;
+  c.harmonics = 3;
+  return c;
+}
+
+class CalibratorTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    // The "recording": drifted parameters, 5 % noise, at the paper's operating point.
+    LumpedSimulatorConfig rec;
+    rec.sample_rate_hz = 8192.0;
+    rec.noise_relative = 0.05;
+    recorder_ = std::make_unique<LumpedSimulator>(drivetrain_, rec);
+    LumpedSimulatorConfig sim;
+    sim.sample_rate_hz = 4096.0;
+    simulator_ = std::make_unique<LumpedSimulator>(drivetrain_, sim);
+  }
+
+  std::unique_ptr<Calibrator> make(CalibrationMethod method, std::size_t population, std::size_t iterations,
+                                   std::uint64_t seed = 5) {
+    CalibratorConfig cc;
+    cc.method = method;
+    cc.mogoa.population = population;
+    cc.mogoa.max_iterations = iterations;
+    cc.mogoa.seed = seed;
+    auto cal = std::make_unique<Calibrator>(*simulator_, drivetrain_, small_features(), cc);
+    // Measured features, extracted with the calibrator's own configuration.
+    std::array<WaveformView, kMeasurementPoints> w{};
+    EXPECT_TRUE(recorder_->simulate(drifted_parameters(), op_, 4.0, w));
+    model::dsp::FeatureExtractor fx(cal->feature_config());
+    std::array<model::dsp::PointFeatures, kMeasurementPoints> measured{};
+    const double hss_hz = op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
+    for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
+      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz}, measured[p]),
+                model::dsp::DspStatus::kOk);
+    }
+    cal->set_measurement(measured, op_);
+    return cal;
+  }
+
+  model::Drivetrain drivetrain_ = model::paper_2mw();
+  OperatingPoint op_{8.33, 361747.0};  // paper check point
+  std::unique_ptr<LumpedSimulator> recorder_;
+  std::unique_ptr<LumpedSimulator> simulator_;
+};
+
+TEST(CalibrationTrigger, FiresWhenAnyIndicatorOfEitherPointExceedsItsThreshold) {
+  PointIndicators ok{};
+  for (auto& i : ok) i = {0.4, 0.1, 0.1, true, 9};
+  EXPECT_FALSE(needs_calibration(ok));
+  PointIndicators f3_high = ok;
+  f3_high[1].f3 = 0.21;
+  EXPECT_TRUE(needs_calibration(f3_high));
+  PointIndicators f1_high = ok;
+  f1_high[0].f1 = 0.51;
+  EXPECT_TRUE(needs_calibration(f1_high));
+  PointIndicators invalid = ok;
+  invalid[0].valid = false;
+  EXPECT_TRUE(needs_calibration(invalid));
+}
+
+TEST(CalibrationSpace, RoundTripsParametersThroughItsLogarithmicVariables) {
+  const CalibrationSpace space;
+  const DynamicsParameters p = drifted_parameters();
+  std::array<double, kCalibrationVariables> x{};
+  space.to_variables(p, x.data());
+  EXPECT_NEAR(x[0], std::log(4.0), 1e-12);
+  const DynamicsParameters back = space.to_parameters(x.data(), p);
+  EXPECT_NEAR(back.rayleigh_eta, 4.0, 1e-12);
+  EXPECT_NEAR(back.rayleigh_zeta, 4e-5, 1e-17);
+  for (std::size_t s = 0; s < 3; ++s) {
+    EXPECT_NEAR(back.mesh_stiffness_scale[s], 0.8, 1e-12);
+    EXPECT_NEAR(back.bearing_stiffness_scale[s], 1.3, 1e-12);
+  }
+}
+
+TEST_F(CalibratorTest, AnOffNominalRecordingTriggersCalibrationAndTheChosenParametersFitBothPoints) {
+  // Arrange
+  auto cal = make(CalibrationMethod::kImprovedMogoa, 12, 15);
+  PointIndicators before{};
+  ASSERT_TRUE(cal->evaluate(nominal_parameters(), before));
+  ASSERT_TRUE(needs_calibration(before));
+  CalibrationResult none;
+  EXPECT_FALSE(cal->read_result(none));
+  // Act
+  ASSERT_TRUE(cal->start(nominal_parameters()));
+  StepStatus s;
+  while ((s = cal->step()) == StepStatus::kRunning) {
+  }
+  // Assert
+  EXPECT_EQ(s, StepStatus::kFinished);
+  CalibrationResult r;
+  ASSERT_TRUE(cal->read_result(r));
+  EXPECT_EQ(r.generation, 1u);
+  EXPECT_TRUE(r.finished);
+  EXPECT_TRUE(r.fits);
+  for (const Indicators& i : r.indicators) {
+    EXPECT_LE(i.f1, kF1Threshold);
+    EXPECT_LE(i.f2, kF2Threshold);
+    EXPECT_LE(i.f3, kF3Threshold);
+  }
+  EXPECT_GT(r.evaluations_to_threshold, 0u);
+  EXPECT_EQ(r.evaluations, 12u * 16u);
+}
+
+TEST_F(CalibratorTest, PublishedMogoaIsSelectableAndDeterministicUnderASeed) {
+  auto run = [&](std::uint64_t seed) {
+    auto cal = make(CalibrationMethod::kPublishedMogoa, 8, 4, seed);
+    cal->start(nominal_parameters());
+    while (cal->step() == StepStatus::kRunning) {
+    }
+    CalibrationResult r;
+    EXPECT_TRUE(cal->read_result(r));
+    return r;
+  };
+  const CalibrationResult a = run(11);
+  const CalibrationResult b = run(11);
+  const CalibrationResult c = run(12);
+  EXPECT_EQ(a.evaluations, 8u * 5u);
+  EXPECT_EQ(a.parameters.rayleigh_eta, b.parameters.rayleigh_eta);
+  EXPECT_EQ(a.parameters.mesh_stiffness_scale, b.parameters.mesh_stiffness_scale);
+  EXPECT_EQ(a.indicators[0].f3, b.indicators[0].f3);
+  EXPECT_NE(a.parameters.rayleigh_eta, c.parameters.rayleigh_eta);
+}
+
+TEST_F(CalibratorTest, CancelStopsAtTheNextStepAndPublishesACancelledResult) {
+  auto cal = make(CalibrationMethod::kImprovedMogoa, 8, 50);
+  cal->start(nominal_parameters());
+  ASSERT_EQ(cal->step(), StepStatus::kRunning);  // initial population
+  ASSERT_EQ(cal->step(), StepStatus::kRunning);  // iteration 1
+  cal->cancel();
+  EXPECT_EQ(cal->step(), StepStatus::kCancelled);
+  EXPECT_EQ(cal->step(), StepStatus::kCancelled);
+  CalibrationResult r;
+  ASSERT_TRUE(cal->read_result(r));
+  EXPECT_TRUE(r.cancelled);
+  EXPECT_FALSE(r.finished);
+  EXPECT_EQ(r.iterations, 1u);
+  EXPECT_EQ(r.evaluations, 16u);
+}
+
+TEST_F(CalibratorTest, StepsDoNotAllocate) {
+  auto cal = make(CalibrationMethod::kImprovedMogoa, 8, 3);
+  ASSERT_TRUE(cal->start(nominal_parameters()));
+  const std::size_t before = g_allocations.load();
+  while (cal->step() == StepStatus::kRunning) {
+  }
+  EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST_F(CalibratorTest, AReaderOnAnotherThreadNeverSeesATornResult) {
+  // Arrange: a reader polls while the calibrator publishes 6 results; every
+  // result of this configuration has evaluations = 8·(2 + 1) = 24 and its
+  // generation, so a mix of two publications would break the identity below.
+  auto cal = make(CalibrationMethod::kPublishedMogoa, 8, 2);
+  std::atomic<bool> done{false};
+  std::atomic<int> torn{0};
+  std::atomic<int> reads{0};
+  std::thread reader([&] {
+    std::uint32_t last = 0;
+    while (!done.load()) {
+      CalibrationResult r;
+      if (!cal->read_result(r)) continue;
+      reads.fetch_add(1);
+      if (r.evaluations != 24 || r.generation < last || !r.finished) torn.fetch_add(1);
+      last = r.generation;
+    }
+  });
+  // Act
+  for (int k = 0; k < 6; ++k) {
+    cal->start(nominal_parameters());
+    while (cal->step() == StepStatus::kRunning) {
+    }
+  }
+  done.store(true);
+  reader.join();
+  // Assert
+  CalibrationResult last;
+  ASSERT_TRUE(cal->read_result(last));
+  EXPECT_EQ(last.generation, 6u);
+  EXPECT_EQ(torn.load(), 0);
+}
+
+}  // namespace
