@@ -198,9 +198,16 @@ port=1502
 daemons=""
 for d in /rig/daemons/rigd_*; do
   [ -x "$d" ] || continue
-  echo "RIG-DAEMON $(basename "$d") port=$port"
-  (cd /tmp && DRIVETWIN_RIG_MODBUS_PORT=$port exec "$d") &
+  n=$(basename "$d")
+  echo "RIG-DAEMON $n port=$port"
+  (cd /tmp && DRIVETWIN_RIG_MODBUS_PORT=$port exec "$d") > /tmp/$n.out 2>&1 &
   daemons="$daemons $!"
+  # Relay its RIG-READY line from here, before any test binary writes to the
+  # console, so that the host never sees it interleaved with other output.
+  i=0
+  while [ $i -lt 150 ] && ! grep -q '^RIG-READY ' /tmp/$n.out; do sleep 0.1; i=$((i + 1)); done
+  grep '^RIG-READY ' /tmp/$n.out | head -1
+  grep -v '^RIG-READY ' /tmp/$n.out | sed "s/^/  | $n: /"
   port=$((port + 1))
 done
 
@@ -211,10 +218,19 @@ for t in /rig/tests/rig_*; do
   ran=$((ran + 1))
   n=$(basename "$t")
   echo "RIG-RUN bin:$n"
-  (cd /tmp && timeout -s KILL 120 "$t" --gtest_color=no)
-  rc=$?
-  if [ $rc = 0 ]; then result "bin:$n" PASS
-  elif [ $rc = 137 ]; then result "bin:$n" FAIL "killed after 120 s"
+  rm -f /tmp/$n.rc
+  ( cd /tmp && timeout -s KILL 120 "$t" --gtest_color=no 2>&1; echo $? > /tmp/$n.rc ) | tee /tmp/$n.log
+  rc=$(cat /tmp/$n.rc 2>/dev/null || echo 255)
+  # GoogleTest's summary: "[==========] N tests from M test suites ran." and
+  # "[  SKIPPED ] K tests, listed below:". A binary whose every test skipped inside
+  # the rig proved nothing: that is SKIP, not PASS.
+  total=$(sed -n 's/^\[==========\] \([0-9]*\) tests\{0,1\} from .* ran\..*/\1/p' /tmp/$n.log | tail -1)
+  skips=$(sed -n 's/^\[  SKIPPED \] \([0-9]*\) tests\{0,1\}, listed below.*/\1/p' /tmp/$n.log | tail -1)
+  total=${total:-0}; skips=${skips:-0}
+  if [ "$rc" = 0 ] && [ "$total" -gt 0 ] && [ "$skips" = "$total" ]; then result "bin:$n" SKIP "all $total tests skipped"
+  elif [ "$rc" = 0 ] && [ "$total" -gt 0 ]; then result "bin:$n" PASS "$((total - skips)) of $total tests ran and passed, $skips skipped"
+  elif [ "$rc" = 0 ]; then result "bin:$n" FAIL "exit 0 but no GoogleTest summary (ran no tests?)"
+  elif [ "$rc" = 137 ]; then result "bin:$n" FAIL "killed after 120 s"
   else result "bin:$n" FAIL "exit $rc"; fi
   echo pull-down > $gs_dir/sim_gpio0/pull 2>/dev/null
 done

@@ -40,7 +40,8 @@ fi
 [ -f "$cache/Image" ] && [ -f "$cache/rig.cpio.gz" ] || die "no rig image in $cache (run build-rig.sh)"
 t_built=$(date +%s)
 
-# Free host ports for the forwards (guest 1502, 1503: Modbus daemons; 1599: "host done").
+# Free host ports for the forwards (guest 1502..1509: Modbus daemons, one port each
+# in name order; 1599: "host done").
 port_free() { ! (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null; }
 pick_port() {
   local p
@@ -50,8 +51,14 @@ pick_port() {
   done
   die "no free TCP port found on 127.0.0.1"
 }
-hp_1502=$(pick_port); hp_1503=$(pick_port); hp_done=$(pick_port)
-declare -A host_port=([1502]=$hp_1502 [1503]=$hp_1503)
+declare -A host_port=()
+fwd=""
+for gp in $(seq 1502 1509); do
+  host_port[$gp]=$(pick_port)
+  fwd+=",hostfwd=tcp:127.0.0.1:${host_port[$gp]}-:$gp"
+done
+hp_done=$(pick_port)
+fwd+=",hostfwd=tcp:127.0.0.1:$hp_done-:1599"
 
 log=$cache/console.log
 : > "$log"
@@ -61,7 +68,7 @@ qemu-system-aarch64 \
   -serial "file:$log" \
   -kernel "$cache/Image" -initrd "$cache/rig.cpio.gz" \
   -append "console=ttyAMA0 rdinit=/init quiet loglevel=3 panic=-1" \
-  -netdev "user,id=n0,hostfwd=tcp:127.0.0.1:$hp_1502-:1502,hostfwd=tcp:127.0.0.1:$hp_1503-:1503,hostfwd=tcp:127.0.0.1:$hp_done-:1599" \
+  -netdev "user,id=n0$fwd" \
   -device virtio-net-pci,netdev=n0,romfile= \
   > "$cache/qemu.log" 2>&1 &
 qpid=$!
@@ -85,7 +92,7 @@ declare -A daemon_ready=()
 modbus_check() {
   local name=$1 gport=$2 ref=$3 values=$4 hp out got
   hp=${host_port[$gport]:-}
-  if [ -z "$hp" ]; then host_result "mbpoll-$name" FAIL "guest port $gport is not forwarded (1502, 1503 are)"; return; fi
+  if [ -z "$hp" ]; then host_result "mbpoll-$name" FAIL "guest port $gport is not forwarded (1502..1509 are)"; return; fi
   local count
   count=$(tr ',' '\n' <<<"$values" | wc -l)
   if ! out=$(timeout 20 mbpoll -m tcp -p "$hp" -a 1 -t 4 -r "$ref" -c "$count" -1 -o 5 127.0.0.1 2>&1); then
