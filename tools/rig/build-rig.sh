@@ -96,7 +96,8 @@ deb_of() { cat "$debs/$1.path"; }
 # --- kernel, headers, kbuild, source -------------------------------------------
 if [ ! -f "$cache/kernel.done" ] || [ "$(cat "$cache/kernel-abi" 2>/dev/null)" != "$abi" ]; then
   rm -rf "$kroot" "$cache/kernel.done" "$cache/modules.done" "$debs"/*.path
-  kver=$(apt-cache show "linux-image-$abi:arm64" 2>/dev/null | awk '/^Version:/ {print $2; exit}')
+  kver=$(apt-cache policy "linux-image-$abi:arm64" 2>/dev/null | awk '/Candidate:/ {print $2; exit}')
+  [ "$kver" != "(none)" ] || kver=""
   [ -n "$kver" ] || die "apt knows no linux-image-$abi:arm64 (apt-get update? set DRIVETWIN_RIG_KERNEL_ABI?)"
   common=${abi%-arm64}-common
   fetch image   "linux-image-$abi:arm64" "$kver"
