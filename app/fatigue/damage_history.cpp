@@ -1,0 +1,208 @@
+#include "fatigue/damage_history.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "model/wind/wind_load.hpp"
+
+namespace app::fatigue {
+namespace {
+constexpr double kDayS = 86400.0;
+constexpr std::size_t kPeriodProbeRows = 64;
+constexpr double kPi = 3.14159265358979323846;
+using hal::ScadaField;
+}  // namespace
+
+HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& drivetrain,
+                          const model::fatigue::ChannelSet& channels,
+                          const model::fatigue::LoadSpectrum& spectrum, const HistoryOptions& options) {
+  HistoryResult r;
+  const std::size_t nc = channels.channel_count();
+  r.damage.assign(nc, 0.0);
+  r.bin_time_s.assign(kTorqueBins, 0.0);
+  std::vector<std::vector<double>> bin_damage(nc, std::vector<double>(kTorqueBins, 0.0));
+  std::vector<model::fatigue::DamageRateHistory> rates;
+  rates.reserve(nc);
+  for (std::size_t c = 0; c < nc; ++c) rates.emplace_back(kDayS, options.rul_short_window_days);
+  std::vector<double> day_inc(nc, 0.0), d(nc, 0.0);
+  long long day = std::numeric_limits<long long>::min();
+  bool day_has_data = false;
+
+  const model::wind::WindLoad wind(drivetrain.turbine);
+  const double rated_rpm = drivetrain.turbine.rated_rotor_speed_rpm;
+  const double rated_torque = drivetrain.turbine.rated_torque_nm > 0 ? drivetrain.turbine.rated_torque_nm : 1.0;
+  const double eta = drivetrain.turbine.drivetrain_efficiency > 0 ? drivetrain.turbine.drivetrain_efficiency : 1.0;
+  double prev_t = std::numeric_limits<double>::quiet_NaN();
+
+  auto issue = [&](std::size_t row, std::string field, std::string message) {
+    if (r.issues.size() < kMaxIssues) r.issues.push_back({row, std::move(field), std::move(message)});
+  };
+  auto where = [&](const hal::ScadaRow& row, ScadaField f) {
+    return reader.path() + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
+           "), column '" + reader.column_name(f) + "' (" + hal::scada_field_name(f) + ")";
+  };
+  auto reject = [&](const hal::ScadaRow& row, ScadaField f, const std::string& what, std::size_t& counter) {
+    ++r.rows_rejected;
+    ++counter;
+    issue(row.row, hal::scada_field_name(f), where(row, f) + ": " + what + "; row skipped");
+  };
+  auto flush_day = [&]() {
+    if (!day_has_data) return;
+    for (std::size_t c = 0; c < nc; ++c) {
+      rates[c].add_interval(day_inc[c]);
+      day_inc[c] = 0.0;
+    }
+    day_has_data = false;
+  };
+
+  auto process = [&](const hal::ScadaRow& row) {
+    if (!row.has(ScadaField::kTime)) {
+      reject(row, ScadaField::kTime, "time missing", r.rejected_time);
+      return;
+    }
+    const double t = row.get(ScadaField::kTime);
+    if (!std::isnan(prev_t) && !(t > prev_t)) {
+      reject(row, ScadaField::kTime,
+             t == prev_t ? "duplicate timestamp" : "timestamp before the previous row's (unsorted)",
+             r.rejected_time);
+      return;
+    }
+    const bool has_speed = row.has(ScadaField::kRotorSpeed);
+    double rpm = has_speed ? row.get(ScadaField::kRotorSpeed) : 0.0;
+    if (has_speed && rpm < -kSpeedOffsetRpm) {
+      reject(row, ScadaField::kRotorSpeed, "negative rotor speed " + std::to_string(rpm) + " rpm",
+             r.rejected_speed);
+      return;
+    }
+    if (has_speed && rated_rpm > 0 && rpm > kMaxSpeedFactor * rated_rpm) {
+      reject(row, ScadaField::kRotorSpeed,
+             "rotor speed " + std::to_string(rpm) + " rpm above 1.5 × rated", r.rejected_speed);
+      return;
+    }
+    rpm = std::max(rpm, 0.0);
+    if (row.has(ScadaField::kWindSpeed) && row.get(ScadaField::kWindSpeed) < 0.0) {
+      reject(row, ScadaField::kWindSpeed, "negative wind speed", r.rejected_wind);
+      return;
+    }
+    // Torque source, in order of preference (see header).
+    double torque = 0.0;
+    if (row.has(ScadaField::kTorque)) {
+      torque = std::abs(row.get(ScadaField::kTorque));
+      ++r.torque_rows_measured;
+    } else if (row.has(ScadaField::kPower) && has_speed && rpm > 0.1) {
+      const double omega = rpm * 2.0 * kPi / 60.0;
+      torque = std::max(0.0, row.get(ScadaField::kPower)) * 1e3 / (eta * omega);
+      ++r.torque_rows_power;
+    } else if (row.has(ScadaField::kWindSpeed)) {
+      const double v = row.get(ScadaField::kWindSpeed);
+      model::wind::WindLoadOutput out;
+      if (has_speed) {
+        const bool has_pitch = row.has(ScadaField::kPitch);
+        out = wind.with_rotor_speed(v, rpm * 2.0 * kPi / 60.0,
+                                    has_pitch ? row.get(ScadaField::kPitch) * kPi / 180.0 : 0.0, has_pitch);
+      } else {
+        out = wind.steady_state(v);
+        rpm = out.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
+      }
+      torque = std::abs(out.torque_nm);
+      ++r.torque_rows_wind;
+    } else {
+      ++r.rows_no_data;
+      return;
+    }
+    // Gap before this row?
+    if (!std::isnan(prev_t) && t - prev_t > kGapFactor * r.period_s) {
+      ++r.gaps;
+      r.gap_s += t - prev_t - r.period_s;
+      issue(row.row, "t_s",
+            where(row, ScadaField::kTime) + ": gap of " + std::to_string(t - prev_t) +
+                " s before this row (not extrapolated)");
+    }
+    if (r.rows_used == 0) r.first_t_s = t;
+    r.last_t_s = t;
+    prev_t = t;
+    ++r.rows_used;
+    r.covered_s += r.period_s;
+    const auto today = static_cast<long long>(std::floor(t / kDayS));
+    if (today != day) {
+      flush_day();
+      day = today;
+    }
+    day_has_data = true;
+    const double revs = rpm / 60.0 * r.period_s;
+    spectrum.damage_per_rev_at(torque, rpm, d.data());
+    const auto bin = std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
+    r.bin_time_s[bin] += r.period_s;
+    for (std::size_t c = 0; c < nc; ++c) {
+      const double inc = d[c] * revs;
+      r.damage[c] += inc;
+      day_inc[c] += inc;
+      bin_damage[c][bin] += inc;
+    }
+    if (options.progress && (r.rows_used & 0x3fff) == 0) options.progress(r.rows);
+  };
+
+  // Read the first rows to detect the period, then stream.
+  std::vector<hal::ScadaRow> probe;
+  hal::ScadaRow row;
+  bool end = false;
+  auto read = [&](hal::ScadaRow& out) -> bool {
+    for (;;) {
+      const hal::ScadaReadResult res = reader.next(out);
+      if (res == hal::ScadaReadResult::kEnd) return false;
+      ++r.rows;
+      if (res == hal::ScadaReadResult::kRow) return true;
+      ++r.rows_rejected;
+      ++r.rejected_nonnumeric;
+      // The reader's message names the column: "..., column '<name>': ...".
+      std::string field;
+      const std::string& msg = reader.error();
+      if (const auto at = msg.find("column '"); at != std::string::npos) {
+        const auto end_quote = msg.find('\'', at + 8);
+        if (end_quote != std::string::npos) field = msg.substr(at + 8, end_quote - at - 8);
+      }
+      issue(r.rows, field, msg + "; row skipped");
+      if (reader.error().find("read error") != std::string::npos) throw std::runtime_error(reader.error());
+    }
+  };
+  while (probe.size() < kPeriodProbeRows && (end = !read(row)) == false) probe.push_back(row);
+  r.period_s = options.period_s;
+  if (!(r.period_s > 0.0)) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 1; i < probe.size(); ++i) {
+      if (probe[i].has(ScadaField::kTime) && probe[i - 1].has(ScadaField::kTime)) {
+        const double dt = probe[i].get(ScadaField::kTime) - probe[i - 1].get(ScadaField::kTime);
+        if (dt > 0.0) best = std::min(best, dt);
+      }
+    }
+    if (!std::isfinite(best)) {
+      throw std::runtime_error(reader.path() +
+                               ": cannot detect the SCADA period from the first rows (need two rows "
+                               "with increasing t_s); pass --period");
+    }
+    r.period_s = best;
+  }
+  for (const hal::ScadaRow& p : probe) process(p);
+  if (!end) {
+    while (read(row)) process(row);
+  }
+  flush_day();
+  // Issues were found in reading order (the period probe reads ahead): list them by row.
+  std::stable_sort(r.issues.begin(), r.issues.end(),
+                   [](const HistoryIssue& a, const HistoryIssue& b) { return a.row < b.row; });
+  r.rul.resize(nc);
+  std::size_t worst = 0;
+  for (std::size_t c = 0; c < nc; ++c) {
+    r.rul[c] = rates[c].estimate(r.damage[c]);
+    const bool contact = channels.channel(c).mode == model::fatigue::FailureMode::kContact;
+    if (contact && r.damage[c] > r.damage[worst]) worst = c;
+  }
+  r.breakdown_channel = worst;
+  r.bin_damage = nc ? bin_damage[worst] : std::vector<double>(kTorqueBins, 0.0);
+  return r;
+}
+
+}  // namespace app::fatigue
