@@ -30,7 +30,7 @@ result() {  # result <name> PASS|FAIL|SKIP <detail...>
   esac
 }
 finish() {
-  echo "RIG-SUMMARY passed=$passed failed=$failed skipped=$skipped"
+  echo "RIG-SUMMARY passed=$passed failed=$failed skipped=$skipped uptime_s=$(cut -d' ' -f1 /proc/uptime)"
   echo "RIG-END"
   sync
   poweroff -f
@@ -47,7 +47,7 @@ check() {  # check <name> <command...>: PASS when the command exits 0; its outpu
   else result "shell:$name" FAIL "exit $rc"; fi
 }
 
-echo "RIG-BEGIN $(cat /rig/build-info | tr '\n' ' ')"
+echo "RIG-BEGIN uptime_s=$(cut -d' ' -f1 /proc/uptime) $(cat /rig/build-info | tr '\n' ' ')"
 dmesg -n 1 2>/dev/null
 
 # --- kernel modules ---------------------------------------------------------------

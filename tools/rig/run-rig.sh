@@ -82,9 +82,11 @@ trap 'kill $qpid $watchdog 2>/dev/null || true' EXIT
 
 host_pass=0
 host_fail=0
+host_failures=()
 host_result() {  # host_result <name> PASS|FAIL <detail>
   echo "RIG-RESULT host:$1 $2 ${*:3}"
-  if [ "$2" = PASS ]; then host_pass=$((host_pass + 1)); else host_fail=$((host_fail + 1)); fi
+  if [ "$2" = PASS ]; then host_pass=$((host_pass + 1)); else
+    host_fail=$((host_fail + 1)); host_failures+=("RIG-RESULT host:$1 $2 ${*:3}"); fi
 }
 declare -A daemon_ready=()
 # A daemon's line: RIG-READY modbus <name> port=<guest port> ref=<first register, 1-based> values=<v1,v2,...>
@@ -156,6 +158,7 @@ fi
 if [ $((g_fail + host_fail)) -gt 0 ]; then
   echo "run-rig.sh: FAIL: failed checks:"
   grep '^RIG-RESULT [^ ]* FAIL' "$cache/console.txt" | sed 's/^/  /' || true
+  for f in "${host_failures[@]}"; do echo "  $f"; done
   status=1
 fi
 [ $status = 0 ] && echo "run-rig.sh: PASS"
