@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -39,7 +40,9 @@ constexpr double kYearS = 365.25 * 86400.0;
 struct DamageArgs {
   std::string file;
   std::string drivetrain;
-  std::string columns = "bundle";
+  std::string columns = "auto";
+  std::string torque_from = "auto";
+  bool bench = false;
   std::string json;
   std::string spectrum = "quasi-static";
   std::string cache_dir;
@@ -71,11 +74,23 @@ fs::path default_cache_dir() {
 }
 
 // The spectrum depends on every drivetrain field (to_toml writes them all), the rating
-// options, the grid and the source: all go into the key.
-std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelOptions& o,
+// options, the grid and the source: all go into the key; and on the rating code itself,
+// so a fingerprint of the channels' behaviour (each source's stress at rated torque, its
+// cycles per revolution and S-N curve) goes in too: a code change that moves any stress
+// invalidates old cache files.
+std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs, const mf::ChannelOptions& o,
                            const mf::SpectrumGrid& g, mf::SpectrumSource source) {
   std::uint64_t h = 1469598103934665603ull;
-  const std::string tag = "drivetwin-spectrum/1";
+  const std::string tag = "drivetwin-spectrum/2";
+  const mf::LoadSample rated = cs.quasi_static_loads(d.turbine.rated_torque_nm);
+  for (std::size_t c = 0; c < cs.channel_count(); ++c) {
+    const mf::Channel& ch = cs.channel(c);
+    for (std::size_t k = 0; k < ch.source_count; ++k) {
+      const double v[] = {cs.stress(c, k, rated), ch.sources[k].cycles_per_rotor_rev, ch.curve.m, ch.curve.c,
+                          ch.curve.n_ref, ch.curve.knee_cycles};
+      h = fnv1a(h, v, sizeof v);
+    }
+  }
   h = fnv1a(h, tag.data(), tag.size());
   const std::string toml = app::config::to_toml(d);
   h = fnv1a(h, toml.data(), toml.size());
@@ -168,8 +183,16 @@ void run(const DamageArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const model::Drivetrain drivetrain = app::config::load_drivetrain(args.drivetrain);
   std::string error;
-  const auto columns = hal::parse_scada_columns(args.columns, &error);
+  const bool auto_columns = args.columns == "auto";
+  const auto columns = hal::parse_scada_columns(auto_columns ? "bundle" : args.columns, &error);
   if (!columns) throw CommandError("--columns: " + error);
+  app::fatigue::TorqueFrom torque_from = app::fatigue::TorqueFrom::kAuto;
+  if (args.torque_from == "torque") torque_from = app::fatigue::TorqueFrom::kTorque;
+  else if (args.torque_from == "power") torque_from = app::fatigue::TorqueFrom::kPower;
+  else if (args.torque_from == "wind") torque_from = app::fatigue::TorqueFrom::kWind;
+  else if (args.torque_from == "wind-steady") torque_from = app::fatigue::TorqueFrom::kWindSteady;
+  else if (args.torque_from != "auto")
+    throw CommandError("--torque-from: '" + args.torque_from + "' is not one of auto, torque, power, wind, wind-steady");
   mf::ChannelOptions options;
   options.k_a = args.k_a;
   options.rating.k_h_beta = args.k_h_beta;
@@ -198,7 +221,7 @@ void run(const DamageArgs& args) {
   grid.speed_min_rpm = 0.5;
   grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
   if (!(grid.torque_max_nm > 0.0)) throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
-  const std::uint64_t key = spectrum_key(drivetrain, options, grid, source);
+  const std::uint64_t key = spectrum_key(drivetrain, channels, options, grid, source);
   const fs::path cache_dir = args.cache_dir.empty() ? default_cache_dir() : fs::path(args.cache_dir);
   const fs::path cache_file = cache_dir / ("spectrum-" + hex64(key) + ".bin");
   mf::LoadSpectrum spectrum;
@@ -210,6 +233,7 @@ void run(const DamageArgs& args) {
     if (spectrum.channel_count == 0) throw CommandError(error);
     if (!args.no_cache) store_cached(cache_file, key, spectrum);
   }
+  spectrum.prepare();
   const auto t1 = std::chrono::steady_clock::now();
 
   std::string temp;
@@ -220,11 +244,34 @@ void run(const DamageArgs& args) {
       if (!p.empty()) std::remove(p.c_str());
     }
   } guard{temp};
+  // --columns auto: the bundle's names, else the Kelmarsh export's.
+  auto open_reader = [&](hal::ScadaCsvReader& r) {
+    if (r.open(path, *columns)) return;
+    const std::string first_error = r.error();
+    if (auto_columns && r.open(path, hal::kelmarsh_scada_columns())) return;
+    throw CommandError(first_error + (auto_columns ? " (nor the Kelmarsh export's columns; see --columns)" : ""));
+  };
   hal::ScadaCsvReader reader;
-  if (!reader.open(path, *columns)) throw CommandError(reader.error());
+  open_reader(reader);
+
+  // --bench: a reading-only pass over the same file first, as the baseline of the ratio.
+  double read_only_s = 0.0, read_only_cpu_s = 0.0;
+  if (args.bench) {
+    hal::ScadaCsvReader base;
+    open_reader(base);
+    hal::ScadaRow row;
+    std::size_t n = 0;
+    const auto b0 = std::chrono::steady_clock::now();
+    const std::clock_t c0 = std::clock();
+    while (base.next(row) != hal::ScadaReadResult::kEnd) ++n;
+    read_only_cpu_s = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
+    read_only_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - b0).count();
+    (void)n;
+  }
 
   app::fatigue::HistoryOptions hopt;
   hopt.period_s = args.period_s;
+  hopt.torque_from = torque_from;
   const bool tty = !args.no_progress && isatty(STDERR_FILENO);
   const double total_rows = tty ? estimate_rows(path) : 0.0;
   if (tty) {
@@ -236,6 +283,8 @@ void run(const DamageArgs& args) {
     };
   }
   app::fatigue::HistoryResult h;
+  const auto t1b = std::chrono::steady_clock::now();
+  const std::clock_t cpu0 = std::clock();
   try {
     h = app::fatigue::run_history(reader, drivetrain, channels, spectrum, hopt);
   } catch (const std::runtime_error& e) {
@@ -243,9 +292,10 @@ void run(const DamageArgs& args) {
     throw CommandError(e.what());
   }
   const auto t2 = std::chrono::steady_clock::now();
+  const double rows_cpu_s = static_cast<double>(std::clock() - cpu0) / CLOCKS_PER_SEC;
   if (tty) std::fprintf(stderr, "\r%*s\r", 70, "");
   const double spectrum_s = std::chrono::duration<double>(t1 - t0).count();
-  const double rows_s = std::chrono::duration<double>(t2 - t1).count();
+  const double rows_s = std::chrono::duration<double>(t2 - t1b).count();
   const double days = h.covered_s / 86400.0;
 
   for (const auto& i : h.issues) std::fprintf(stderr, "drivetwin damage: %s\n", i.message.c_str());
@@ -290,8 +340,14 @@ void run(const DamageArgs& args) {
                 100.0 * h.bin_time_s[b] / h.covered_s, dtot > 0 ? 100.0 * h.bin_damage[b] / dtot : 0.0,
                 h.bin_damage[b] / (h.bin_time_s[b] / 3600.0));
   }
-  std::printf("# time: spectrum %.3f s (%s), rows %.3f s = %.0f rows/s\n", spectrum_s,
-              cache_hit ? "from cache" : "built", rows_s, static_cast<double>(h.rows) / std::max(rows_s, 1e-9));
+  std::printf("# time: spectrum %.3f s (%s); rows: wall %.3f s, cpu %.3f s = %.0f rows per cpu second\n",
+              spectrum_s, cache_hit ? "from cache" : "built", rows_s, rows_cpu_s,
+              static_cast<double>(h.rows) / std::max(rows_cpu_s, 1e-9));
+  if (args.bench) {
+    std::printf("# bench: reading only (baseline, same file, same run): wall %.3f s, cpu %.3f s; "
+                "damage pass / reading only (cpu) = %.2f\n",
+                read_only_s, read_only_cpu_s, rows_cpu_s / std::max(read_only_cpu_s, 1e-9));
+  }
 
   if (!args.json.empty()) {
     nlohmann::json j;
@@ -321,7 +377,9 @@ void run(const DamageArgs& args) {
                                {"rul_high_years", num(e.rul_high_s / kYearS)}});
     }
     for (const auto& i : h.issues) j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
-    j["timing_s"] = {{"spectrum", spectrum_s}, {"rows", rows_s}};
+    j["timing_s"] = {{"spectrum", spectrum_s}, {"rows_wall", rows_s}, {"rows_cpu", rows_cpu_s}};
+    j["torque_rows"] = {{"torque_nm", h.torque_rows_measured}, {"power", h.torque_rows_power},
+                        {"wind_model", h.torque_rows_wind}};
     const std::string text = j.dump(2) + "\n";
     if (args.json == "-") {
       std::fputs(text.c_str(), stdout);
@@ -341,8 +399,14 @@ void setup(CLI::App& sub) {
                  "SCADA CSV (bundle columns, or --columns), or builtin:NAME for an embedded data file")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--columns", args->columns, "Column mapping: bundle, kelmarsh, or field=Column;...")
+  sub.add_option("--columns", args->columns,
+                 "Column mapping: auto (bundle, else kelmarsh), bundle, kelmarsh, or field=Column;...")
       ->capture_default_str();
+  sub.add_option("--torque-from", args->torque_from,
+                 "Rotor torque source: auto (torque_nm, else P/(eta*omega), else wind model), torque, power, "
+                 "wind, wind-steady (wind model with its own steady-state speed)")
+      ->capture_default_str();
+  sub.add_flag("--bench", args->bench, "Also time a reading-only pass (baseline) and print the ratio");
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
   sub.add_option("--spectrum", args->spectrum, "Load spectrum source: quasi-static (fallback) | dynamics")
       ->capture_default_str();

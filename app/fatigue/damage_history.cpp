@@ -70,7 +70,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
              r.rejected_time);
       return;
     }
-    const bool has_speed = row.has(ScadaField::kRotorSpeed);
+    const TorqueFrom from = options.torque_from;
+    const bool has_speed = row.has(ScadaField::kRotorSpeed) && from != TorqueFrom::kWindSteady;
     double rpm = has_speed ? row.get(ScadaField::kRotorSpeed) : 0.0;
     if (has_speed && rpm < -kSpeedOffsetRpm) {
       reject(row, ScadaField::kRotorSpeed, "negative rotor speed " + std::to_string(rpm) + " rpm",
@@ -89,14 +90,16 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     }
     // Torque source, in order of preference (see header).
     double torque = 0.0;
-    if (row.has(ScadaField::kTorque)) {
+    const bool any = from == TorqueFrom::kAuto;
+    const bool use_wind = any || from == TorqueFrom::kWind || from == TorqueFrom::kWindSteady;
+    if ((any || from == TorqueFrom::kTorque) && row.has(ScadaField::kTorque)) {
       torque = std::abs(row.get(ScadaField::kTorque));
       ++r.torque_rows_measured;
-    } else if (row.has(ScadaField::kPower) && has_speed && rpm > 0.1) {
+    } else if ((any || from == TorqueFrom::kPower) && row.has(ScadaField::kPower) && has_speed && rpm > 0.1) {
       const double omega = rpm * 2.0 * kPi / 60.0;
       torque = std::max(0.0, row.get(ScadaField::kPower)) * 1e3 / (eta * omega);
       ++r.torque_rows_power;
-    } else if (row.has(ScadaField::kWindSpeed)) {
+    } else if (use_wind && row.has(ScadaField::kWindSpeed)) {
       const double v = row.get(ScadaField::kWindSpeed);
       model::wind::WindLoadOutput out;
       if (has_speed) {

@@ -50,7 +50,14 @@ struct HistoryIssue {
   std::string message;    // full text with file, row and column
 };
 
+/// Where a row's rotor torque comes from. kAuto: the order in the file comment. The
+/// others force one source (a row without it is "no data"); kWindSteady also takes the
+/// rotor speed from the wind model's steady state, ignoring the measured one (to drive
+/// one turbine's drivetrain with another site's wind).
+enum class TorqueFrom { kAuto, kTorque, kPower, kWind, kWindSteady };
+
 struct HistoryOptions {
+  TorqueFrom torque_from = TorqueFrom::kAuto;
   double period_s = 0.0;  // [s] 0: detect
   std::size_t rul_short_window_days = 30;
   std::function<void(std::size_t rows)> progress;  // called every few thousand rows (may be empty)

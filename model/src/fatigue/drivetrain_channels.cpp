@@ -12,9 +12,11 @@ namespace {
 // every gear sits at mid-span between the two bearings of its shaft, so each bearing
 // takes half of the transverse gear force F_t/cos α_wt; where a shaft carries two gear
 // meshes their forces are taken as collinear and added (an upper bound: the layout
-// angles are not in the description). Helical axial forces F_t·tan β add likewise and
-// are taken by the shaft's angular-contact bearing (contact angle > 0), or ignored when
-// the shaft has none. The sun's planet meshes cancel (equal load sharing).
+// angles are not in the description). Helical axial forces F_t·tan β: on a shaft with a
+// driven and a driving helical gear (the intermediate shaft) the two are assumed of the
+// same hand, as is usual so that their thrusts oppose, and subtract; the net thrust is
+// taken by the shaft's angular-contact bearing (contact angle > 0), or ignored when the
+// shaft has none. The sun's planet meshes cancel (equal load sharing).
 constexpr double kMidSpanShare = 0.5;
 
 }  // namespace
@@ -220,8 +222,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       }
       const double radial = ft_per_nm / std::cos(g.alpha_wt_rad);
       const double axial = ft_per_nm * std::tan(st.helix_angle_rad);
-      add_shaft_force(wheel->shaft, radial, axial);
-      add_shaft_force(pinion->shaft, radial, axial);
+      add_shaft_force(wheel->shaft, radial, -axial);  // driving gear: thrust one way
+      add_shaft_force(pinion->shaft, radial, axial);  // driven gear: the other
     }
   }
   // Bearings.
@@ -245,7 +247,7 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       for (std::size_t i = 0; i < shaft_force_count; ++i) {
         if (shaft_forces[i].shaft == b.shaft) {
           radial = kMidSpanShare * shaft_forces[i].radial_per_nm;
-          if (b.contact_angle_rad > 0.0) axial = shaft_forces[i].axial_per_nm;
+          if (b.contact_angle_rad > 0.0) axial = std::abs(shaft_forces[i].axial_per_nm);
         }
       }
     }

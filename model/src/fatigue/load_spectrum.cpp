@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace model::fatigue {
 
@@ -56,7 +57,16 @@ LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid&
       }
     }
   }
+  s.prepare();
   return s;
+}
+
+void LoadSpectrum::prepare() {
+  log_damage_per_rev.resize(damage_per_rev.size());
+  for (std::size_t k = 0; k < damage_per_rev.size(); ++k) {
+    log_damage_per_rev[k] = damage_per_rev[k] > 0.0 ? std::log(damage_per_rev[k])
+                                                    : -std::numeric_limits<double>::infinity();
+  }
 }
 
 void LoadSpectrum::damage_per_rev_at(double torque_nm, double rotor_rpm, double* out) const {
@@ -67,19 +77,20 @@ void LoadSpectrum::damage_per_rev_at(double torque_nm, double rotor_rpm, double*
   const auto i0 = std::min<std::size_t>(static_cast<std::size_t>(fi), grid.torque_points - 2);
   const auto j0 = std::min<std::size_t>(static_cast<std::size_t>(fj), grid.speed_points - 2);
   const double wi = fi - static_cast<double>(i0), wj = fj - static_cast<double>(j0);
+  const double w00 = (1 - wi) * (1 - wj), w01 = (1 - wi) * wj, w10 = wi * (1 - wj), w11 = wi * wj;
   const std::size_t n = channel_count, sp_pts = grid.speed_points;
-  const double* a0 = &damage_per_rev[(i0 * sp_pts + j0) * n];
-  const double* a1 = &damage_per_rev[(i0 * sp_pts + j0 + 1) * n];
-  const double* b0 = &damage_per_rev[((i0 + 1) * sp_pts + j0) * n];
-  const double* b1 = &damage_per_rev[((i0 + 1) * sp_pts + j0 + 1) * n];
-  auto torque_interp = [wi](double lo, double hi) {
-    if (lo > 0.0 && hi > 0.0) return std::exp(std::log(lo) + wi * (std::log(hi) - std::log(lo)));
-    return lo + wi * (hi - lo);
-  };
+  const std::size_t k00 = (i0 * sp_pts + j0) * n, k01 = (i0 * sp_pts + j0 + 1) * n;
+  const std::size_t k10 = ((i0 + 1) * sp_pts + j0) * n, k11 = ((i0 + 1) * sp_pts + j0 + 1) * n;
+  const bool have_log = log_damage_per_rev.size() == damage_per_rev.size();
   for (std::size_t c = 0; c < n; ++c) {
-    const double at_j0 = torque_interp(a0[c], b0[c]);
-    const double at_j1 = torque_interp(a1[c], b1[c]);
-    out[c] = at_j0 + wj * (at_j1 - at_j0);
+    const double d00 = damage_per_rev[k00 + c], d01 = damage_per_rev[k01 + c];
+    const double d10 = damage_per_rev[k10 + c], d11 = damage_per_rev[k11 + c];
+    if (have_log && d00 > 0.0 && d01 > 0.0 && d10 > 0.0 && d11 > 0.0) {
+      out[c] = std::exp(w00 * log_damage_per_rev[k00 + c] + w01 * log_damage_per_rev[k01 + c] +
+                        w10 * log_damage_per_rev[k10 + c] + w11 * log_damage_per_rev[k11 + c]);
+    } else {
+      out[c] = w00 * d00 + w01 * d01 + w10 * d10 + w11 * d11;
+    }
   }
 }
 

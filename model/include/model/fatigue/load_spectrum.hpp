@@ -6,8 +6,9 @@
 // each point of a (rotor torque, rotor speed) grid; each series runs through a
 // DamageAccumulator, and the grid stores the resulting damage per ROTOR REVOLUTION of every
 // channel. A SCADA row then costs one interpolation per channel: D += d(T, n)·revs.
-// Interpolation: linear in speed; in torque linear in log d (damage ∝ σ^m with σ ∝ T^½ or
-// T: a power law, which log-interpolation follows closely), linear where a value is 0.
+// Interpolation: bilinear in log d over (torque, speed) (damage ∝ σ^m with σ ∝ T^½ or T is
+// a power law, which log-interpolation follows closely); a cell with a zero corner is
+// interpolated linearly in d instead. One exp per channel and row.
 //
 // Sources:
 //  - kDynamics: the simulator runs the dynamics model (mesh forces and bearing reactions
@@ -58,6 +59,10 @@ struct LoadSpectrum {
   SpectrumSource source = SpectrumSource::kQuasiStatic;
   std::size_t channel_count = 0;
   std::vector<double> damage_per_rev;  // [(i·speed_points + j)·channel_count + c] [-/rotor rev]
+  std::vector<double> log_damage_per_rev;  // ln of the above (−inf where 0); see prepare()
+
+  /// Fills log_damage_per_rev from damage_per_rev (after building or loading).
+  void prepare();
 
   /// Interpolated damage per rotor revolution of every channel at (torque, speed), clamped
   /// to the grid; writes channel_count values to out.
