@@ -4,8 +4,9 @@
 // The spectrum is built once per drivetrain, rating options and grid, and cached in a
 // file named by a hash of all of them.
 //
-// Load spectrum source: the dynamics model is not wired in yet; the only source is the
-// quasi-static FALLBACK (model/fatigue/load_spectrum.hpp), and every output says so.
+// Load spectrum source: `--spectrum dynamics` runs the dynamics model's ROM per grid point
+// (app/fatigue/dynamics_spectrum.hpp); `--spectrum quasi-static` is the named FALLBACK
+// (mean mesh forces, model/fatigue/load_spectrum.hpp). Every output names the source.
 #include <nlohmann/json.hpp>
 #include <unistd.h>
 
@@ -24,6 +25,7 @@
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "fatigue/damage_history.hpp"
+#include "fatigue/dynamics_spectrum.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
@@ -81,7 +83,7 @@ fs::path default_cache_dir() {
 std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs, const mf::ChannelOptions& o,
                            const mf::SpectrumGrid& g, mf::SpectrumSource source) {
   std::uint64_t h = 1469598103934665603ull;
-  const std::string tag = "drivetwin-spectrum/2";
+  const std::string tag = "drivetwin-spectrum/3";  // bump when the dynamics adapter changes
   const mf::LoadSample rated = cs.quasi_static_loads(d.turbine.rated_torque_nm);
   for (std::size_t c = 0; c < cs.channel_count(); ++c) {
     const mf::Channel& ch = cs.channel(c);
@@ -205,13 +207,11 @@ void run(const DamageArgs& args) {
     throw CommandError("--sn: '" + args.sn + "' is not one of haibach, iso");
   }
   if (!(args.k_a >= 1.0) || !(args.k_h_beta >= 1.0)) throw CommandError("--k-a and --k-h-beta must be ≥ 1");
-  if (args.spectrum == "dynamics") {
-    throw CommandError(
-        "--spectrum dynamics: the dynamics model's load-series entry point is not wired into "
-        "`damage` yet; use --spectrum quasi-static (the named fallback)");
+  if (args.spectrum != "quasi-static" && args.spectrum != "dynamics") {
+    throw CommandError("--spectrum: '" + args.spectrum + "' is not one of dynamics, quasi-static");
   }
-  if (args.spectrum != "quasi-static") throw CommandError("--spectrum: '" + args.spectrum + "' is not one of quasi-static, dynamics");
-  const mf::SpectrumSource source = mf::SpectrumSource::kQuasiStatic;
+  const mf::SpectrumSource source =
+      args.spectrum == "dynamics" ? mf::SpectrumSource::kDynamics : mf::SpectrumSource::kQuasiStatic;
 
   const mf::ChannelSet channels(drivetrain, options);
   if (!channels.valid()) throw CommandError("drivetrain '" + drivetrain.name + "': " + channels.error());
@@ -220,6 +220,10 @@ void run(const DamageArgs& args) {
   grid.torque_max_nm = 1.5 * drivetrain.turbine.rated_torque_nm;
   grid.speed_min_rpm = 0.5;
   grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
+  if (source == mf::SpectrumSource::kDynamics) {  // one ROM run per point: a coarser grid
+    grid.torque_points = 31;
+    grid.speed_points = 8;
+  }
   if (!(grid.torque_max_nm > 0.0)) throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
   const std::uint64_t key = spectrum_key(drivetrain, channels, options, grid, source);
   const fs::path cache_dir = args.cache_dir.empty() ? default_cache_dir() : fs::path(args.cache_dir);
@@ -229,8 +233,17 @@ void run(const DamageArgs& args) {
   spectrum.source = source;
   bool cache_hit = !args.no_cache && load_cached(cache_file, key, channels.channel_count(), spectrum);
   if (!cache_hit) {
-    spectrum = mf::build_load_spectrum(channels, grid, source, mf::quasi_static_simulator(channels), &error);
-    if (spectrum.channel_count == 0) throw CommandError(error);
+    std::string sim_error;
+    const mf::LoadSimulator simulator =
+        source == mf::SpectrumSource::kDynamics
+            ? app::fatigue::dynamics_simulator(drivetrain, channels, app::fatigue::DynamicsSpectrumSettings{}, &sim_error)
+            : mf::quasi_static_simulator(channels);
+    if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
+      std::fprintf(stderr, "building the load spectrum with the dynamics model (%u points, cached afterwards)...\n",
+                   grid.torque_points * grid.speed_points);
+    }
+    spectrum = mf::build_load_spectrum(channels, grid, source, simulator, &error);
+    if (spectrum.channel_count == 0) throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) store_cached(cache_file, key, spectrum);
   }
   spectrum.prepare();
@@ -306,9 +319,16 @@ void run(const DamageArgs& args) {
 
   const char* src = mf::spectrum_source_name(spectrum.source);
   std::printf("# drivetwin damage %s (drivetrain %s)\n", args.file.c_str(), drivetrain.name.c_str());
-  std::printf("# load spectrum: %s — mean mesh force from torque, equal planet sharing, K_A = %.2f, "
-              "K_v = 1, no dynamic content; %s %s\n",
-              src, args.k_a, cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
+  if (source == mf::SpectrumSource::kDynamics) {
+    std::printf("# load spectrum: %s — ROM mesh forces and bearing reactions per (torque, speed) point "
+                "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, K_v = 1; %s %s\n",
+                src, drivetrain.dynamics.rayleigh_eta, drivetrain.dynamics.rayleigh_zeta, args.k_a,
+                cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
+  } else {
+    std::printf("# load spectrum: %s — mean mesh force from torque, equal planet sharing, K_A = %.2f, "
+                "K_v = 1, no dynamic content; %s %s\n",
+                src, args.k_a, cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
+  }
   std::printf("# rating: ISO 6336-2/-3:2006 method B, K_Hβ = %.2f, ISO 1328 class %d; S-N beyond knee: %s\n",
               args.k_h_beta, args.accuracy_grade,
               options.branch == mf::KneeBranch::kHaibach ? "Haibach, slope -1/(2m-1)" : "ISO life-factor line (0.85 at 1e10)");
@@ -408,7 +428,8 @@ void setup(CLI::App& sub) {
       ->capture_default_str();
   sub.add_flag("--bench", args->bench, "Also time a reading-only pass (baseline) and print the ratio");
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
-  sub.add_option("--spectrum", args->spectrum, "Load spectrum source: quasi-static (fallback) | dynamics")
+  sub.add_option("--spectrum", args->spectrum,
+                 "Load spectrum source: quasi-static (the fallback: mean mesh forces) | dynamics (ROM per grid point)")
       ->capture_default_str();
   sub.add_option("--cache-dir", args->cache_dir, "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
   sub.add_flag("--no-cache", args->no_cache, "Always rebuild the spectrum, write no cache");

@@ -1,0 +1,49 @@
+#pragma once
+// The dynamics model as the load source of the fatigue load spectrum: one ROM simulation
+// (model/dynamics/simulate.hpp, simulate_rom) per (rotor torque, rotor speed) grid point,
+// its mesh forces and bearing reactions converted to model::fatigue::LoadSample.
+//
+// Conversion (documented assumptions):
+//   mesh: the ROM's force along the line of action F_bn (compression > 0) → ISO 6336's
+//     transverse tangential force at the reference circle F_t = F_bn·cos α_t·cos β_b
+//     (= F_bn·cos α_n·cos β, ISO 21771); a negative F_bn (teeth apart) loads nothing: 0.
+//     Meshes are matched by order: ROM sun_planet_1..P, ring_planet_1..P, then one per
+//     parallel stage — the ChannelSet's order; a count mismatch is an error.
+//   bearings b1..b6: radial = |(F_x, F_y)| of the ROM, matched by id; axial (the ROM is
+//     torsional-lateral) = the quasi-static helical thrust at the point's mean torque.
+//   planet bearings pbk (not in the ROM): radial = F_t(sun–planet k) + F_t(planet k–ring),
+//     the two tangential mesh forces the pin carries.
+// A simulation whose mesh force leaves kDivergenceFactor × the quasi-static force fails
+// the grid point with a message naming it (no damage figure from a diverged model).
+// Window: the first `settle_s` are dropped (the ROM starts from the static deflection),
+// then max(min_seconds, 10 planetary mesh periods) up to max_seconds are kept.
+//
+// Thread context: host / non-RT (allocates, runs the ROM).
+
+#include <string>
+
+#include "model/drivetrain/description.hpp"
+#include "model/fatigue/drivetrain_channels.hpp"
+#include "model/fatigue/load_spectrum.hpp"
+
+namespace app::fatigue {
+
+/// Mesh forces beyond this multiple of the quasi-static force are taken as a diverged
+/// simulation and refused (a dynamic factor of 10 is far beyond any K_v of ISO 6336-1).
+inline constexpr double kDivergenceFactor = 10.0;
+
+struct DynamicsSpectrumSettings {
+  double sample_rate_hz = 8192.0;  // [Hz] ROM output (and step) rate
+  double rom_cutoff_hz = 2500.0;   // [Hz] modes kept by the ROM
+  double settle_s = 0.25;          // [s] dropped at the start of each window
+  double min_seconds = 2.0;        // [s] kept, at least
+  double max_seconds = 12.0;       // [s] kept, at most
+};
+
+/// A LoadSimulator running simulate_rom on `drivetrain` (which must outlive it).
+model::fatigue::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain,
+                                                 const model::fatigue::ChannelSet& channels,
+                                                 const DynamicsSpectrumSettings& settings,
+                                                 std::string* last_error);
+
+}  // namespace app::fatigue
