@@ -3,14 +3,14 @@
 # missing, then builds and runs the tests natively, under AddressSanitizer +
 # UndefinedBehaviorSanitizer, and cross-compiled for aarch64 under qemu-aarch64
 # (that last tier includes the emulated-rig tests, label `rig`).
-# Usage: bash tools/test.sh [preset ...]     (default: host asan aarch64)
+# Usage: bash tools/test.sh [preset ...]     (default: host asan aarch64 fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash tools/setup.sh
 
 presets=("$@")
-[ ${#presets[@]} -gt 0 ] || presets=(host asan aarch64)
+[ ${#presets[@]} -gt 0 ] || presets=(host asan aarch64 fuzz)
 jobs=$(nproc)
 passed=0
 failed=0
