@@ -123,8 +123,11 @@ Drivetrain paper_2mw() {
       {"point2", "b3", "radial"},
   };
 
-  d.dynamics.rayleigh_eta = 0.0;
-  d.dynamics.rayleigh_zeta = 0.0;
+  // Rayleigh damping C = ηM + ζK (model/dynamics): modal damping ξ = η/(2ω) + ζω/2 gives
+  // 2 % at 20 Hz, 1.3 % at the 372 Hz hss mesh, 3 % at 1 kHz, 8 % at 2.5 kHz — the
+  // 1–8 % band usually assumed for gear transmissions; calibration refines both.
+  d.dynamics.rayleigh_eta = 5.0;     // [1/s]
+  d.dynamics.rayleigh_zeta = 1.0e-5; // [s]
   return d;
 }
 

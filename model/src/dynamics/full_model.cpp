@@ -415,7 +415,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       v.shape = k_sp.shape;
       v.order = planetary_order;
       v.phase_cycles = sun_planet_phase(sun.teeth, psi[n]);
-      model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), mv.n, sp_geo.base_radius1_m,
+      model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n, sp_geo.base_radius1_m,
                                  sun_torque_ratio, 0.0, ps.planets});
       add_varying(model.meshes, std::move(v));
     }
@@ -434,7 +434,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const double gamma = ring_planet_phase(ring.teeth, psi[n]) + gamma_rs;
     v.phase_cycles = gamma - std::floor(gamma);
     // Ring reaction torque = T_in − T_sun.
-    model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), mv.n, rp_geo.base_radius2_m,
+    model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n, rp_geo.base_radius2_m,
                                1.0 - sun_torque_ratio, 0.0, ps.planets});
     add_varying(model.meshes, std::move(v));
   }
@@ -459,7 +459,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = k.shape;
     v.order = order;
     v.phase_cycles = 0.0;
-    model.mesh_info.push_back({a.centre, b.centre, mv.n, geo.base_radius1_m, torque_ratio, geo.base_helix_angle_rad, 1});
+    model.mesh_info.push_back({a.centre, b.centre, pitch, mv.n, geo.base_radius1_m, torque_ratio, geo.base_helix_angle_rad, 1});
     add_varying(model.meshes, std::move(v));
   };
   // Sun and carrier turn the same way (ring fixed): the sun shaft spins +θ, the ims −θ.

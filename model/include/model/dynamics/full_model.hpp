@@ -116,6 +116,7 @@ struct Sensor {
 struct MeshInfo {
   Eigen::Vector2d driver_centre_m{0, 0};  // [m] gear A (force on B = +k δ n)
   Eigen::Vector2d driven_centre_m{0, 0};  // [m] gear B
+  Eigen::Vector2d pitch_point_m{0, 0};    // [m] pitch point (on the line of centres)
   Eigen::Vector3d normal{0, 0, 0};        // [-] n, unit
   double driven_base_radius_m = 0.0;      // [m] transverse base radius of B
   double stage_torque_ratio = 0.0;        // [-] torque on gear B's shaft per N·m of input torque

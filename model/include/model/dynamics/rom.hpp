@@ -1,0 +1,171 @@
+#pragma once
+// Reduced-order model (ROM) of the drivetrain dynamics for the real-time loop.
+//
+// Reduction (built off the RT thread by build_rom()): every free-vibration mode of
+// the full model (full_model.hpp) up to `cutoff_hz`, augmented by static correction
+// vectors (residual flexibility, K̄⁻¹f − Σ φφᵀf/ω², for the input torque and each
+// mesh's line of action — the "modal truncation augmentation" of Dickens, Nakagawa &
+// Wittbrodt, Comput. Struct. 62 (1997)), M-orthonormalised and re-diagonalised
+// (Rayleigh–Ritz). The retained modes stay exact; the static deflection under the
+// input torque and every mesh's quasi-static compliance are exact too. Physical
+// coordinates the loop needs are linear read-outs: mesh deflections Wᵀq, bearing
+// deflections W_bᵀq, seat accelerations S q̈.
+//
+// Equations in modal coordinates q (mass-normalised, Rayleigh damping diagonal):
+//   q̈ + (η + ζω²)q̇ + ω²q = Φᵀf(t) − W·diag(Δk_mesh(t))·Wᵀq − W_b·diag(Δk_b(t))·W_bᵀq
+// Time-varying stiffness is a low-rank update of the diagonal system: one column of W
+// per mesh, two of W_b per bearing.
+//
+// Time stepping, fixed Δt: each mode is advanced by its exact discrete propagator for
+// a force varying linearly over the step (first-order-hold exponential integrator:
+// the 4×4 matrix exponential of [q, q̇, f, ḟ], computed at build time). The mesh terms
+// are implicit at t_{n+1} (Sherman–Morrison–Woodbury, one 8×8 LU per step); the bearing
+// fluctuation terms are explicit (deflections of t_n). Stability: the modal part is
+// exact, hence stable for any Δt; the implicit mesh part is unconditionally stable;
+// the explicit bearing part is stable while k_θ·|W_b column|²/ω_i² < 1 for every mode,
+// which holds for k_θ/k_a < 1 because no bearing's fluctuation can exceed the modal
+// stiffness it contributes to (checked by build_rom()). Accuracy, not stability, sets
+// Δt: the force is interpolated linearly over a step, which scales a forcing harmonic
+// at f by sinc²(f·Δt) — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25 600 s.
+//
+// Thread context: RomData is built on a non-RT thread (build_rom allocates, bounded by
+// the full model's size: one n×n eigen-decomposition, n = 140 for paper-2mw, ~20 ms).
+// Rom::step() is real-time safe: fixed-size Eigen, no allocation, no exceptions, no
+// locks, no clock (time is advanced by Δt per call). A new RomData (calibrated
+// parameters) is handed over with Rom::request_swap() from any one non-RT thread; the
+// RT thread adopts it at the start of its next step() (an atomic pointer exchange)
+// and restarts from the new model's static equilibrium. The caller keeps both
+// RomData objects alive until swap_pending() is false again.
+
+#include <Eigen/Dense>
+
+#include <array>
+#include <atomic>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "model/dynamics/full_model.hpp"
+#include "model/dynamics/periodic_table.hpp"
+
+namespace model::dynamics {
+
+/// Capacity of the ROM, sized from paper-2mw: 50 modes ≤ 2.5 kHz + 1 torque + 8 mesh
+/// correction vectors = 59, rounded up to a multiple of the SIMD width (4). build_rom()
+/// refuses a model that does not fit (it names the count: lower the cut-off or raise
+/// this constant); unused slots are inert (zero).
+inline constexpr int kRomDofs = 60;
+inline constexpr int kRomMeshes = 8;        // 3 sun–planet, 3 ring–planet, 2 parallel
+inline constexpr int kRomBearings = 6;      // b1..b6
+inline constexpr int kRomBearingRank = 2 * kRomBearings;
+inline constexpr int kRomForces = 2;        // input torque + one plug-in force
+inline constexpr int kRomSensors = 2;       // point1, point2
+
+/// A time-varying stiffness in the ROM: k = mean·shape(order·N_rotor + phase).
+struct RomStiffnessTerm {
+  double mean_n_m = 0.0;      // [N/m]
+  double order = 0.0;         // [cycles per rotor revolution]
+  double phase_cycles = 0.0;  // [cycles]
+  PeriodicTable shape = PeriodicTable::constant(1.0);
+};
+
+struct RomForceTerm {
+  bool per_newton_metre = false;
+  double amplitude = 0.0;
+  double order = 0.0;
+  double phase_cycles = 0.0;
+  PeriodicTable shape = PeriodicTable::constant(1.0);
+};
+
+/// Everything a ROM step reads: immutable after build_rom(), fixed size.
+struct RomData {
+  using Vec = Eigen::Matrix<double, kRomDofs, 1>;
+  double dt_s = 0.0;             // [s] fixed time step
+  double cutoff_hz = 0.0;        // [Hz] every full-model mode up to here is retained
+  int eigenmodes = 0;            // [-] retained full-model modes
+  int correction_vectors = 0;    // [-] static correction vectors
+  int mesh_count = 0, bearing_count = 0, force_count = 0, sensor_count = 0;
+
+  Vec omega_rad_s = Vec::Zero();   // [rad/s] Ritz frequencies (0: unused slot)
+  Vec damping_1_s = Vec::Zero();   // [1/s] η + ζω²
+  Vec omega2 = Vec::Zero();        // [1/s²]
+  // First-order-hold propagators: q⁺ = pqq q + pqv v + b0q g + b1q g⁺ (same for v).
+  Vec pqq = Vec::Zero(), pqv = Vec::Zero(), b0q = Vec::Zero(), b1q = Vec::Zero();
+  Vec pvq = Vec::Zero(), pvv = Vec::Zero(), b0v = Vec::Zero(), b1v = Vec::Zero();
+
+  Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
+  Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh = decltype(g_mesh)::Zero();  // Wᵀ diag(b1q) W
+  Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing = decltype(w_bearing)::Zero();
+  // [W W_b]ᵀ stored row-major: both read-outs of a modal vector in one pass.
+  Eigen::Matrix<double, kRomMeshes + kRomBearingRank, kRomDofs, Eigen::RowMajor> readout =
+      decltype(readout)::Zero();
+  Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh = decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
+  Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
+  Eigen::Matrix<double, kRomSensors, kRomDofs> sensor_rows = decltype(sensor_rows)::Zero();
+
+  std::array<RomStiffnessTerm, kRomMeshes> meshes{};
+  std::array<RomStiffnessTerm, kRomBearings> bearings{};
+  std::array<RomForceTerm, kRomForces> forces{};
+};
+
+/// What build_rom() kept, for reports and tests.
+struct RomBuildReport {
+  std::vector<double> full_mode_hz;  // every full-model natural frequency [Hz], ascending
+  std::vector<double> rom_mode_hz;   // the ROM's Ritz frequencies [Hz], ascending
+  int eigenmodes = 0;
+  int correction_vectors = 0;
+};
+
+/// Builds the ROM of `model` for time step `dt_s`, keeping every mode ≤ cutoff_hz.
+/// nullptr with `error` set when the model does not fit the compile-time capacity
+/// or the step/cut-off are invalid. Non-RT: allocates.
+std::unique_ptr<RomData> build_rom(const FullModel& model, double dt_s, double cutoff_hz,
+                                   std::string* error = nullptr, RomBuildReport* report = nullptr);
+
+/// Inputs of one step, held over the step.
+struct RomInputs {
+  double rotor_speed_rpm = 0.0;  // [rpm]
+  double input_torque_nm = 0.0;  // [N·m]
+};
+
+/// Outputs at the end of a step.
+struct RomOutputs {
+  std::array<double, kRomMeshes> mesh_force_n{};          // [N] compression > 0
+  std::array<double, kRomBearings> bearing_force_x_n{};   // [N]
+  std::array<double, kRomBearings> bearing_force_y_n{};   // [N]
+  std::array<double, kRomSensors> acceleration_m_s2{};    // [m/s²] point1, point2
+};
+
+class Rom {
+ public:
+  /// @param data must outlive the Rom (or its replacement via request_swap()).
+  explicit Rom(const RomData& data) noexcept;
+
+  /// Static equilibrium under the mean stiffness and `in`, rotor angle 0.
+  void reset(const RomInputs& in) noexcept;
+  /// Advances one fixed step Δt = data().dt_s. RT-safe.
+  void step(const RomInputs& in, RomOutputs& out) noexcept;
+
+  /// Non-RT: hand a new model to the RT thread (adopted at the start of its next step).
+  void request_swap(const RomData* next) noexcept { pending_.store(next, std::memory_order_release); }
+  bool swap_pending() const noexcept { return pending_.load(std::memory_order_acquire) != nullptr; }
+
+  const RomData& data() const noexcept { return *data_; }
+  double time_s() const noexcept { return t_; }
+  double rotor_revolutions() const noexcept { return revs_; }
+  const RomData::Vec& modal_displacement() const noexcept { return q_; }
+  const RomData::Vec& modal_velocity() const noexcept { return v_; }
+
+ private:
+  const RomData* data_;
+  std::atomic<const RomData*> pending_{nullptr};
+  RomData::Vec q_ = RomData::Vec::Zero();
+  RomData::Vec v_ = RomData::Vec::Zero();
+  RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
+  Eigen::Matrix<double, kRomBearingRank, 1> z_bearing_ = decltype(z_bearing_)::Zero();
+  Eigen::Matrix<double, kRomMeshes, 1> z_mesh_ = decltype(z_mesh_)::Zero();
+  double t_ = 0.0;
+  double revs_ = 0.0;
+};
+
+}  // namespace model::dynamics

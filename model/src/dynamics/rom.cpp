@@ -1,0 +1,308 @@
+#include "model/dynamics/rom.hpp"
+
+#include <unsupported/Eigen/MatrixFunctions>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace model::dynamics {
+namespace {
+
+bool fail(std::string* error, std::string message) {
+  if (error) *error = std::move(message);
+  return false;
+}
+
+// Gaussian elimination without pivoting for I + A·G (A = diag(Δk_mesh), G = Wᵀ diag(b1q) W):
+// |A·G| is the mesh stiffness fluctuation over the stiffness the mesh sees (< 1 for any
+// real mesh: a pair cannot lose more than its own stiffness), so the diagonal dominates
+// and pivoting buys nothing. A pivot that is not positive (a non-physical table) leaves
+// `b` as the explicit (unmodified) estimate rather than dividing by it.
+template <int N>
+void solve_small(Eigen::Matrix<double, N, N>& a, Eigen::Matrix<double, N, 1>& b) noexcept {
+  for (int k = 0; k < N; ++k) {
+    const double p = a(k, k);
+    if (!(p > 1e-12)) return;
+    const double inv = 1.0 / p;
+    for (int i = k + 1; i < N; ++i) {
+      const double f = a(i, k) * inv;
+      for (int j = k + 1; j < N; ++j) a(i, j) -= f * a(k, j);
+      b[i] -= f * b[k];
+    }
+  }
+  for (int k = N - 1; k >= 0; --k) {
+    double s = b[k];
+    for (int j = k + 1; j < N; ++j) s -= a(k, j) * b[j];
+    b[k] = s / a(k, k);
+  }
+}
+
+RomStiffnessTerm to_rom(const VaryingStiffness& v) {
+  return {v.mean_n_m, v.order, v.phase_cycles, v.shape};
+}
+
+}  // namespace
+
+std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutoff_hz, std::string* error,
+                                   RomBuildReport* report) {
+  if (!(dt_s > 0.0) || !std::isfinite(dt_s) || !(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz)) {
+    fail(error, "rom: time step and cut-off frequency must be finite and > 0");
+    return nullptr;
+  }
+  if (m.meshes.size() > static_cast<std::size_t>(kRomMeshes) ||
+      m.bearings.size() > static_cast<std::size_t>(kRomBearings) ||
+      m.forces.size() > static_cast<std::size_t>(kRomForces) ||
+      m.sensors.size() > static_cast<std::size_t>(kRomSensors)) {
+    fail(error, "rom: the model has more meshes, bearings, forces or sensors than the ROM's capacity (" +
+                    std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
+                    std::to_string(kRomForces) + ", " + std::to_string(kRomSensors) + ")");
+    return nullptr;
+  }
+  for (const auto& b : m.bearings) {
+    if (b.directions.cols() != 2) {
+      fail(error, "rom: bearing '" + b.id + "' must have rank 2 (x, y)");
+      return nullptr;
+    }
+  }
+  const int n = m.dofs();
+  // Full eigenproblem K φ = ω² M φ with diagonal M: symmetric form M^-½ K M^-½.
+  const Eigen::VectorXd inv_sqrt_m = m.mass.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd k_sym = inv_sqrt_m.asDiagonal() * m.stiffness * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> full(k_sym);
+  if (full.info() != Eigen::Success) {
+    fail(error, "rom: eigen-decomposition of the full model failed");
+    return nullptr;
+  }
+  const Eigen::VectorXd lambda = full.eigenvalues();
+  if (lambda[0] <= 0.0) {
+    fail(error, "rom: the full model's stiffness is not positive definite (unsupported rigid-body motion)");
+    return nullptr;
+  }
+  const double cutoff_w2 = std::pow(2.0 * std::numbers::pi * cutoff_hz, 2);
+  int keep = 0;
+  while (keep < n && lambda[keep] <= cutoff_w2) ++keep;
+  const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * full.eigenvectors().leftCols(keep);  // Φᵀ M Φ = I
+
+  // Static correction vectors: input torque and each mesh direction.
+  std::vector<Eigen::VectorXd> loads;
+  for (const auto& f : m.forces) loads.push_back(f.pattern);
+  for (const auto& v : m.meshes) loads.push_back(v.directions.col(0));
+  const Eigen::LLT<Eigen::MatrixXd> k_llt(m.stiffness);
+  Eigen::MatrixXd psi(n, static_cast<Eigen::Index>(loads.size()));
+  for (std::size_t j = 0; j < loads.size(); ++j) {
+    const Eigen::VectorXd modal = phi.transpose() * loads[j];
+    psi.col(static_cast<Eigen::Index>(j)) =
+        k_llt.solve(loads[j]) - phi * (modal.array() / lambda.head(keep).array()).matrix();
+  }
+  // M-orthonormalise the corrections (drop dependent ones).
+  const Eigen::MatrixXd gram = psi.transpose() * m.mass.asDiagonal() * psi;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ge(gram);
+  const double gmax = ge.eigenvalues().maxCoeff();
+  std::vector<Eigen::Index> kept;
+  for (Eigen::Index j = 0; j < gram.rows(); ++j) {
+    if (ge.eigenvalues()[j] > 1e-10 * gmax) kept.push_back(j);
+  }
+  const int n_corr = static_cast<int>(kept.size());
+  const int total = keep + n_corr;
+  if (total > kRomDofs) {
+    fail(error, "rom: " + std::to_string(keep) + " modes up to " + std::to_string(cutoff_hz) + " Hz + " +
+                    std::to_string(n_corr) + " correction vectors exceed the capacity kRomDofs = " +
+                    std::to_string(kRomDofs) + "; lower the cut-off or raise kRomDofs");
+    return nullptr;
+  }
+  Eigen::MatrixXd basis(n, total);
+  basis.leftCols(keep) = phi;
+  for (int j = 0; j < n_corr; ++j) {
+    basis.col(keep + j) = psi * ge.eigenvectors().col(kept[j]) / std::sqrt(ge.eigenvalues()[kept[j]]);
+  }
+  // Rayleigh–Ritz on the M-orthonormal basis.
+  const Eigen::MatrixXd k_red = basis.transpose() * m.stiffness * basis;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> red(0.5 * (k_red + k_red.transpose()));
+  const Eigen::MatrixXd phi_r = basis * red.eigenvectors();
+  const Eigen::VectorXd w2 = red.eigenvalues();
+
+  auto data = std::make_unique<RomData>();
+  RomData& d = *data;
+  d.dt_s = dt_s;
+  d.cutoff_hz = cutoff_hz;
+  d.eigenmodes = keep;
+  d.correction_vectors = n_corr;
+  d.mesh_count = static_cast<int>(m.meshes.size());
+  d.bearing_count = static_cast<int>(m.bearings.size());
+  d.force_count = static_cast<int>(m.forces.size());
+  d.sensor_count = static_cast<int>(m.sensors.size());
+  for (int i = 0; i < total; ++i) {
+    const double om2 = w2[i];
+    const double om = std::sqrt(om2);
+    const double c = m.rayleigh_eta + m.rayleigh_zeta * om2;
+    d.omega_rad_s[i] = om;
+    d.omega2[i] = om2;
+    d.damping_1_s[i] = c;
+    // State [q, v, f, ḟ]: q' = v, v' = −ω²q − c v + f, f' = ḟ, ḟ' = 0.
+    Eigen::Matrix4d a = Eigen::Matrix4d::Zero();
+    a(0, 1) = 1.0;
+    a(1, 0) = -om2;
+    a(1, 1) = -c;
+    a(1, 2) = 1.0;
+    a(2, 3) = 1.0;
+    const Eigen::Matrix4d e = (a * dt_s).exp();
+    d.pqq[i] = e(0, 0);
+    d.pqv[i] = e(0, 1);
+    d.b0q[i] = e(0, 2) - e(0, 3) / dt_s;
+    d.b1q[i] = e(0, 3) / dt_s;
+    d.pvq[i] = e(1, 0);
+    d.pvv[i] = e(1, 1);
+    d.b0v[i] = e(1, 2) - e(1, 3) / dt_s;
+    d.b1v[i] = e(1, 3) / dt_s;
+  }
+  for (int j = 0; j < d.mesh_count; ++j) {
+    d.w_mesh.col(j).head(total) = phi_r.transpose() * m.meshes[j].directions.col(0);
+    d.meshes[j] = to_rom(m.meshes[j]);
+  }
+  d.g_mesh = d.w_mesh.transpose() * d.b1q.asDiagonal() * d.w_mesh;
+  for (int j = 0; j < d.bearing_count; ++j) {
+    d.w_bearing.col(2 * j).head(total) = phi_r.transpose() * m.bearings[j].directions.col(0);
+    d.w_bearing.col(2 * j + 1).head(total) = phi_r.transpose() * m.bearings[j].directions.col(1);
+    d.bearings[j] = to_rom(m.bearings[j]);
+  }
+  d.readout.topRows(kRomMeshes) = d.w_mesh.transpose();
+  d.readout.bottomRows(kRomBearingRank) = d.w_bearing.transpose();
+  d.h_bearing_mesh = d.w_bearing.transpose() * d.b1q.asDiagonal() * d.w_mesh;
+  for (int j = 0; j < d.force_count; ++j) {
+    const ForceTerm& f = m.forces[j];
+    d.w_force.col(j).head(total) = phi_r.transpose() * f.pattern;
+    d.forces[j] = {f.per_newton_metre, f.amplitude, f.order, f.phase_cycles, f.shape};
+  }
+  for (int j = 0; j < d.sensor_count; ++j) {
+    d.sensor_rows.row(j).head(total) = (phi_r.transpose() * m.sensors[j].row).transpose();
+  }
+  // Explicit bearing fluctuation: each mode's share of the fluctuating stiffness must stay
+  // below its own stiffness (see the stability note in rom.hpp).
+  for (int i = 0; i < total; ++i) {
+    double share = 0.0;
+    for (int j = 0; j < d.bearing_count; ++j) {
+      const double amp = (*std::max_element(d.bearings[j].shape.values.begin(), d.bearings[j].shape.values.end()) - 1.0) *
+                         d.bearings[j].mean_n_m;
+      share += amp * (d.w_bearing(i, 2 * j) * d.w_bearing(i, 2 * j) + d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
+    }
+    if (share >= d.omega2[i]) {
+      fail(error, "rom: bearing stiffness fluctuation exceeds the stiffness of ROM mode " + std::to_string(i) +
+                      " (explicit bearing terms would be unstable)");
+      return nullptr;
+    }
+  }
+  if (report) {
+    report->full_mode_hz.clear();
+    for (Eigen::Index i = 0; i < lambda.size(); ++i) report->full_mode_hz.push_back(std::sqrt(lambda[i]) / (2.0 * std::numbers::pi));
+    report->rom_mode_hz.clear();
+    for (int i = 0; i < total; ++i) report->rom_mode_hz.push_back(d.omega_rad_s[i] / (2.0 * std::numbers::pi));
+    report->eigenmodes = keep;
+    report->correction_vectors = n_corr;
+  }
+  return data;
+}
+
+Rom::Rom(const RomData& data) noexcept : data_(&data) {}
+
+void Rom::reset(const RomInputs& in) noexcept {
+  const RomData& d = *data_;
+  t_ = 0.0;
+  revs_ = 0.0;
+  // Static equilibrium under the mean stiffness and the mean force: ω² q = Φᵀ f̄.
+  RomData::Vec f = RomData::Vec::Zero();
+  for (int j = 0; j < d.force_count; ++j) {
+    const RomForceTerm& ft = d.forces[j];
+    const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
+    f.noalias() += (a * ft.shape.mean()) * d.w_force.col(j);
+  }
+  for (int i = 0; i < kRomDofs; ++i) q_[i] = d.omega2[i] > 0.0 ? f[i] / d.omega2[i] : 0.0;
+  v_.setZero();
+  // Modal force at t = 0 with the actual (not mean) stiffness.
+  z_bearing_.noalias() = d.w_bearing.transpose() * q_;
+  z_mesh_.noalias() = d.w_mesh.transpose() * q_;
+  Eigen::Matrix<double, kRomBearingRank, 1> fb;
+  for (int j = 0; j < kRomBearings; ++j) {
+    const RomStiffnessTerm& b = d.bearings[j];
+    const double dk = b.mean_n_m * (b.shape.value(b.phase_cycles) - 1.0);
+    fb[2 * j] = dk * z_bearing_[2 * j];
+    fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
+  }
+  Eigen::Matrix<double, kRomMeshes, 1> fm;
+  for (int j = 0; j < kRomMeshes; ++j) {
+    const RomStiffnessTerm& mt = d.meshes[j];
+    fm[j] = mt.mean_n_m * (mt.shape.value(mt.phase_cycles) - 1.0) * z_mesh_[j];
+  }
+  g_ = f;
+  g_.noalias() -= d.w_bearing * fb;
+  g_.noalias() -= d.w_mesh * fm;
+}
+
+void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
+  if (const RomData* next = pending_.exchange(nullptr, std::memory_order_acq_rel)) {
+    data_ = next;
+    reset(in);
+  }
+  const RomData& d = *data_;
+  const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
+
+  // External forces and the explicit bearing fluctuation at t_{n+1}.
+  RomData::Vec h = RomData::Vec::Zero();
+  for (int j = 0; j < d.force_count; ++j) {
+    const RomForceTerm& ft = d.forces[j];
+    const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
+    h.noalias() += (a * ft.shape.value(ft.order * revs_next + ft.phase_cycles)) * d.w_force.col(j);
+  }
+  std::array<double, kRomBearings> kb{};
+  Eigen::Matrix<double, kRomBearingRank, 1> fb;
+  for (int j = 0; j < kRomBearings; ++j) {
+    const RomStiffnessTerm& b = d.bearings[j];
+    kb[j] = b.mean_n_m * b.shape.value(b.order * revs_next + b.phase_cycles);
+    const double dk = kb[j] - b.mean_n_m;
+    fb[2 * j] = dk * z_bearing_[2 * j];
+    fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
+  }
+  h.noalias() -= d.w_bearing * fb;
+
+  // Predictor without the mesh fluctuation at t_{n+1}.
+  RomData::Vec r = d.pqq.cwiseProduct(q_) + d.pqv.cwiseProduct(v_) + d.b0q.cwiseProduct(g_) + d.b1q.cwiseProduct(h);
+
+  // Implicit mesh fluctuation: (I + A G) y = A Wᵀ r, A = diag(Δk_mesh(t_{n+1})).
+  Eigen::Matrix<double, kRomMeshes, 1> dk_mesh;
+  for (int j = 0; j < kRomMeshes; ++j) {
+    const RomStiffnessTerm& mt = d.meshes[j];
+    dk_mesh[j] = mt.mean_n_m * (mt.shape.value(mt.order * revs_next + mt.phase_cycles) - 1.0);
+  }
+  Eigen::Matrix<double, kRomMeshes + kRomBearingRank, 1> z_all;
+  z_all.noalias() = d.readout * r;
+  const auto z_r = z_all.head<kRomMeshes>();
+  Eigen::Matrix<double, kRomMeshes, kRomMeshes> sys = dk_mesh.asDiagonal() * d.g_mesh;
+  sys.diagonal().array() += 1.0;
+  Eigen::Matrix<double, kRomMeshes, 1> y = dk_mesh.cwiseProduct(z_r);
+  solve_small(sys, y);
+  RomData::Vec wy;
+  wy.noalias() = d.w_mesh * y;
+
+  RomData::Vec g_next = h - wy;
+  RomData::Vec v_next = d.pvq.cwiseProduct(q_) + d.pvv.cwiseProduct(v_) + d.b0v.cwiseProduct(g_) +
+                        d.b1v.cwiseProduct(g_next);
+  q_ = r - d.b1q.cwiseProduct(wy);
+  v_ = v_next;
+  g_ = g_next;
+  z_mesh_ = z_r - d.g_mesh * y;
+  // W_bᵀ q⁺ = W_bᵀ r − W_bᵀ diag(b1q) W y
+  z_bearing_ = z_all.tail<kRomBearingRank>() - d.h_bearing_mesh * y;
+  revs_ = revs_next;
+  t_ += d.dt_s;
+
+  for (int j = 0; j < kRomMeshes; ++j) out.mesh_force_n[j] = (d.meshes[j].mean_n_m + dk_mesh[j]) * z_mesh_[j];
+  for (int j = 0; j < kRomBearings; ++j) {
+    out.bearing_force_x_n[j] = kb[j] * z_bearing_[2 * j];
+    out.bearing_force_y_n[j] = kb[j] * z_bearing_[2 * j + 1];
+  }
+  const RomData::Vec qdd = g_ - d.damping_1_s.cwiseProduct(v_) - d.omega2.cwiseProduct(q_);
+  const Eigen::Matrix<double, kRomSensors, 1> acc = d.sensor_rows * qdd;
+  for (int j = 0; j < kRomSensors; ++j) out.acceleration_m_s2[j] = acc[j];
+}
+
+}  // namespace model::dynamics
