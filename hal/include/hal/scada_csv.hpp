@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -85,6 +86,11 @@ class ScadaCsvReader {
   /// names the file and what is missing (e.g. a required column).
   [[nodiscard]] bool open(const std::string& path, const ScadaColumns& columns);
 
+  /// As open(), reading CSV text held in memory (e.g. data compiled into the
+  /// binary); `name` stands for the file in messages.
+  [[nodiscard]] bool open_text(std::string_view text, const std::string& name,
+                               const ScadaColumns& columns);
+
   /// Reads the next data row into `row`. Blank lines are skipped. Empty cells,
   /// including time and wind speed, come back absent: the caller decides.
   [[nodiscard]] ScadaReadResult next(ScadaRow& row);
@@ -100,7 +106,11 @@ class ScadaCsvReader {
   }
 
  private:
-  std::ifstream in_;
+  [[nodiscard]] bool read_header();
+
+  std::ifstream file_;
+  std::istringstream memory_;
+  std::istream* in_ = &file_;
   std::string path_;
   ScadaColumns columns_;
   std::array<int, kScadaFieldCount> index_{};

@@ -144,19 +144,34 @@ std::optional<double> parse_utc_datetime_s(std::string_view text) {
 bool ScadaCsvReader::open(const std::string& path, const ScadaColumns& columns) {
   path_ = path;
   columns_ = columns;
+  file_.close();
+  file_.clear();
+  file_.open(path, std::ios::binary);
+  in_ = &file_;
+  if (!file_) {
+    error_ = path + ": cannot open for reading";
+    return false;
+  }
+  return read_header();
+}
+
+bool ScadaCsvReader::open_text(std::string_view text, const std::string& name,
+                               const ScadaColumns& columns) {
+  path_ = name;
+  columns_ = columns;
+  memory_.clear();
+  memory_.str(std::string(text));
+  in_ = &memory_;
+  return read_header();
+}
+
+bool ScadaCsvReader::read_header() {
   index_.fill(-1);
   line_ = 0;
   row_ = 0;
   error_.clear();
-  in_.close();
-  in_.clear();
-  in_.open(path, std::ios::binary);
-  if (!in_) {
-    error_ = path + ": cannot open for reading";
-    return false;
-  }
-  if (!std::getline(in_, text_)) {
-    error_ = path + ": empty file, expected a header row";
+  if (!std::getline(*in_, text_)) {
+    error_ = path_ + ": empty file, expected a header row";
     return false;
   }
   line_ = 1;
@@ -164,7 +179,7 @@ bool ScadaCsvReader::open(const std::string& path, const ScadaColumns& columns) 
   if (header.substr(0, 3) == "\xEF\xBB\xBF") header.remove_prefix(3);  // UTF-8 BOM
   std::vector<std::string> names;
   if (!split_csv(header, names)) {
-    error_ = path + ": header: unterminated quote";
+    error_ = path_ + ": header: unterminated quote";
     return false;
   }
   header_fields_ = names.size();
@@ -180,7 +195,7 @@ bool ScadaCsvReader::open(const std::string& path, const ScadaColumns& columns) 
   for (ScadaField required : {ScadaField::kTime, ScadaField::kWindSpeed}) {
     const auto f = static_cast<std::size_t>(required);
     if (index_[f] < 0) {
-      error_ = path + ": header: missing column '" +
+      error_ = path_ + ": header: missing column '" +
                (columns_.column[f].empty() ? std::string(kFieldNames[f]) : columns_.column[f]) +
                "' (" + kFieldNames[f] + ", required)";
       return false;
@@ -191,7 +206,7 @@ bool ScadaCsvReader::open(const std::string& path, const ScadaColumns& columns) 
 
 ScadaReadResult ScadaCsvReader::next(ScadaRow& row) {
   std::vector<std::string>& fields = fields_;
-  while (std::getline(in_, text_)) {
+  while (std::getline(*in_, text_)) {
     ++line_;
     if (trim(text_).empty()) continue;
     ++row_;
@@ -244,7 +259,7 @@ ScadaReadResult ScadaCsvReader::next(ScadaRow& row) {
     }
     return ScadaReadResult::kRow;
   }
-  if (in_.bad()) {
+  if (in_->bad()) {
     error_ = path_ + ": read error after line " + std::to_string(line_);
     return ScadaReadResult::kError;
   }

@@ -1,0 +1,168 @@
+// `drivetwin torque <scada.csv>`: rotor input torque and operating region for
+// every SCADA row (wind load model, model/wind), optionally compared with the
+// measured torque or P/(η·ω) as MAPE per operating region (app/wind/torque_estimate.hpp
+// defines the reference and which rows count).
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include "cli/command.hpp"
+#include "config/drivetrain_file.hpp"
+#include "hal/scada_csv.hpp"
+#include "wind/torque_estimate.hpp"
+
+namespace {
+
+using app::wind::ReferenceKind;
+
+struct TorqueArgs {
+  std::string file;
+  std::string drivetrain;
+  std::string columns = "bundle";
+  std::string from;
+  std::string to;
+  bool compare = false;
+  bool json = false;
+  bool no_rows = false;
+  bool steady_state = false;
+};
+
+nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nullptr; }
+
+void run(const TorqueArgs& args) {
+  const model::Drivetrain drivetrain = app::config::load_drivetrain(args.drivetrain);
+  std::string error;
+  const auto columns = hal::parse_scada_columns(args.columns, &error);
+  if (!columns) throw app::cli::CommandError("--columns: " + error);
+  app::wind::TimeWindow window;
+  if (!args.from.empty()) window.from_s = app::wind::parse_time_option("--from", args.from);
+  if (!args.to.empty()) window.to_s = app::wind::parse_time_option("--to", args.to);
+
+  hal::ScadaCsvReader reader;
+  if (!reader.open(args.file, *columns)) throw app::cli::CommandError(reader.error());
+  const app::wind::TorqueEstimator estimator(drivetrain, !args.steady_state);
+  const double eta = drivetrain.turbine.drivetrain_efficiency;
+
+  bool first = true;
+  if (args.json) {
+    std::printf("{\"drivetrain\":%s,\"file\":%s,\"rows\":[",
+                nlohmann::json(drivetrain.name).dump().c_str(),
+                nlohmann::json(args.file).dump().c_str());
+  } else if (!args.no_rows) {
+    std::printf("# drivetrain %s; torque = rotor (low-speed shaft) input torque [N·m]\n",
+                drivetrain.name.c_str());
+    std::printf("%8s %14s %9s %9s %13s %12s %12s %9s\n", "row", "t_s", "wind_mps", "rotor_rpm",
+                "region", "torque_nm", "reference_nm", "error_pct");
+  }
+  auto on_row = [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
+    if (args.no_rows) return;
+    const bool has_ref = e.reference != ReferenceKind::kNone;
+    const double err_pct = has_ref && e.reference_torque_nm != 0.0
+                               ? 100.0 * (e.load.torque_nm - e.reference_torque_nm) /
+                                     std::fabs(e.reference_torque_nm)
+                               : std::nan("");
+    if (args.json) {
+      nlohmann::json j{{"row", row.row},
+                       {"t_s", number_or_null(row.get(hal::ScadaField::kTime))},
+                       {"wind_speed_mps", number_or_null(row.get(hal::ScadaField::kWindSpeed))},
+                       {"rotor_speed_rpm", number_or_null(row.get(hal::ScadaField::kRotorSpeed))},
+                       {"region", model::wind::region_name(e.load.region)},
+                       {"torque_nm", e.load.torque_nm}};
+      if (args.compare) {
+        j["reference_nm"] = has_ref ? nlohmann::json(e.reference_torque_nm) : nullptr;
+        j["in_operation"] = e.in_operation;
+        if (!e.in_operation) j["excluded_because"] = e.excluded_because;
+      }
+      std::printf("%s%s", first ? "\n" : ",\n", j.dump().c_str());
+    } else {
+      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12.0f", row.row, row.get(hal::ScadaField::kTime),
+                  row.get(hal::ScadaField::kWindSpeed), row.get(hal::ScadaField::kRotorSpeed),
+                  model::wind::region_name(e.load.region), e.load.torque_nm);
+      if (args.compare && has_ref) {
+        std::printf(" %12.0f %9.2f%s", e.reference_torque_nm, err_pct,
+                    e.in_operation ? "" : "  (not counted)");
+      }
+      std::printf("\n");
+    }
+    first = false;
+  };
+
+  app::wind::TorqueSummary summary;
+  try {
+    summary = app::wind::run_torque(reader, estimator, window, on_row);
+  } catch (const std::runtime_error& e) {
+    if (args.json) std::printf("]}\n");
+    std::fflush(stdout);
+    throw app::cli::CommandError(e.what());
+  }
+
+  const auto& m = summary.mape;
+  if (args.json) {
+    std::printf("\n]");
+    if (args.compare) {
+      nlohmann::json s{{"rows", summary.rows},
+                       {"rows_in_operation", m.count()},
+                       {"reference", summary.measured_torque_rows > 0 ? "torque_nm" : "P/(eta*omega)"},
+                       {"drivetrain_efficiency", eta},
+                       {"mape_pct", number_or_null(m.mape_pct())}};
+      for (std::size_t r = 0; r < m.kRegions; ++r) {
+        s["regions"][app::wind::MapeAccumulator::region_label(r)] = {
+            {"rows", m.count(r)}, {"mape_pct", number_or_null(m.mape_pct(r))}};
+      }
+      for (const auto& [reason, count] : summary.excluded) s["excluded"][reason] = count;
+      std::printf(",\"summary\":%s", s.dump().c_str());
+    }
+    std::printf("}\n");
+    return;
+  }
+  if (!args.compare) return;
+  std::printf("\n# %s: %zu rows; estimate uses %s\n", reader.path().c_str(), summary.rows,
+              args.steady_state ? "the controller's steady-state speed (--steady-state)"
+                                : "measured rotor speed where present (pitch: curtailment filter only)");
+  if (summary.measured_torque_rows + summary.power_rows == 0) {
+    std::printf("# no reference: the file has neither torque_nm nor power_kw with rotor_speed_rpm\n");
+    return;
+  }
+  std::printf("# reference: %s", summary.measured_torque_rows > 0 ? "measured torque_nm" : "");
+  if (summary.power_rows > 0) {
+    std::printf("%sP/(eta*omega), eta = %.3f (drivetrain_efficiency)",
+                summary.measured_torque_rows > 0 ? " and " : "", eta);
+  }
+  std::printf("\n# MAPE over rows in operation (app/wind/torque_estimate.hpp):\n");
+  std::printf("%-8s %8s %9s\n", "region", "rows", "MAPE_pct");
+  for (std::size_t r = 0; r < m.kRegions; ++r) {
+    std::printf("%-8s %8zu %9.2f\n", app::wind::MapeAccumulator::region_label(r), m.count(r),
+                m.mape_pct(r));
+  }
+  std::printf("%-8s %8zu %9.2f\n", "all", m.count(), m.mape_pct());
+  for (const auto& [reason, count] : summary.excluded) {
+    std::printf("# not counted: %zu rows, %s\n", count, reason.c_str());
+  }
+}
+
+void setup(CLI::App& sub) {
+  auto args = std::make_shared<TorqueArgs>();
+  sub.add_option("scada_csv", args->file, "SCADA CSV (recording bundle scada.csv or a mapped export)")
+      ->required();
+  app::config::add_drivetrain_option(sub, args->drivetrain);
+  sub.add_option("--columns", args->columns,
+                 "Column mapping: bundle (default), kelmarsh, or 'field=Column;...' with field in "
+                 "t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm");
+  sub.add_flag("--compare", args->compare,
+               "MAPE per operating region against measured torque_nm, else P/(eta*omega)");
+  sub.add_flag("--json", args->json, "Machine-readable output");
+  sub.add_flag("--no-rows", args->no_rows, "Print only the --compare summary");
+  sub.add_flag("--steady-state", args->steady_state,
+               "Ignore measured rotor speed and pitch; use the controller's steady state");
+  sub.add_option("--from", args->from, "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
+  sub.add_option("--to", args->to, "Only rows before this UTC time");
+  sub.callback([args] { run(*args); });
+}
+
+const bool kRegistered = app::cli::register_command(
+    {"torque", "Estimate rotor input torque and operating region from SCADA wind speed", &setup});
+
+}  // namespace

@@ -1,0 +1,578 @@
+#include "config/drivetrain_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <type_traits>
+#include <variant>
+
+#include "data/embedded.hpp"
+
+namespace app::config {
+namespace {
+
+using model::Bearing;
+using model::BearingType;
+using model::CpSurface;
+using model::Drivetrain;
+using model::DynamicsParameters;
+using model::Gear;
+using model::GearStage;
+using model::Material;
+using model::MeasurementPoint;
+using model::Shaft;
+using model::StageType;
+using model::Turbine;
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+/// What a numeric value must satisfy (in file units).
+enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLeastOne };
+
+template <class T>
+using Member = std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
+                            std::array<double, 3> T::*, std::array<double, 6> T::*,
+                            StageType T::*, BearingType T::*>;
+
+/// One key of a table: its TOML name, the field it fills, the factor from file
+/// units to stored units (stored = file · scale) and the allowed range.
+/// Adding a field to the format is one line in the tables below.
+template <class T>
+struct Key {
+  const char* name;
+  Member<T> member;
+  Range range = Range::kAny;
+  double scale = 1.0;
+};
+
+// ---- the format: one line per key --------------------------------------------------------------
+const std::vector<Key<Turbine>> kTurbineKeys{
+    {"rated_power_w", &Turbine::rated_power_w, Range::kPositive},
+    {"rated_torque_nm", &Turbine::rated_torque_nm, Range::kPositive},
+    {"rated_rotor_speed_rpm", &Turbine::rated_rotor_speed_rpm, Range::kPositive},
+    {"min_rotor_speed_rpm", &Turbine::min_rotor_speed_rpm, Range::kNonNegative},
+    {"cut_in_wind_mps", &Turbine::cut_in_wind_mps, Range::kNonNegative},
+    {"rated_wind_mps", &Turbine::rated_wind_mps, Range::kPositive},
+    {"cut_out_wind_mps", &Turbine::cut_out_wind_mps, Range::kPositive},
+    {"rotor_radius_m", &Turbine::rotor_radius_m, Range::kPositive},
+    {"air_density_kg_m3", &Turbine::air_density_kg_m3, Range::kPositive},
+    {"cp_max", &Turbine::cp_max, Range::kNonNegative},
+    {"lambda_opt", &Turbine::lambda_opt, Range::kNonNegative},
+    {"drivetrain_efficiency", &Turbine::drivetrain_efficiency, Range::kFraction},
+};
+const std::vector<Key<CpSurface>> kCpKeys{
+    {"c", &CpSurface::c},
+    {"lambda_i_beta", &CpSurface::lambda_i_beta},
+    {"lambda_i_cubic", &CpSurface::lambda_i_cubic},
+    {"lambda_scale", &CpSurface::lambda_scale, Range::kPositive},
+};
+const std::vector<Key<Material>> kMaterialKeys{
+    {"id", &Material::id},
+    {"youngs_modulus_pa", &Material::youngs_modulus_pa, Range::kPositive},
+    {"poisson_ratio", &Material::poisson_ratio, Range::kFraction},
+    {"density_kg_m3", &Material::density_kg_m3, Range::kPositive},
+    {"sigma_hlim_mpa", &Material::sigma_hlim_mpa, Range::kPositive},
+    {"sigma_flim_mpa", &Material::sigma_flim_mpa, Range::kPositive},
+    {"sn_contact_m", &Material::sn_contact_m, Range::kPositive},
+    {"sn_contact_c_mpa", &Material::sn_contact_c_mpa, Range::kPositive},
+    {"sn_bending_m", &Material::sn_bending_m, Range::kPositive},
+    {"sn_bending_c_mpa", &Material::sn_bending_c_mpa, Range::kPositive},
+    {"sn_contact_knee_cycles", &Material::sn_contact_knee_cycles, Range::kPositive},
+    {"sn_bending_knee_cycles", &Material::sn_bending_knee_cycles, Range::kPositive},
+    {"reversed_bending_factor", &Material::reversed_bending_factor, Range::kFraction},
+};
+const std::vector<Key<Shaft>> kShaftKeys{
+    {"id", &Shaft::id},
+    {"length_m", &Shaft::length_m, Range::kPositive},
+    {"diameter_m", &Shaft::diameter_m, Range::kPositive},
+    {"material", &Shaft::material},
+};
+const std::vector<Key<Gear>> kGearKeys{
+    {"id", &Gear::id},
+    {"shaft", &Gear::shaft},
+    {"teeth", &Gear::teeth, Range::kAtLeastOne},
+    {"face_width_m", &Gear::face_width_m, Range::kPositive},
+    {"mass_kg", &Gear::mass_kg, Range::kNonNegative},
+    {"profile_shift", &Gear::profile_shift},
+    {"material", &Gear::material},
+};
+const std::vector<Key<GearStage>> kStageKeys{
+    {"id", &GearStage::id},
+    {"type", &GearStage::type},
+    {"normal_module_m", &GearStage::normal_module_m, Range::kPositive},
+    {"pressure_angle_deg", &GearStage::pressure_angle_rad, Range::kPositive, kDeg},
+    {"helix_angle_deg", &GearStage::helix_angle_rad, Range::kNonNegative, kDeg},
+    {"planets", &GearStage::planets, Range::kNonNegative},
+    {"gears", &GearStage::gears},
+    {"input_shaft", &GearStage::input_shaft},
+    {"output_shaft", &GearStage::output_shaft},
+};
+const std::vector<Key<Bearing>> kBearingKeys{
+    {"id", &Bearing::id},
+    {"shaft", &Bearing::shaft},
+    {"position", &Bearing::position},
+    {"elements", &Bearing::elements, Range::kAtLeastOne},
+    {"rows", &Bearing::rows, Range::kAtLeastOne},
+    {"element_diameter_m", &Bearing::element_diameter_m, Range::kPositive},
+    {"pitch_diameter_m", &Bearing::pitch_diameter_m, Range::kPositive},
+    {"contact_angle_deg", &Bearing::contact_angle_rad, Range::kNonNegative, kDeg},
+    {"type", &Bearing::type},
+    {"dynamic_rating_n", &Bearing::dynamic_rating_n, Range::kNonNegative},
+    {"radial_stiffness_n_m", &Bearing::radial_stiffness_n_m, Range::kNonNegative},
+};
+const std::vector<Key<MeasurementPoint>> kPointKeys{
+    {"channel", &MeasurementPoint::channel},
+    {"location", &MeasurementPoint::location},
+    {"direction", &MeasurementPoint::direction},
+};
+const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
+    {"rayleigh_eta", &DynamicsParameters::rayleigh_eta, Range::kNonNegative},
+    {"rayleigh_zeta", &DynamicsParameters::rayleigh_zeta, Range::kNonNegative},
+    {"mesh_stiffness_scale", &DynamicsParameters::mesh_stiffness_scale, Range::kPositive},
+    {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
+    {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
+     Range::kNonNegative},
+};
+
+// ---- enums ------------------------------------------------------------------------------------
+const char* enum_name(StageType t) { return t == StageType::kPlanetary ? "planetary" : "parallel"; }
+const char* enum_name(BearingType t) { return t == BearingType::kBall ? "ball" : "roller"; }
+bool enum_parse(std::string_view s, StageType& out) {
+  if (s == "planetary") out = StageType::kPlanetary;
+  else if (s == "parallel") out = StageType::kParallel;
+  else return false;
+  return true;
+}
+bool enum_parse(std::string_view s, BearingType& out) {
+  if (s == "ball") out = BearingType::kBall;
+  else if (s == "roller") out = BearingType::kRoller;
+  else return false;
+  return true;
+}
+const char* enum_choices(StageType) { return "\"planetary\" or \"parallel\""; }
+const char* enum_choices(BearingType) { return "\"ball\" or \"roller\""; }
+
+// ---- reading ----------------------------------------------------------------------------------
+class Reader {
+ public:
+  explicit Reader(std::string source) : source_(std::move(source)) {}
+
+  [[noreturn]] void fail(const toml::node* node, const std::string& key,
+                         const std::string& what) const {
+    std::ostringstream msg;
+    msg << source_;
+    if (node != nullptr && node->source().begin.line > 0) {
+      msg << ':' << node->source().begin.line << ':' << node->source().begin.column;
+    }
+    msg << ": key '" << key << "': " << what;
+    throw DrivetrainFileError(msg.str());
+  }
+
+  std::string describe(const toml::node& node) const {
+    std::ostringstream out;
+    if (node.is_table()) return "a table";
+    if (node.is_array()) return "an array";
+    if (node.is_string()) return "\"" + std::string(*node.value<std::string_view>()) + "\"";
+    node.visit([&](auto&& v) {
+      if constexpr (toml::is_value<decltype(v)>) out << v;
+    });
+    return out.str();
+  }
+
+  double number(const toml::node& node, const std::string& key, Range range) const {
+    std::optional<double> v;
+    if (node.is_floating_point() || node.is_integer()) v = node.value<double>();
+    if (!v) fail(&node, key, "expected a number" + range_text(range) + ", got " + describe(node));
+    if (!std::isfinite(*v) || !in_range(*v, range)) {
+      fail(&node, key, "expected a finite number" + range_text(range) + ", got " + describe(node));
+    }
+    return *v;
+  }
+
+  template <class T>
+  void read(const toml::table& table, T& object, const std::vector<Key<T>>& keys,
+            const std::string& path, const std::set<std::string>& sub_tables = {}) const {
+    for (const auto& [name, node] : table) {
+      const std::string key = path.empty() ? std::string(name.str())
+                                           : path + "." + std::string(name.str());
+      if (sub_tables.count(std::string(name.str())) != 0) continue;
+      const Key<T>* found = nullptr;
+      for (const auto& k : keys) {
+        if (name.str() == k.name) found = &k;
+      }
+      if (found == nullptr) fail(&node, key, "unknown key (" + known_keys(keys) + ")");
+      read_value(node, object, *found, key);
+    }
+  }
+
+  template <class T>
+  void read_value(const toml::node& node, T& object, const Key<T>& k, const std::string& key) const {
+    std::visit(
+        [&](auto member) {
+          using Field = std::remove_reference_t<decltype(object.*member)>;
+          Field& field = object.*member;
+          if constexpr (std::is_same_v<Field, double>) {
+            field = number(node, key, k.range) * k.scale;
+          } else if constexpr (std::is_same_v<Field, int>) {
+            const auto v = node.value_exact<std::int64_t>();
+            const std::int64_t min = k.range == Range::kAtLeastOne ? 1
+                                     : k.range == Range::kAny      ? std::numeric_limits<int>::min()
+                                                                   : 0;
+            if (!v || *v < min || *v > std::numeric_limits<int>::max()) {
+              fail(&node, key, std::string("expected an integer") +
+                                   (min == 1 ? " >= 1" : min == 0 ? " >= 0" : "") + ", got " +
+                                   describe(node));
+            }
+            field = static_cast<int>(*v);
+          } else if constexpr (std::is_same_v<Field, std::string>) {
+            const auto v = node.value_exact<std::string>();
+            if (!v) fail(&node, key, "expected a string, got " + describe(node));
+            field = *v;
+          } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
+            const toml::array* array = node.as_array();
+            if (array == nullptr) fail(&node, key, "expected an array of strings, got " + describe(node));
+            field.clear();
+            for (std::size_t i = 0; i < array->size(); ++i) {
+              const auto v = (*array)[i].value_exact<std::string>();
+              if (!v) {
+                fail(&(*array)[i], key + "[" + std::to_string(i) + "]",
+                     "expected a string, got " + describe((*array)[i]));
+              }
+              field.push_back(*v);
+            }
+          } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
+                               std::is_same_v<Field, std::array<double, 6>>) {
+            const toml::array* array = node.as_array();
+            if (array == nullptr || array->size() != field.size()) {
+              fail(&node, key, "expected an array of " + std::to_string(field.size()) +
+                                   " numbers, got " + describe(node));
+            }
+            for (std::size_t i = 0; i < field.size(); ++i) {
+              field[i] = number((*array)[i], key + "[" + std::to_string(i) + "]", k.range) * k.scale;
+            }
+          } else {  // enums
+            const auto v = node.value_exact<std::string>();
+            if (!v || !enum_parse(*v, field)) {
+              fail(&node, key, std::string("expected ") + enum_choices(field) + ", got " +
+                                   describe(node));
+            }
+          }
+        },
+        k.member);
+  }
+
+  /// [[list]] of tables, entries matched on `id_key` to existing ones (from a base).
+  template <class T>
+  void read_list(const toml::node& node, std::vector<T>& items, const std::vector<Key<T>>& keys,
+                 const std::string& path, std::string T::*id_member, const char* id_key) const {
+    const toml::array* array = node.as_array();
+    if (array == nullptr) fail(&node, path, "expected an array of tables ([[" + path + "]])");
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const std::string item_path = path + "[" + std::to_string(i) + "]";
+      const toml::table* table = (*array)[i].as_table();
+      if (table == nullptr) fail(&(*array)[i], item_path, "expected a table");
+      const auto id = (*table)[id_key].value_exact<std::string>();
+      if (!id || id->empty()) {
+        fail(&(*array)[i], item_path + "." + id_key, "expected a non-empty string (every entry needs one)");
+      }
+      T* target = nullptr;
+      for (auto& item : items) {
+        if (item.*id_member == *id) target = &item;
+      }
+      if (target == nullptr) {
+        items.emplace_back();
+        target = &items.back();
+      }
+      read(*table, *target, keys, item_path);
+    }
+  }
+
+ private:
+  static bool in_range(double v, Range range) {
+    switch (range) {
+      case Range::kAny: return true;
+      case Range::kPositive: return v > 0.0;
+      case Range::kNonNegative: return v >= 0.0;
+      case Range::kFraction: return v > 0.0 && v <= 1.0;
+      case Range::kAtLeastOne: return v >= 1.0;
+    }
+    return true;
+  }
+  static std::string range_text(Range range) {
+    switch (range) {
+      case Range::kAny: return "";
+      case Range::kPositive: return " > 0";
+      case Range::kNonNegative: return " >= 0";
+      case Range::kFraction: return " in (0, 1]";
+      case Range::kAtLeastOne: return " >= 1";
+    }
+    return "";
+  }
+  template <class T>
+  static std::string known_keys(const std::vector<Key<T>>& keys) {
+    std::string out = "expected one of";
+    for (const auto& k : keys) out += std::string(" ") + k.name;
+    return out;
+  }
+
+  std::string source_;
+};
+
+std::optional<Drivetrain> builtin(std::string_view name, int depth);
+
+Drivetrain parse(std::string_view text, const std::string& source, int depth) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << source << ':' << e.source().begin.line << ':' << e.source().begin.column
+        << ": malformed TOML: " << e.description();
+    throw DrivetrainFileError(msg.str());
+  }
+  const Reader reader(source);
+
+  if (const toml::node* format = root.get("format")) {
+    if (format->value_exact<std::string>() != std::string(kDrivetrainFormat)) {
+      reader.fail(format, "format", std::string("expected \"") + kDrivetrainFormat + "\", got " +
+                                        reader.describe(*format));
+    }
+  }
+  Drivetrain d;
+  if (const toml::node* base = root.get("base")) {
+    const auto name = base->value_exact<std::string>();
+    if (!name) reader.fail(base, "base", "expected the name of a built-in drivetrain");
+    auto found = depth < 4 ? builtin(*name, depth + 1) : std::nullopt;
+    if (!found) {
+      std::string names;
+      for (const auto& n : builtin_drivetrain_names()) names += " " + n;
+      reader.fail(base, "base", "unknown built-in drivetrain \"" + *name + "\" (known:" + names + ")");
+    }
+    d = std::move(*found);
+  }
+  if (const toml::node* name = root.get("name")) {
+    const auto v = name->value_exact<std::string>();
+    if (!v || v->empty()) reader.fail(name, "name", "expected a non-empty string");
+    d.name = *v;
+  } else if (!root.contains("base")) {
+    reader.fail(nullptr, "name", "missing (a description without `base` needs a name)");
+  }
+
+  static const std::set<std::string> kTopLevel{"format",     "name",   "base",     "turbine",
+                                               "materials",  "shafts", "gears",    "stages",
+                                               "bearings",   "measurement_points", "dynamics"};
+  for (const auto& [key, node] : root) {
+    if (kTopLevel.count(std::string(key.str())) == 0) {
+      reader.fail(&node, std::string(key.str()),
+                  "unknown key (expected format, name, base, turbine, materials, shafts, gears, "
+                  "stages, bearings, measurement_points, dynamics)");
+    }
+  }
+  if (const toml::node* node = root.get("turbine")) {
+    const toml::table* table = node->as_table();
+    if (table == nullptr) reader.fail(node, "turbine", "expected a table [turbine]");
+    reader.read(*table, d.turbine, kTurbineKeys, "turbine", {"cp"});
+    if (const toml::node* cp = table->get("cp")) {
+      if (!cp->is_table()) reader.fail(cp, "turbine.cp", "expected a table [turbine.cp]");
+      reader.read(*cp->as_table(), d.turbine.cp, kCpKeys, "turbine.cp");
+    }
+  }
+  if (const toml::node* n = root.get("materials")) {
+    reader.read_list(*n, d.materials, kMaterialKeys, "materials", &Material::id, "id");
+  }
+  if (const toml::node* n = root.get("shafts")) {
+    reader.read_list(*n, d.shafts, kShaftKeys, "shafts", &Shaft::id, "id");
+  }
+  if (const toml::node* n = root.get("gears")) {
+    reader.read_list(*n, d.gears, kGearKeys, "gears", &Gear::id, "id");
+  }
+  if (const toml::node* n = root.get("stages")) {
+    reader.read_list(*n, d.stages, kStageKeys, "stages", &GearStage::id, "id");
+  }
+  if (const toml::node* n = root.get("bearings")) {
+    reader.read_list(*n, d.bearings, kBearingKeys, "bearings", &Bearing::id, "id");
+  }
+  if (const toml::node* n = root.get("measurement_points")) {
+    reader.read_list(*n, d.measurement_points, kPointKeys, "measurement_points",
+                     &MeasurementPoint::channel, "channel");
+  }
+  if (const toml::node* node = root.get("dynamics")) {
+    const toml::table* table = node->as_table();
+    if (table == nullptr) reader.fail(node, "dynamics", "expected a table [dynamics]");
+    reader.read(*table, d.dynamics, kDynamicsKeys, "dynamics");
+  }
+
+  // Cross-field checks (the whole description, after the base is merged).
+  const Turbine& t = d.turbine;
+  const toml::node* turbine_node = root.get("turbine");
+  if (!(t.cut_in_wind_mps < t.rated_wind_mps && t.rated_wind_mps < t.cut_out_wind_mps)) {
+    reader.fail(turbine_node, "turbine.rated_wind_mps",
+                "expected cut_in_wind_mps < rated_wind_mps < cut_out_wind_mps");
+  }
+  if (t.min_rotor_speed_rpm > t.rated_rotor_speed_rpm) {
+    reader.fail(turbine_node, "turbine.min_rotor_speed_rpm",
+                "expected at most turbine.rated_rotor_speed_rpm");
+  }
+  auto check_ref = [&](const std::string& key, const std::string& id, bool ok, const char* what) {
+    if (!id.empty() && !ok) reader.fail(nullptr, key, "\"" + id + "\" is not the id of any " + what);
+  };
+  for (std::size_t i = 0; i < d.gears.size(); ++i) {
+    check_ref("gears[" + std::to_string(i) + "].material", d.gears[i].material,
+              d.material(d.gears[i].material) != nullptr, "material");
+  }
+  for (std::size_t i = 0; i < d.stages.size(); ++i) {
+    for (std::size_t g = 0; g < d.stages[i].gears.size(); ++g) {
+      check_ref("stages[" + std::to_string(i) + "].gears[" + std::to_string(g) + "]",
+                d.stages[i].gears[g], d.gear(d.stages[i].gears[g]) != nullptr, "gear");
+    }
+  }
+  for (std::size_t i = 0; i < d.bearings.size(); ++i) {
+    const auto& b = d.bearings[i];
+    if (b.element_diameter_m >= b.pitch_diameter_m) {
+      reader.fail(nullptr, "bearings[" + std::to_string(i) + "].element_diameter_m",
+                  "expected less than pitch_diameter_m");
+    }
+  }
+  return d;
+}
+
+std::optional<Drivetrain> builtin(std::string_view name, int depth) {
+  if (auto d = model::builtin_drivetrain(name)) return d;
+  const std::string file = std::string(name) + ".toml";
+  if (const auto text = app::data::embedded_file(file)) {
+    return parse(*text, "<built-in " + file + ">", depth);
+  }
+  return std::nullopt;
+}
+
+// ---- writing ----------------------------------------------------------------------------------
+std::string format_double(double v) {
+  std::array<char, 64> buf{};
+  const auto r = std::to_chars(buf.data(), buf.data() + buf.size(), v);
+  std::string s(buf.data(), r.ptr);
+  if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // keep it a TOML float
+  return s;
+}
+
+std::string quote(const std::string& s) {
+  std::string out = "\"";
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+template <class T>
+void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) {
+  for (const auto& k : keys) {
+    out << k.name << " = ";
+    std::visit(
+        [&](auto member) {
+          using Field = std::remove_cv_t<std::remove_reference_t<decltype(object.*member)>>;
+          const Field& field = object.*member;
+          if constexpr (std::is_same_v<Field, double>) {
+            out << format_double(field / k.scale);
+          } else if constexpr (std::is_same_v<Field, int>) {
+            out << field;
+          } else if constexpr (std::is_same_v<Field, std::string>) {
+            out << quote(field);
+          } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
+            out << '[';
+            for (std::size_t i = 0; i < field.size(); ++i) out << (i ? ", " : "") << quote(field[i]);
+            out << ']';
+          } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
+                               std::is_same_v<Field, std::array<double, 6>>) {
+            out << '[';
+            for (std::size_t i = 0; i < field.size(); ++i) {
+              out << (i ? ", " : "") << format_double(field[i] / k.scale);
+            }
+            out << ']';
+          } else {
+            out << quote(enum_name(field));
+          }
+        },
+        k.member);
+    out << '\n';
+  }
+}
+
+template <class T>
+void write_list(std::ostream& out, const std::vector<T>& items, const std::vector<Key<T>>& keys,
+                const char* name) {
+  for (const auto& item : items) {
+    out << "\n[[" << name << "]]\n";
+    write(out, item, keys);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> builtin_drivetrain_names() {
+  std::vector<std::string> names = model::builtin_drivetrain_names();
+  for (const auto& file : app::data::embedded_file_names()) {
+    const std::string_view f = file;
+    if (f.size() > 5 && f.substr(f.size() - 5) == ".toml") {
+      names.emplace_back(f.substr(0, f.size() - 5));
+    }
+  }
+  return names;
+}
+
+model::Drivetrain parse_drivetrain(std::string_view toml_text, const std::string& source) {
+  return parse(toml_text, source, 0);
+}
+
+model::Drivetrain load_drivetrain(const std::string& name_or_path) {
+  if (auto d = builtin(name_or_path, 0)) return std::move(*d);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(name_or_path, ec)) {
+    std::string names;
+    for (const auto& n : builtin_drivetrain_names()) names += " " + n;
+    throw DrivetrainFileError("drivetrain '" + name_or_path +
+                              "': neither a built-in (" + names.substr(1) +
+                              ") nor a readable file");
+  }
+  std::ifstream in(name_or_path, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  if (!in) throw DrivetrainFileError(name_or_path + ": cannot read");
+  return parse(text.str(), name_or_path, 0);
+}
+
+std::string to_toml(const model::Drivetrain& d) {
+  std::ostringstream out;
+  out << "# drivetwin drivetrain description (app/config/README.md)\n"
+      << "format = " << quote(kDrivetrainFormat) << '\n'
+      << "name = " << quote(d.name) << "\n\n[turbine]\n";
+  write(out, d.turbine, kTurbineKeys);
+  out << "\n[turbine.cp]\n";
+  write(out, d.turbine.cp, kCpKeys);
+  write_list(out, d.materials, kMaterialKeys, "materials");
+  write_list(out, d.shafts, kShaftKeys, "shafts");
+  write_list(out, d.gears, kGearKeys, "gears");
+  write_list(out, d.stages, kStageKeys, "stages");
+  write_list(out, d.bearings, kBearingKeys, "bearings");
+  write_list(out, d.measurement_points, kPointKeys, "measurement_points");
+  out << "\n[dynamics]\n";
+  write(out, d.dynamics, kDynamicsKeys);
+  return out.str();
+}
+
+CLI::Option* add_drivetrain_option(CLI::App& sub, std::string& value) {
+  value = kDefaultDrivetrain;
+  return sub.add_option("--drivetrain", value,
+                        "Drivetrain description: a built-in name (paper-2mw, kelmarsh-mm92) or a "
+                        "TOML file (app/config/README.md)")
+      ->capture_default_str();
+}
+
+}  // namespace app::config

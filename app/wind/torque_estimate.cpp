@@ -1,0 +1,214 @@
+#include "wind/torque_estimate.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace app::wind {
+namespace {
+constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+using hal::ScadaField;
+using model::wind::OperatingRegion;
+
+std::string where(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row, ScadaField f) {
+  return reader.path() + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
+         "), column '" + reader.column_name(f) + "'";
+}
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+}  // namespace
+
+TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain, bool use_measured_speed,
+                                 bool use_measured_pitch)
+    : turbine_(drivetrain.turbine),
+      load_(drivetrain.turbine),
+      use_measured_speed_(use_measured_speed),
+      use_measured_pitch_(use_measured_pitch) {}
+
+bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row,
+                               RowEstimate& out, std::string* error) const {
+  out = RowEstimate{};
+  // Plausibility for this turbine (hal only checks that values are finite numbers).
+  const bool has_wind = row.has(ScadaField::kWindSpeed);
+  const double wind = row.get(ScadaField::kWindSpeed);
+  if (has_wind && (wind < 0.0 || wind > kMaxPlausibleWindMps)) {
+    *error = where(reader, row, ScadaField::kWindSpeed) + ": " + num(wind) + " m/s is " +
+             (wind < 0.0 ? "negative; a wind speed is >= 0"
+                         : "beyond any plausible 10-min wind speed (<= 75 m/s)");
+    return false;
+  }
+  const bool has_speed = row.has(ScadaField::kRotorSpeed);
+  const double rpm = row.get(ScadaField::kRotorSpeed);
+  const double max_rpm = kMaxPlausibleSpeedFactor * turbine_.rated_rotor_speed_rpm;
+  if (has_speed && (rpm < kMinPlausibleRotorRpm || rpm > max_rpm)) {
+    *error = where(reader, row, ScadaField::kRotorSpeed) + ": " + num(rpm) +
+             " rpm is beyond any plausible rotor speed for this turbine (" +
+             num(kMinPlausibleRotorRpm) + " to " + num(max_rpm) + " rpm = 1.5 x rated)";
+    return false;
+  }
+  const bool has_pitch = row.has(ScadaField::kPitch);
+  const double pitch_deg = row.get(ScadaField::kPitch);
+  if (has_pitch && (pitch_deg < -15.0 || pitch_deg > 120.0)) {
+    *error = where(reader, row, ScadaField::kPitch) + ": " + num(pitch_deg) +
+             " deg is outside the plausible blade pitch range -15 to 120 deg";
+    return false;
+  }
+  const bool has_power = row.has(ScadaField::kPower);
+  const double power_kw = row.get(ScadaField::kPower);
+  const double max_kw = 2.0 * turbine_.rated_power_w / 1e3;
+  if (has_power && std::fabs(power_kw) > max_kw) {
+    *error = where(reader, row, ScadaField::kPower) + ": " + num(power_kw) +
+             " kW is beyond twice the rated power (" + num(max_kw) + " kW)";
+    return false;
+  }
+  if (!has_wind) {
+    out.excluded_because = "no wind speed";
+    return true;
+  }
+
+  const double speed_rad_s = std::max(0.0, rpm) * kRpmToRadS;
+  if (use_measured_speed_ && has_speed) {
+    const bool pitch = use_measured_pitch_ && has_pitch;
+    out.load = load_.with_rotor_speed(wind, speed_rad_s, pitch ? pitch_deg * kDegToRad : 0.0, pitch);
+  } else {
+    out.load = load_.steady_state(wind);
+  }
+
+  // Reference torque.
+  if (row.has(ScadaField::kTorque)) {
+    out.reference = ReferenceKind::kMeasuredTorque;
+    out.reference_torque_nm = row.get(ScadaField::kTorque);
+  } else if (has_power && has_speed && speed_rad_s > 0.0) {
+    out.reference = ReferenceKind::kPowerOverSpeed;
+    out.reference_torque_nm =
+        power_kw * 1e3 / (turbine_.drivetrain_efficiency * speed_rad_s);
+  }
+
+  // In operation?
+  const OperatingRegion region = load_.region_of(wind);
+  const double min_rpm =
+      turbine_.min_rotor_speed_rpm > 0.0 ? 0.9 * turbine_.min_rotor_speed_rpm : 0.5;
+  if (out.reference == ReferenceKind::kNone) {
+    out.excluded_because = "no reference torque";
+  } else if (region == OperatingRegion::kBelowCutIn || region == OperatingRegion::kAboveCutOut) {
+    out.excluded_because = "wind outside cut-in..cut-out";
+  } else if (!has_speed || rpm < min_rpm) {
+    out.excluded_because = "rotor stopped or below minimum speed";
+  } else if (!(out.reference_torque_nm > 0.0)) {
+    out.excluded_because = "not generating";
+  } else if (has_pitch && wind < turbine_.rated_wind_mps && pitch_deg > kCurtailPitchDeg) {
+    out.excluded_because = "curtailed (pitch raised below rated wind)";
+  } else if (has_power && wind >= turbine_.rated_wind_mps &&
+             power_kw * 1e3 < kCurtailPowerFraction * turbine_.rated_power_w) {
+    out.excluded_because = "curtailed (power below half rated above rated wind)";
+  } else {
+    out.in_operation = true;
+  }
+  return true;
+}
+
+void MapeAccumulator::add(const RowEstimate& e) {
+  if (!e.in_operation) return;
+  std::size_t region = 0;
+  switch (e.load.region) {
+    case OperatingRegion::kTracking:
+      region = 0;
+      break;
+    case OperatingRegion::kSpeedLimited:
+      region = 1;
+      break;
+    case OperatingRegion::kRated:
+      region = 2;
+      break;
+    default:
+      return;  // stopped although "in operation" cannot happen: speed filter above
+  }
+  ++count_[region];
+  sum_abs_pct_[region] +=
+      100.0 * std::fabs(e.load.torque_nm - e.reference_torque_nm) / std::fabs(e.reference_torque_nm);
+}
+
+std::size_t MapeAccumulator::count() const { return count_[0] + count_[1] + count_[2]; }
+
+double MapeAccumulator::mape_pct(std::size_t region) const {
+  return count_[region] ? sum_abs_pct_[region] / static_cast<double>(count_[region]) : std::nan("");
+}
+
+double MapeAccumulator::mape_pct() const {
+  const std::size_t n = count();
+  return n ? (sum_abs_pct_[0] + sum_abs_pct_[1] + sum_abs_pct_[2]) / static_cast<double>(n)
+           : std::nan("");
+}
+
+const char* MapeAccumulator::region_label(std::size_t region) {
+  static constexpr const char* kLabels[kRegions] = {"2", "2.5", "3"};
+  return kLabels[region];
+}
+
+void TorqueSummary::add(const RowEstimate& e) {
+  ++rows;
+  ++region_rows[static_cast<std::size_t>(e.load.region)];
+  if (e.load.torque_nm > 0.0) {
+    min_torque_nm = std::min(min_torque_nm, e.load.torque_nm);
+    max_torque_nm = std::max(max_torque_nm, e.load.torque_nm);
+  }
+  if (e.reference == ReferenceKind::kMeasuredTorque) ++measured_torque_rows;
+  if (e.reference == ReferenceKind::kPowerOverSpeed) ++power_rows;
+  mape.add(e);
+  if (!e.in_operation) {
+    for (auto& [reason, count] : excluded) {
+      if (reason == e.excluded_because) {
+        ++count;
+        return;
+      }
+    }
+    excluded.emplace_back(e.excluded_because, 1);
+  }
+}
+
+bool TimeWindow::contains(double t_s) const {
+  if (!std::isnan(from_s) && !(t_s >= from_s)) return false;
+  if (!std::isnan(to_s) && !(t_s < to_s)) return false;
+  return true;
+}
+
+TorqueSummary run_torque(
+    hal::ScadaCsvReader& reader, const TorqueEstimator& estimator, const TimeWindow& window,
+    const std::function<void(const hal::ScadaRow&, const RowEstimate&)>& on_row) {
+  TorqueSummary summary;
+  hal::ScadaRow row;
+  RowEstimate estimate;
+  std::string error;
+  for (;;) {
+    const hal::ScadaReadResult r = reader.next(row);
+    if (r == hal::ScadaReadResult::kEnd) break;
+    if (r == hal::ScadaReadResult::kError) throw std::runtime_error(reader.error());
+    if (row.has(ScadaField::kTime) && !window.contains(row.get(ScadaField::kTime))) continue;
+    if (!row.has(ScadaField::kTime) && (!std::isnan(window.from_s) || !std::isnan(window.to_s))) {
+      continue;
+    }
+    if (!estimator.estimate(reader, row, estimate, &error)) throw std::runtime_error(error);
+    summary.add(estimate);
+    if (on_row) on_row(row, estimate);
+  }
+  return summary;
+}
+
+double parse_time_option(const std::string& option, const std::string& text) {
+  if (auto t = hal::parse_utc_datetime_s(text)) return *t;
+  if (auto t = hal::parse_utc_datetime_s(text + " 00:00:00")) return *t;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (!text.empty() && end == text.c_str() + text.size() && std::isfinite(v)) return v;
+  throw std::runtime_error(option + ": '" + text +
+                           "' is not a time (expected YYYY-MM-DD, YYYY-MM-DD HH:MM:SS or seconds)");
+}
+
+}  // namespace app::wind
