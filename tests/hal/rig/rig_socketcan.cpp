@@ -90,7 +90,10 @@ TEST(RigSocketCan, DecodesFdBlocksFromAPeerAndCountsGapsAndDuplicates) {
   // Arrange
   const std::string can = rig::env("DRIVETWIN_RIG_CAN", "vcan0");
   hal::MonotonicClock clock;
-  hal::SocketCanCmsStream stream(config(can, true), clock);
+  hal::SocketCanConfig c = config(can, true);
+  c.error_hold = 3000ms;   // long enough for TCG emulation to finish sending before we look
+  c.stale_after = 10000ms;
+  hal::SocketCanCmsStream stream(c, clock);
   ASSERT_EQ(stream.configure(), Status::kOk) << "interface " << can;
   ASSERT_EQ(stream.activate(), Status::kOk);
   Peer peer(can, true);
@@ -124,7 +127,9 @@ TEST(RigSocketCan, DecodesFdBlocksFromAPeerAndCountsGapsAndDuplicates) {
   EXPECT_FLOAT_EQ(got[1].samples[0], 0.1f);      // raw 100 × 0.001
   EXPECT_FLOAT_EQ(got[1].samples[27], 0.127f);
   EXPECT_EQ((got[1].stamp - got[0].stamp).count(), 1094 * 1000);
-  EXPECT_EQ(stream.health(clock.now()), Status::kOk);
+  EXPECT_EQ(stream.health(clock.now()), Status::kGap);  // the gap is shown for error_hold
+  std::this_thread::sleep_for(3200ms);
+  EXPECT_EQ(stream.health(clock.now()), Status::kOk);   // and clears without a restart
 }
 
 TEST(RigSocketCan, DecodesAFrameSentByCansend) {
