@@ -10,7 +10,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <memory>
-#include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -34,11 +34,19 @@ std::string run(const std::string& cmd) {
 
 bool have_mbpoll() { return run("command -v mbpoll").find("mbpoll") != std::string::npos; }
 
-/// Values mbpoll printed as "[ref]: value" lines.
+/// Values mbpoll printed as "[ref]: value" lines (no std::regex: GCC 12 warns
+/// inside <regex> under -fsanitize, and warnings are errors).
 std::vector<std::string> mbpoll_values(const std::string& out) {
   std::vector<std::string> v;
-  const std::regex line(R"(\[(\d+)\]:\s+(\S+))");
-  for (std::sregex_iterator it(out.begin(), out.end(), line), end; it != end; ++it) v.push_back((*it)[2]);
+  std::istringstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto close = line.find("]:");
+    if (line.empty() || line[0] != '[' || close == std::string::npos) continue;
+    std::istringstream rest(line.substr(close + 2));
+    std::string value;
+    if (rest >> value) v.push_back(value);
+  }
   return v;
 }
 
