@@ -136,6 +136,9 @@ class Calibrator {
   std::size_t evaluations() const { return problem_.evaluations; }
   std::size_t evaluations_to_threshold() const { return problem_.evaluations_to_threshold; }
   std::size_t iteration() const { return mogoa_ ? mogoa_->iteration() : 0; }
+  /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2) of member i.
+  std::size_t archive_count() const { return mogoa_ ? mogoa_->archive_count() : 0; }
+  double archive_objective(std::size_t i, std::size_t k) const { return mogoa_->archive_objective(i, k); }
   /// Smallest worst_threshold_ratio over both points seen so far (≤ 1: fits).
   double best_ratio() const { return problem_.best_ratio; }
 

@@ -36,6 +36,21 @@
 
 namespace model::calibration {
 
+/// Rayleigh damping the stand-in starts from when a description carries none
+/// (paper-2mw publishes no damping): modal damping ratios of 1–3 % between
+/// the first mode (~270 Hz) and the third harmonic of the high-speed mesh.
+inline constexpr double kNominalRayleighEta_1_s = 2.0;  // [1/s]
+inline constexpr double kNominalRayleighZeta_s = 2e-5;  // [s]
+
+/// `p` with the nominal damping above when both of its Rayleigh coefficients are zero.
+inline DynamicsParameters with_nominal_damping(DynamicsParameters p) {
+  if (p.rayleigh_eta == 0.0 && p.rayleigh_zeta == 0.0) {
+    p.rayleigh_eta = kNominalRayleighEta_1_s;
+    p.rayleigh_zeta = kNominalRayleighZeta_s;
+  }
+  return p;
+}
+
 struct LumpedSimulatorConfig {
   double sample_rate_hz = 8192.0;          // [Hz]
   double max_duration_s = 16.0;            // [s] buffer capacity
