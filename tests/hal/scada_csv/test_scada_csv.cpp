@@ -146,6 +146,18 @@ TEST_F(ScadaCsv, WrongFieldCountAndBadTimeAreErrors) {
   EXPECT_NE(reader.error().find("column 't_s'"), std::string::npos) << reader.error();
 }
 
+TEST_F(ScadaCsv, ReadsCsvTextHeldInMemoryUnderTheGivenName) {
+  hal::ScadaCsvReader reader;
+  ASSERT_TRUE(reader.open_text("t_s,wind_speed_mps\n0,5\n600,x\n", "<built-in day.csv>",
+                               hal::bundle_scada_columns()));
+  hal::ScadaRow row;
+  ASSERT_EQ(reader.next(row), ScadaReadResult::kRow);
+  EXPECT_DOUBLE_EQ(row.get(ScadaField::kWindSpeed), 5.0);
+  EXPECT_EQ(reader.next(row), ScadaReadResult::kError);
+  EXPECT_NE(reader.error().find("<built-in day.csv>: row 2 (line 3)"), std::string::npos)
+      << reader.error();
+}
+
 TEST_F(ScadaCsv, MissingFileIsReportedNotThrown) {
   hal::ScadaCsvReader reader;
   EXPECT_FALSE(reader.open((dir_ / "nope.csv").string(), hal::bundle_scada_columns()));
