@@ -83,7 +83,7 @@ fs::path default_cache_dir() {
 std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs, const mf::ChannelOptions& o,
                            const mf::SpectrumGrid& g, mf::SpectrumSource source) {
   std::uint64_t h = 1469598103934665603ull;
-  const std::string tag = "drivetwin-spectrum/3";  // bump when the dynamics adapter changes
+  const std::string tag = "drivetwin-spectrum/4";  // bump when the dynamics adapter changes
   const mf::LoadSample rated = cs.quasi_static_loads(d.turbine.rated_torque_nm);
   for (std::size_t c = 0; c < cs.channel_count(); ++c) {
     const mf::Channel& ch = cs.channel(c);
@@ -220,10 +220,7 @@ void run(const DamageArgs& args) {
   grid.torque_max_nm = 1.5 * drivetrain.turbine.rated_torque_nm;
   grid.speed_min_rpm = 0.5;
   grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
-  if (source == mf::SpectrumSource::kDynamics) {  // one ROM run per point: a coarser grid
-    grid.torque_points = 31;
-    grid.speed_points = 8;
-  }
+  if (source == mf::SpectrumSource::kDynamics) grid = app::fatigue::dynamics_grid(drivetrain);
   if (!(grid.torque_max_nm > 0.0)) throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
   const std::uint64_t key = spectrum_key(drivetrain, channels, options, grid, source);
   const fs::path cache_dir = args.cache_dir.empty() ? default_cache_dir() : fs::path(args.cache_dir);

@@ -154,6 +154,7 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   bool end = false;
   auto read = [&](hal::ScadaRow& out) -> bool {
     for (;;) {
+      if (options.max_rows > 0 && r.rows >= options.max_rows) return false;
       const hal::ScadaReadResult res = reader.next(out);
       if (res == hal::ScadaReadResult::kEnd) return false;
       ++r.rows;

@@ -60,6 +60,7 @@ struct HistoryOptions {
   TorqueFrom torque_from = TorqueFrom::kAuto;
   double period_s = 0.0;  // [s] 0: detect
   std::size_t rul_short_window_days = 30;
+  std::size_t max_rows = 0;  // stop after this many data rows (0: all)
   std::function<void(std::size_t rows)> progress;  // called every few thousand rows (may be empty)
 };
 

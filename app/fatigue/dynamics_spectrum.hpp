@@ -16,11 +16,18 @@
 // A simulation whose mesh force leaves kDivergenceFactor × the quasi-static force fails
 // the grid point with a message naming it (no damage figure from a diverged model).
 // Window: the first `settle_s` are dropped (the ROM starts from the static deflection),
-// then max(min_seconds, 10 planetary mesh periods) up to max_seconds are kept.
+// then max(min_seconds, one carrier revolution, 10 planetary mesh periods) up to
+// max_seconds are kept — a carrier revolution so that every planet position is seen.
+//
+// dynamics_grid(): the (torque, speed) grid for this source: speed spacing rated/12 with
+// the rated speed itself a node (most operating time is spent there and the dynamic
+// response changes quickly with speed), two nodes above rated; 31 torque nodes to 1.5·rated.
 //
 // Thread context: host / non-RT (allocates, runs the ROM).
 
+#include <array>
 #include <string>
+#include <vector>
 
 #include "model/drivetrain/description.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
@@ -37,8 +44,35 @@ struct DynamicsSpectrumSettings {
   double rom_cutoff_hz = 2500.0;   // [Hz] modes kept by the ROM
   double settle_s = 0.25;          // [s] dropped at the start of each window
   double min_seconds = 2.0;        // [s] kept, at least
-  double max_seconds = 12.0;       // [s] kept, at most
+  double max_seconds = 16.0;       // [s] kept, at most
 };
+
+/// Converts one ROM output sample to the fatigue channels' LoadSample (the conversion
+/// above). Built once (allocates); convert() is allocation-free.
+class RomLoadConverter {
+ public:
+  RomLoadConverter(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
+                   const std::vector<std::string>& rom_mesh_ids, const std::vector<std::string>& rom_bearing_ids);
+  bool valid() const { return error_.empty(); }
+  const std::string& error() const { return error_; }
+  /// @param mesh_force_n ROM line-of-action forces [N]; fx, fy ROM bearing forces [N];
+  /// @param mean_torque_nm the point's rotor torque (for the quasi-static axial thrust).
+  void convert(const double* mesh_force_n, const double* fx, const double* fy, double mean_torque_nm,
+               model::fatigue::LoadSample& out) const;
+  /// Peak |F_bn| allowed at this torque before the simulation counts as diverged [N].
+  double divergence_limit_n(std::size_t mesh, double torque_nm) const;
+
+ private:
+  const model::Drivetrain* drivetrain_;
+  const model::fatigue::ChannelSet* channels_;
+  std::array<int, model::fatigue::kMaxBearings> source_{};
+  std::array<double, model::fatigue::kMaxMeshes> to_ft_{};
+  std::size_t planets_ = 0;
+  std::string error_;
+};
+
+/// The grid the dynamics spectrum uses (see above).
+model::fatigue::SpectrumGrid dynamics_grid(const model::Drivetrain& drivetrain);
 
 /// A LoadSimulator running simulate_rom on `drivetrain` (which must outlive it).
 model::fatigue::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain,
