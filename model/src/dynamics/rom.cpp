@@ -89,19 +89,35 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (const auto& f : m.forces) loads.push_back(f.pattern);
   for (const auto& v : m.meshes) loads.push_back(v.directions.col(0));
   const Eigen::LLT<Eigen::MatrixXd> k_llt(m.stiffness);
+  // Bearings: their fluctuation acts as Δk_b(t)·(static deflection), a force along the
+  // bearing's static load direction (proportional to the torque, so one vector each).
+  Eigen::VectorXd unit_torque = Eigen::VectorXd::Zero(n);
+  for (const auto& f : m.forces) {
+    if (f.per_newton_metre) unit_torque += f.amplitude * f.pattern;
+  }
+  if (unit_torque.squaredNorm() > 0.0) {
+    const Eigen::VectorXd x1 = k_llt.solve(unit_torque);
+    for (const auto& b : m.bearings) loads.push_back(b.directions * (b.directions.transpose() * x1));
+  }
+  // Unit load vectors: the threshold below compares their residuals with each other.
+  for (auto& l : loads) l.normalize();
   Eigen::MatrixXd psi(n, static_cast<Eigen::Index>(loads.size()));
   for (std::size_t j = 0; j < loads.size(); ++j) {
     const Eigen::VectorXd modal = phi.transpose() * loads[j];
     psi.col(static_cast<Eigen::Index>(j)) =
         k_llt.solve(loads[j]) - phi * (modal.array() / lambda.head(keep).array()).matrix();
   }
-  // M-orthonormalise the corrections (drop dependent ones).
+  // The subtraction above cancels most of K̄⁻¹f: restore M-orthogonality to the kept modes
+  // explicitly (twice, classical Gram–Schmidt's usual cure), then M-orthonormalise the
+  // corrections among themselves, dropping dependent ones.
+  for (int pass = 0; pass < 2; ++pass) psi -= phi * (phi.transpose() * (m.mass.asDiagonal() * psi));
+  for (Eigen::Index j = 0; j < psi.cols(); ++j) psi.col(j).normalize();
   const Eigen::MatrixXd gram = psi.transpose() * m.mass.asDiagonal() * psi;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> ge(gram);
   const double gmax = ge.eigenvalues().maxCoeff();
   std::vector<Eigen::Index> kept;
   for (Eigen::Index j = 0; j < gram.rows(); ++j) {
-    if (ge.eigenvalues()[j] > 1e-10 * gmax) kept.push_back(j);
+    if (ge.eigenvalues()[j] > 1e-8 * gmax) kept.push_back(j);
   }
   const int n_corr = static_cast<int>(kept.size());
   const int total = keep + n_corr;

@@ -28,7 +28,7 @@ struct SimulationSettings {
   double seconds = 2.0;           // [s] simulated time
   double sample_rate_hz = 25600;  // [Hz] output rate; the ROM steps at this rate
   int full_substeps = 2;          // full model: Newmark steps per output sample
-  double rom_cutoff_hz = 2500.0;  // [Hz] ROM: keep every mode up to here (+ static correction)
+  double rom_cutoff_hz = 2200.0;  // [Hz] ROM: keep every mode up to here (+ static correction); rom.hpp
 };
 
 /// Time series, one value per output sample (sample i at t = (i+1)/sample_rate_hz).

@@ -1,0 +1,181 @@
+// The reduced-order model against the full-order model it is reduced from:
+// natural frequencies, statics, energy conservation of its integrator, no heap
+// allocation in step(), capacity checks and the hand-over of a rebuilt model.
+// Short runs: these also run under qemu-aarch64 and the sanitizers.
+// EIGEN_RUNTIME_NO_MALLOC is defined for the whole binary (CMakeLists.txt).
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "model/drivetrain/description.hpp"
+#include "model/dynamics/full_model.hpp"
+#include "model/dynamics/rom.hpp"
+
+namespace {
+std::atomic<long> g_allocations{0};
+}  // namespace
+
+// Counting global allocator (test binary only).
+void* operator new(std::size_t n) {
+  g_allocations.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n == 0 ? 1 : n)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace {
+
+using namespace model::dynamics;
+constexpr double kDt = 1.0 / 25600;
+
+FullModel paper_model(const model::Drivetrain& d = model::paper_2mw()) {
+  std::string error;
+  auto m = build_full_model(d, {}, &error);
+  EXPECT_TRUE(m.has_value()) << error;
+  return *m;
+}
+
+TEST(Rom, RetainedModesMatchTheFullModelWithinOnePercent) {
+  // Arrange
+  const FullModel m = paper_model();
+  RomBuildReport report;
+  std::string error;
+  // Act
+  const auto rom = build_rom(m, kDt, kRomDefaultCutoffHz, &error, &report);
+  // Assert: every full-model mode up to the cut-off is in the ROM, at its frequency.
+  ASSERT_TRUE(rom) << error;
+  int below = 0;
+  for (double f : report.full_mode_hz) below += f <= kRomDefaultCutoffHz ? 1 : 0;
+  EXPECT_EQ(report.eigenmodes, below);
+  EXPECT_GE(report.full_mode_hz[below - 1], 3 * 660.73);  // covers the 3rd rated hss mesh harmonic
+  for (int i = 0; i < below; ++i) {
+    EXPECT_NEAR(report.rom_mode_hz[i] / report.full_mode_hz[i], 1.0, 0.01) << "mode " << i;
+  }
+  RecordProperty("rom_dofs", report.eigenmodes + report.correction_vectors);
+}
+
+TEST(Rom, StaticMeshForcesEqualTheFullModelsExactly) {
+  // The static correction puts K̄⁻¹f in the reduced basis: the ROM's static deflection is
+  // the full model's (to rounding), not a truncated modal sum.
+  const FullModel m = paper_model();
+  const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(data);
+  const Eigen::VectorXd x = m.static_deflection(361747.0);
+  Rom rom(*data);
+  rom.reset({8.33, 361747.0});
+  for (int j = 0; j < data->mesh_count; ++j) {
+    const double full = m.meshes[j].mean_n_m * m.meshes[j].directions.col(0).dot(x);
+    const double reduced = m.meshes[j].mean_n_m * data->w_mesh.col(j).dot(rom.modal_displacement());
+    EXPECT_NEAR(reduced / full, 1.0, 1e-6) << m.meshes[j].id;
+  }
+}
+
+TEST(Rom, UndampedFreeVibrationConservesModalEnergy) {
+  // With constant stiffness and no damping each mode's exact propagator is a rotation:
+  // ½q̇² + ½ω²q² is conserved to rounding. Tolerance 1e-9 over 5000 steps.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.rayleigh_eta = 0.0;
+  d.dynamics.rayleigh_zeta = 0.0;
+  d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  FullModel m = paper_model(d);
+  for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
+  const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(data);
+  Rom rom(*data);
+  rom.reset({10.0, 2.0e5});  // static deflection under 200 kN·m ...
+  RomOutputs out;
+  auto energy = [&](const Rom& r) {
+    const auto& q = r.modal_displacement();
+    const auto& v = r.modal_velocity();
+    return 0.5 * v.squaredNorm() + 0.5 * (data->omega2.array() * q.array().square()).sum();
+  };
+  rom.step({10.0, 0.0}, out);  // ... released: free vibration about zero
+  const double e0 = energy(rom);
+  double worst = 0.0;
+  for (int i = 0; i < 5000; ++i) {
+    rom.step({10.0, 0.0}, out);
+    worst = std::max(worst, std::abs(energy(rom) / e0 - 1.0));
+  }
+  EXPECT_GT(e0, 0.0);
+  EXPECT_LT(worst, 1e-9);
+}
+
+TEST(Rom, StepAllocatesNothing) {
+  // Arrange
+  const FullModel m = paper_model();
+  const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(data);
+  auto rom = std::make_unique<Rom>(*data);
+  rom->reset({14.8, 1.23e6});
+  RomOutputs out;
+  // Act
+  const long before = g_allocations.load();
+  Eigen::internal::set_is_malloc_allowed(false);
+  for (int i = 0; i < 2000; ++i) rom->step({14.8, 1.23e6}, out);
+  Eigen::internal::set_is_malloc_allowed(true);
+  // Assert
+  EXPECT_EQ(g_allocations.load() - before, 0);
+  EXPECT_TRUE(std::isfinite(out.acceleration_m_s2[0]));
+}
+
+TEST(Rom, LongRunAtRatedLoadStaysBounded) {
+  // The explicit bearing terms are the only conditionally stable part: 1 s at rated load
+  // must keep every output finite and the mean hss mesh force at its static value.
+  const FullModel m = paper_model();
+  const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(data);
+  auto rom = std::make_unique<Rom>(*data);
+  rom->reset({14.8, 1.23e6});
+  RomOutputs out;
+  double sum = 0.0, peak = 0.0;
+  const int n = 25600;
+  for (int i = 0; i < n; ++i) {
+    rom->step({14.8, 1.23e6}, out);
+    sum += out.mesh_force_n[7];
+    peak = std::max(peak, std::abs(out.acceleration_m_s2[0]));
+  }
+  const Eigen::VectorXd x = m.static_deflection(1.23e6);
+  const double f_static = m.meshes[7].mean_n_m * m.meshes[7].directions.col(0).dot(x);
+  EXPECT_NEAR(sum / n / f_static, 1.0, 0.01);
+  EXPECT_TRUE(std::isfinite(peak));
+  EXPECT_LT(peak, 1e3);  // [m/s²] a gearbox seat, not a blow-up
+}
+
+TEST(Rom, BuildRefusesACutOffBeyondItsCapacityAndSaysWhy) {
+  const FullModel m = paper_model();
+  std::string error;
+  EXPECT_FALSE(build_rom(m, kDt, 20000.0, &error));
+  EXPECT_NE(error.find("kRomDofs"), std::string::npos) << error;
+  EXPECT_FALSE(build_rom(m, 0.0, kRomDefaultCutoffHz, &error));
+  EXPECT_NE(error.find("time step"), std::string::npos) << error;
+}
+
+TEST(Rom, SwappedInModelTakesOverAtTheNextStep) {
+  // Arrange: a stiffer calibrated model built off the RT thread.
+  const FullModel m = paper_model();
+  model::Drivetrain stiff = model::paper_2mw();
+  stiff.dynamics.mesh_stiffness_scale = {1.2, 1.2, 1.2};
+  const FullModel m2 = paper_model(stiff);
+  const auto a = build_rom(m, kDt, kRomDefaultCutoffHz);
+  const auto b = build_rom(m2, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(a && b);
+  auto rom = std::make_unique<Rom>(*a);
+  rom->reset({8.33, 361747.0});
+  RomOutputs out;
+  rom->step({8.33, 361747.0}, out);
+  // Act
+  rom->request_swap(b.get());
+  EXPECT_TRUE(rom->swap_pending());
+  rom->step({8.33, 361747.0}, out);
+  // Assert
+  EXPECT_FALSE(rom->swap_pending());
+  EXPECT_EQ(&rom->data(), b.get());
+}
+
+}  // namespace
