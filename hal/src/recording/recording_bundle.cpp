@@ -4,6 +4,8 @@
 // ever produce a BundleError, never a crash; see the fuzz targets.
 #include "hal/recording_bundle.hpp"
 
+#include "hal/scada_csv.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -435,74 +437,38 @@ std::optional<BundleError> parse_samples_csv(const std::string& text, const std:
 
 std::optional<BundleError> parse_scada_csv(const std::string& text, const std::string& file,
                                            std::vector<BundleScadaRow>& out) {
-  // TODO(wind): switch to the streaming reader of hal/scada_csv.hpp once it lands.
-  enum Col { kT, kWind, kRpm, kPower, kPitch, kTorque, kCount };
-  static const char* const kNames[kCount] = {"t_s", "wind_speed_mps", "rotor_speed_rpm", "power_kw", "pitch_deg", "torque_nm"};
-  std::optional<BundleError> err;
-  std::vector<int> col_kind;
-  std::vector<std::string> header;
-  double last_t = 0.0;
+  // The streaming SCADA reader of hal/scada_csv.hpp with the bundle's column
+  // names; this adds the bundle's rules: time and wind speed in every row, time
+  // increasing. Its messages start with "<file>: "; BundleError carries the file apart.
+  auto strip_file = [&](const std::string& m) {
+    const std::string prefix = file + ": ";
+    return m.rfind(prefix, 0) == 0 ? m.substr(prefix.size()) : m;
+  };
   out.clear();
-  for_each_line(text, [&](std::size_t line_no, std::string_view line) {
-    const auto cells = split_csv(line);
-    if (header.empty()) {
-      bool seen[kCount] = {};
-      for (auto c : cells) {
-        header.emplace_back(c);
-        int kind = -1;
-        for (int k = 0; k < kCount; ++k)
-          if (c == kNames[k]) kind = k;
-        if (kind < 0) {
-          err = error(file, "line 1", "unknown column '" + std::string(c) +
-                                          "'; expected t_s,wind_speed_mps,rotor_speed_rpm,power_kw,pitch_deg,torque_nm");
-          return false;
-        }
-        if (seen[kind]) {
-          err = error(file, "line 1", "column '" + std::string(c) + "' appears twice; expected once");
-          return false;
-        }
-        seen[kind] = true;
-        col_kind.push_back(kind);
-      }
-      if (!seen[kT] || !seen[kWind]) {
-        err = error(file, "line 1", "missing column '" + std::string(seen[kT] ? "wind_speed_mps" : "t_s") +
-                                        "'; t_s and wind_speed_mps are required");
-        return false;
-      }
-      return true;
-    }
-    if (cells.size() != header.size()) {
-      err = error(file, "line " + std::to_string(line_no), std::to_string(cells.size()) + " fields; expected " +
-                                                               std::to_string(header.size()) + " like the header");
-      return false;
-    }
-    BundleScadaRow s;
-    for (std::size_t k = 0; k < cells.size(); ++k) {
-      double v = 0.0;
-      if (!parse_number(cells[k], v) || !std::isfinite(v)) {
-        err = error(file, where(line_no, header[k]), "'" + std::string(cells[k]) + "'; expected a finite number");
-        return false;
-      }
-      switch (col_kind[k]) {
-        case kT: s.t_s = v; break;
-        case kWind: s.wind_speed_mps = v; break;
-        case kRpm: s.rotor_speed_rpm = v; break;
-        case kPower: s.power_kw = v; break;
-        case kPitch: s.pitch_deg = v; break;
-        case kTorque: s.torque_nm = v; break;
-        default: break;
-      }
-    }
-    if (!out.empty() && s.t_s <= last_t) {
-      err = error(file, where(line_no, "t_s"), format_double(s.t_s) + "; expected t_s to increase from row to row");
-      return false;
-    }
-    last_t = s.t_s;
-    out.push_back(s);
-    return true;
-  });
-  if (err) return err;
-  if (header.empty()) return error(file, "line 1", "empty file; expected a header row starting t_s,wind_speed_mps");
+  ScadaCsvReader reader;
+  if (!reader.open_text(text, file, bundle_scada_columns()))
+    return error(file, "header", strip_file(reader.error()) + "; expected t_s,wind_speed_mps[,rotor_speed_rpm,power_kw,pitch_deg,torque_nm]");
+  ScadaRow row;
+  while (true) {
+    const ScadaReadResult res = reader.next(row);
+    if (res == ScadaReadResult::kEnd) break;
+    if (res == ScadaReadResult::kError) return error(file, "", strip_file(reader.error()));
+    const std::string at = "row " + std::to_string(row.row) + " (line " + std::to_string(row.line) + ")";
+    for (ScadaField f : {ScadaField::kTime, ScadaField::kWindSpeed})
+      if (!row.has(f))
+        return error(file, at + ", column '" + scada_field_name(f) + "'", "empty; expected a number in every row");
+    BundleScadaRow r;
+    r.t_s = row.get(ScadaField::kTime);
+    r.wind_speed_mps = row.get(ScadaField::kWindSpeed);
+    if (!out.empty() && r.t_s <= out.back().t_s)
+      return error(file, at + ", column 't_s'", format_double(r.t_s) + "; expected t_s to increase from row to row");
+    auto opt = [&](ScadaField f) { return row.has(f) ? std::optional<double>(row.get(f)) : std::nullopt; };
+    r.rotor_speed_rpm = opt(ScadaField::kRotorSpeed);
+    r.power_kw = opt(ScadaField::kPower);
+    r.pitch_deg = opt(ScadaField::kPitch);
+    r.torque_nm = opt(ScadaField::kTorque);
+    out.push_back(r);
+  }
   return std::nullopt;
 }
 

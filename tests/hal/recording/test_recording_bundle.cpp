@@ -395,7 +395,23 @@ TEST(RecordingBundle, RejectsScadaTimesThatDoNotIncrease) {
 
   // Assert
   ASSERT_FALSE(result);
-  EXPECT_EQ(result.error.field, "line 4, column 't_s'") << result.error.to_string();
+  EXPECT_EQ(result.error.field, "row 3 (line 4), column 't_s'") << result.error.to_string();
+}
+
+TEST(RecordingBundle, RejectsAScadaRowWithoutWindSpeedNamingRowLineAndColumn) {
+  // Arrange: the wind cell of the second data row is empty
+  TempDir dir;
+  write(dir.path() / "recording.json", kJson);
+  write(dir.path() / "cms.wav", kGoodWav);
+  write(dir.path() / "scada.csv", "t_s,wind_speed_mps\n0,5\n10,\n");
+
+  // Act
+  const auto result = hal::read_bundle(dir.path());
+
+  // Assert
+  ASSERT_FALSE(result);
+  EXPECT_EQ(result.error.field, "row 2 (line 3), column 'wind_speed_mps'") << result.error.to_string();
+  EXPECT_NE(result.error.file.find("scada.csv"), std::string::npos);
 }
 
 TEST(RecordingBundle, WriterLeavesNothingBehindWhenASampleIsNotFinite) {
