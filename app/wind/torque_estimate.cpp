@@ -1,5 +1,6 @@
 #include "wind/torque_estimate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
