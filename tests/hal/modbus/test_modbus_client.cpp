@@ -4,6 +4,7 @@
 
 #include "hal/modbus_scada_source.hpp"
 #include "modbus_test_util.hpp"
+#include "../no_alloc.hpp"
 
 namespace {
 
@@ -78,6 +79,29 @@ TEST(ModbusScadaSource, ReadsEveryTypeWordOrderAndScaleOfTheMap) {
   EXPECT_TRUE(d[ScadaQuantity::kPower].valid);
   EXPECT_FALSE(d[ScadaQuantity::kYawError].valid);  // not in the map
   EXPECT_EQ(source.deactivate(), Status::kOk);
+}
+
+TEST(ModbusScadaSource, ReadOnTheLoopThreadAllocatesNothing) {
+  // Arrange: polling a live controller on its own thread
+  PeerServer peer;
+  peer.set_holding(0, 675);
+  hal::ModbusClientConfig c = fast_config(peer.port());
+  add(c.map, ScadaQuantity::kWindSpeed, 0, hal::RegisterType::kUInt16);
+  hal::MonotonicClock clock;
+  hal::ModbusScadaSource source(c, clock);
+  ASSERT_EQ(source.configure(), Status::kOk);
+  ASSERT_EQ(source.activate(), Status::kOk);
+  hal::ScadaData d;
+  ASSERT_TRUE(wait_until([&] { return source.read(clock.now(), d) == Status::kOk; }));
+
+  // Act: the loop thread reads while the poll thread keeps publishing
+  no_alloc::Scope scope;
+  int ok = 0;
+  for (int i = 0; i < 2000; ++i) ok += source.read(clock.now(), d) == Status::kOk;
+
+  // Assert
+  EXPECT_EQ(scope.allocations(), 0u);
+  EXPECT_GT(ok, 0);
 }
 
 TEST(ModbusScadaSource, MarksQuantitiesTheControllerFlagsInvalid) {

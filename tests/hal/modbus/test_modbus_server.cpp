@@ -16,6 +16,7 @@
 
 #include "hal/modbus_results_server.hpp"
 #include "modbus_test_util.hpp"
+#include "../no_alloc.hpp"
 
 namespace {
 
@@ -285,6 +286,22 @@ TEST_F(ResultsServer, ServesNewResultsAsSoonAsTheyArePublished) {
   EXPECT_EQ(regs[1], 0x5678);
   modbus_close(m);
   modbus_free(m);
+}
+
+TEST_F(ResultsServer, PublishOnTheLoopThreadAllocatesNothing) {
+  // Arrange
+  start();
+  hal::TwinResults r = paper_point_results();
+
+  // Act
+  no_alloc::Scope scope;
+  for (std::uint32_t i = 0; i < 1000; ++i) {
+    r.sequence = i;
+    (void)server_->publish(r);
+  }
+
+  // Assert
+  EXPECT_EQ(scope.allocations(), 0u);
 }
 
 TEST(ResultsServerConfig, RejectsWritableRegistersOutsideTheCommandBlock) {

@@ -12,6 +12,7 @@
 #include <numbers>
 
 #include "hal/replay_backends.hpp"
+#include "../no_alloc.hpp"
 
 namespace {
 
@@ -165,6 +166,39 @@ TEST(ReplayScadaSource, NamesTheFileWhenItCannotBeRead) {
   hal::ReplayScadaSource src("no/such/scada.csv", hal::bundle_scada_columns());
   EXPECT_EQ(src.configure(), Status::kInvalidConfig);
   EXPECT_NE(src.error().find("no/such/scada.csv"), std::string::npos) << src.error();
+}
+
+TEST(ReplayBackends, ReadPathsAllocateNothingOnceConfigured) {
+  // Arrange
+  const hal::Recording rec = recording(25600.0, 25600, 14.3032);
+  std::vector<hal::BundleScadaRow> rows{{0.0, 5.0, 8.0, std::nullopt, std::nullopt, std::nullopt},
+                                        {0.5, 6.0, 8.2, std::nullopt, std::nullopt, std::nullopt}};
+  hal::ReplayClock clock;
+  hal::ReplayCmsStream cms(rec, clock);
+  hal::ReplayKeyphasor kp(rec, clock);
+  hal::ReplayScadaSource scada(rows);
+  for (hal::Device* d : std::initializer_list<hal::Device*>{&cms, &kp, &scada}) {
+    ASSERT_EQ(d->configure(), Status::kOk);
+    ASSERT_EQ(d->activate(), Status::kOk);
+  }
+  hal::CmsBlock b;
+  hal::KeyphasorEdge e;
+  hal::ScadaData d;
+  std::size_t blocks = 0;
+
+  // Act: the whole second in 10 ms steps
+  no_alloc::Scope scope;
+  for (int k = 0; k < 100; ++k) {
+    clock.advance(10ms);
+    while (cms.read(b) == Status::kOk) ++blocks;
+    while (kp.read(e) == Status::kOk) {
+    }
+    (void)scada.read(clock.now(), d);
+  }
+
+  // Assert: 914 blocks of 28 per channel, 2 channels
+  EXPECT_EQ(scope.allocations(), 0u);
+  EXPECT_EQ(blocks, 2u * (25600u / 28u));
 }
 
 }  // namespace

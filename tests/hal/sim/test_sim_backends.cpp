@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "hal/memory_backends.hpp"
 #include "hal/sim_backends.hpp"
+#include "../no_alloc.hpp"
 
 namespace {
 
@@ -349,6 +351,50 @@ TEST(MemoryDigitalOutputs, FallsToTheSafeStatesOnDeactivate) {
   EXPECT_FALSE(out.watchdog());
   EXPECT_TRUE(out.alarm_raised());
   EXPECT_EQ(out.set_watchdog(true), Status::kWrongState);
+}
+
+TEST(NoAllocScope, CountsAnAllocationOnThisThread) {
+  // The helper itself: a zero below must mean "nothing allocated", not "not counted".
+  no_alloc::Scope scope;
+  auto* v = new std::vector<int>(100);
+  delete v;
+  EXPECT_EQ(scope.allocations(), 2u);  // the vector object and its buffer
+}
+
+TEST(SimBackends, ReadPathsAllocateNothingOnceActive) {
+  // Arrange: everything configured and activated (allocation allowed up to here)
+  hal::ManualClock clock;
+  hal::SimScadaSource scada(hal::sim_scada_paper_point(), clock);
+  hal::SimCmsStream cms(hal::SimCmsConfig{}, clock);
+  hal::SimKeyphasor kp(hal::SimKeyphasorConfig{}, clock);
+  hal::MemoryDigitalOutputs out;
+  hal::KeyphasorTracker tracker;
+  for (hal::Device* d : std::initializer_list<hal::Device*>{&scada, &cms, &kp, &out}) {
+    ASSERT_EQ(d->configure(), Status::kOk);
+    ASSERT_EQ(d->activate(), Status::kOk);
+  }
+  hal::ScadaData sd;
+  hal::CmsBlock b;
+  hal::KeyphasorEdge e;
+
+  // Act: 2 s of a 100 Hz loop, with a fault switched on and off on the way
+  no_alloc::Scope scope;
+  for (int k = 0; k < 200; ++k) {
+    clock.advance(10ms);
+    if (k == 50) cms.inject(SimFault::kGarbage);
+    if (k == 100) cms.inject(SimFault::kNone);
+    (void)scada.read(clock.now(), sd);
+    while (cms.read(b) == Status::kOk) {
+    }
+    (void)cms.health(clock.now());
+    while (kp.read(e) == Status::kOk) tracker.on_edge(e);
+    (void)tracker.state(clock.now());
+    (void)out.set_watchdog((k & 1) != 0);
+  }
+
+  // Assert
+  EXPECT_EQ(scope.allocations(), 0u);
+  EXPECT_GT(cms.stats().blocks, 1000u);  // the loop did real work
 }
 
 }  // namespace
