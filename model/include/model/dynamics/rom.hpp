@@ -27,10 +27,11 @@
 // which holds for k_θ/k_a < 1 because no bearing's fluctuation can exceed the modal
 // stiffness it contributes to (checked by build_rom()). Accuracy, not stability, sets
 // Δt: the force is interpolated linearly over a step, which scales a forcing harmonic
-// at f by sinc²(f·Δt) — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25 600 s.
+// at f by sinc²(π·f·Δt), sinc x = sin x / x — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25 600 s.
 //
 // Thread context: RomData is built on a non-RT thread (build_rom allocates, bounded by
-// the full model's size: one n×n eigen-decomposition, n = 140 for paper-2mw, ~20 ms).
+// the full model's size: one n×n eigen-decomposition, n = 140 for paper-2mw; 6 ms CPU
+// measured by tools/dynamics_bench).
 // Rom::step() is real-time safe: fixed-size Eigen, no allocation, no exceptions, no
 // locks, no clock (time is advanced by Δt per call). A new RomData (calibrated
 // parameters) is handed over with Rom::request_swap() from any one non-RT thread; the
