@@ -102,8 +102,10 @@ void run(const CheckArgs& a) {
     std::fprintf(stderr, "damage-check: online row %zu of %zu done\n", k + 1, a.rows);
   }
 
-  std::printf("# damage-check %s: %zu rows of %.0f s, ROM at %.0f Hz (cut-off %.0f Hz), drivetrain %s\n",
-              a.file.c_str(), a.rows, a.period_s, a.sample_rate_hz, a.cutoff_hz, d.name.c_str());
+  std::printf("# damage-check %s: %zu rows of %.0f s, ROM at %.0f Hz (cut-off %.0f Hz), drivetrain %s "
+              "(Rayleigh eta = %g 1/s, zeta = %g s)\n",
+              a.file.c_str(), a.rows, a.period_s, a.sample_rate_hz, a.cutoff_hz, d.name.c_str(),
+              d.dynamics.rayleigh_eta, d.dynamics.rayleigh_zeta);
   std::printf("%-9s %-16s %-8s %12s %12s %9s\n", "component", "detail", "mode", "online", "history", "diff_pct");
   double worst = 0.0;
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
