@@ -1,5 +1,7 @@
 #include "model/dynamics/rom.hpp"
 
+#include "rom_kernel.hpp"
+
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include <algorithm>
@@ -7,35 +9,18 @@
 #include <numbers>
 
 namespace model::dynamics {
+
+static_assert(detail::kKernelDofs == kRomDofs && detail::kKernelMeshes == kRomMeshes &&
+                  detail::kKernelBearingRank == kRomBearingRank && detail::kKernelForces == kRomForces &&
+                  detail::kKernelSensors == kRomSensors && detail::kKernelReadoutRows == kRomReadoutRows,
+              "rom_kernel.hpp's capacities must equal rom.hpp's");
+static_assert(kRomSensors == 2, "RomOutputs::acceleration_m_s2 is filled by the kernel");
+
 namespace {
 
 bool fail(std::string* error, std::string message) {
   if (error) *error = std::move(message);
   return false;
-}
-
-// Gaussian elimination without pivoting for I + A·G (A = diag(Δk_mesh), G = Wᵀ diag(b1q) W):
-// |A·G| is the mesh stiffness fluctuation over the stiffness the mesh sees (< 1 for any
-// real mesh: a pair cannot lose more than its own stiffness), so the diagonal dominates
-// and pivoting buys nothing. A pivot that is not positive (a non-physical table) leaves
-// `b` as the explicit (unmodified) estimate rather than dividing by it.
-template <int N>
-void solve_small(Eigen::Matrix<double, N, N>& a, Eigen::Matrix<double, N, 1>& b) noexcept {
-  for (int k = 0; k < N; ++k) {
-    const double p = a(k, k);
-    if (!(p > 1e-12)) return;
-    const double inv = 1.0 / p;
-    for (int i = k + 1; i < N; ++i) {
-      const double f = a(i, k) * inv;
-      for (int j = k + 1; j < N; ++j) a(i, j) -= f * a(k, j);
-      b[i] -= f * b[k];
-    }
-  }
-  for (int k = N - 1; k >= 0; --k) {
-    double s = b[k];
-    for (int j = k + 1; j < N; ++j) s -= a(k, j) * b[j];
-    b[k] = s / a(k, k);
-  }
 }
 
 RomStiffnessTerm to_rom(const VaryingStiffness& v) {
@@ -184,6 +169,7 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   d.readout.topRows(kRomMeshes) = d.w_mesh.transpose();
   d.readout.bottomRows(kRomBearingRank) = d.w_bearing.transpose();
+  d.readout_by_dof.topRows(kRomMeshes + kRomBearingRank) = d.readout;
   d.h_bearing_mesh = d.w_bearing.transpose() * d.b1q.asDiagonal() * d.w_mesh;
   for (int j = 0; j < d.force_count; ++j) {
     const ForceTerm& f = m.forces[j];
@@ -262,63 +248,42 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const RomData& d = *data_;
   const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
 
-  // External forces and the explicit bearing fluctuation at t_{n+1}.
-  RomData::Vec h = RomData::Vec::Zero();
+  // The time-varying coefficients at t_{n+1} from their tables.
+  detail::RomKernelCoefficients c{};
   for (int j = 0; j < d.force_count; ++j) {
     const RomForceTerm& ft = d.forces[j];
     const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
-    h.noalias() += (a * ft.shape.value(ft.order * revs_next + ft.phase_cycles)) * d.w_force.col(j);
+    c.force[j] = a * ft.shape.value(ft.order * revs_next + ft.phase_cycles);
   }
   std::array<double, kRomBearings> kb{};
-  Eigen::Matrix<double, kRomBearingRank, 1> fb;
   for (int j = 0; j < kRomBearings; ++j) {
     const RomStiffnessTerm& b = d.bearings[j];
     kb[j] = b.mean_n_m * b.shape.value(b.order * revs_next + b.phase_cycles);
-    const double dk = kb[j] - b.mean_n_m;
-    fb[2 * j] = dk * z_bearing_[2 * j];
-    fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
+    c.dk_bearing_rank[2 * j] = c.dk_bearing_rank[2 * j + 1] = kb[j] - b.mean_n_m;
   }
-  h.noalias() -= d.w_bearing * fb;
-
-  // Predictor without the mesh fluctuation at t_{n+1}.
-  RomData::Vec r = d.pqq.cwiseProduct(q_) + d.pqv.cwiseProduct(v_) + d.b0q.cwiseProduct(g_) + d.b1q.cwiseProduct(h);
-
-  // Implicit mesh fluctuation: (I + A G) y = A Wᵀ r, A = diag(Δk_mesh(t_{n+1})).
-  Eigen::Matrix<double, kRomMeshes, 1> dk_mesh;
   for (int j = 0; j < kRomMeshes; ++j) {
     const RomStiffnessTerm& mt = d.meshes[j];
-    dk_mesh[j] = mt.mean_n_m * (mt.shape.value(mt.order * revs_next + mt.phase_cycles) - 1.0);
+    c.dk_mesh[j] = mt.mean_n_m * (mt.shape.value(mt.order * revs_next + mt.phase_cycles) - 1.0);
   }
-  Eigen::Matrix<double, kRomMeshes + kRomBearingRank, 1> z_all;
-  z_all.noalias() = d.readout * r;
-  const auto z_r = z_all.head<kRomMeshes>();
-  Eigen::Matrix<double, kRomMeshes, kRomMeshes> sys = dk_mesh.asDiagonal() * d.g_mesh;
-  sys.diagonal().array() += 1.0;
-  Eigen::Matrix<double, kRomMeshes, 1> y = dk_mesh.cwiseProduct(z_r);
-  solve_small(sys, y);
-  RomData::Vec wy;
-  wy.noalias() = d.w_mesh * y;
 
-  RomData::Vec g_next = h - wy;
-  RomData::Vec v_next = d.pvq.cwiseProduct(q_) + d.pvv.cwiseProduct(v_) + d.b0v.cwiseProduct(g_) +
-                        d.b1v.cwiseProduct(g_next);
-  q_ = r - d.b1q.cwiseProduct(wy);
-  v_ = v_next;
-  g_ = g_next;
-  z_mesh_ = z_r - d.g_mesh * y;
-  // W_bᵀ q⁺ = W_bᵀ r − W_bᵀ diag(b1q) W y
-  z_bearing_ = z_all.tail<kRomBearingRank>() - d.h_bearing_mesh * y;
+  // The linear algebra (predictor, Woodbury mesh solve, corrector, read-outs).
+  const detail::RomKernelModel model{d.pqq.data(),         d.pqv.data(),    d.b0q.data(),     d.b1q.data(),
+                                     d.pvq.data(),         d.pvv.data(),    d.b0v.data(),     d.b1v.data(),
+                                     d.damping_1_s.data(), d.omega2.data(), d.w_force.data(), d.w_bearing.data(),
+                                     d.w_mesh.data(),      d.readout_by_dof.data(), d.g_mesh.data(), d.h_bearing_mesh.data(),
+                                     d.sensor_rows.data(), d.force_count};
+  const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(), z_mesh_.data()};
+  detail::rom_step_kernel(model, c, state, out.acceleration_m_s2.data());
   revs_ = revs_next;
   t_ += d.dt_s;
 
-  for (int j = 0; j < kRomMeshes; ++j) out.mesh_force_n[j] = (d.meshes[j].mean_n_m + dk_mesh[j]) * z_mesh_[j];
+  for (int j = 0; j < kRomMeshes; ++j) out.mesh_force_n[j] = (d.meshes[j].mean_n_m + c.dk_mesh[j]) * z_mesh_[j];
   for (int j = 0; j < kRomBearings; ++j) {
     out.bearing_force_x_n[j] = kb[j] * z_bearing_[2 * j];
     out.bearing_force_y_n[j] = kb[j] * z_bearing_[2 * j + 1];
   }
-  const RomData::Vec qdd = g_ - d.damping_1_s.cwiseProduct(v_) - d.omega2.cwiseProduct(q_);
-  const Eigen::Matrix<double, kRomSensors, 1> acc = d.sensor_rows * qdd;
-  for (int j = 0; j < kRomSensors; ++j) out.acceleration_m_s2[j] = acc[j];
 }
+
+const char* rom_step_isa() noexcept { return detail::rom_step_kernel_isa(); }
 
 }  // namespace model::dynamics

@@ -66,6 +66,9 @@ inline constexpr int kRomBearings = 6;      // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
 inline constexpr int kRomForces = 2;        // input torque + one plug-in force
 inline constexpr int kRomSensors = 2;       // point1, point2
+/// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
+/// padded with zeros to whole SIMD vectors of 8 doubles.
+inline constexpr int kRomReadoutRows = 24;
 
 /// A time-varying stiffness in the ROM: k = mean·shape(order·N_rotor + phase).
 struct RomStiffnessTerm {
@@ -92,22 +95,34 @@ struct RomData {
   int correction_vectors = 0;    // [-] static correction vectors
   int mesh_count = 0, bearing_count = 0, force_count = 0, sensor_count = 0;
 
-  Vec omega_rad_s = Vec::Zero();   // [rad/s] Ritz frequencies (0: unused slot)
-  Vec damping_1_s = Vec::Zero();   // [1/s] η + ζω²
-  Vec omega2 = Vec::Zero();        // [1/s²]
+  // The arrays step() streams are cache-line aligned (alignas(64)): the AVX-512 kernel
+  // then never splits a load across two lines. Matrices are stored so that the kernel
+  // reads contiguous columns of kRomDofs values (sensor_rows and readout row-major).
+  alignas(64) Vec omega_rad_s = Vec::Zero();   // [rad/s] Ritz frequencies (0: unused slot)
+  alignas(64) Vec damping_1_s = Vec::Zero();   // [1/s] η + ζω²
+  alignas(64) Vec omega2 = Vec::Zero();        // [1/s²]
   // First-order-hold propagators: q⁺ = pqq q + pqv v + b0q g + b1q g⁺ (same for v).
-  Vec pqq = Vec::Zero(), pqv = Vec::Zero(), b0q = Vec::Zero(), b1q = Vec::Zero();
-  Vec pvq = Vec::Zero(), pvv = Vec::Zero(), b0v = Vec::Zero(), b1v = Vec::Zero();
+  alignas(64) Vec pqq = Vec::Zero();
+  alignas(64) Vec pqv = Vec::Zero();
+  alignas(64) Vec b0q = Vec::Zero();
+  alignas(64) Vec b1q = Vec::Zero();
+  alignas(64) Vec pvq = Vec::Zero();
+  alignas(64) Vec pvv = Vec::Zero();
+  alignas(64) Vec b0v = Vec::Zero();
+  alignas(64) Vec b1v = Vec::Zero();
 
-  Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
   Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh = decltype(g_mesh)::Zero();  // Wᵀ diag(b1q) W
-  Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing = decltype(w_bearing)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing = decltype(w_bearing)::Zero();
   // [W W_b]ᵀ stored row-major: both read-outs of a modal vector in one pass.
   Eigen::Matrix<double, kRomMeshes + kRomBearingRank, kRomDofs, Eigen::RowMajor> readout =
       decltype(readout)::Zero();
+  // The same read-out by columns, zero-padded to kRomReadoutRows: the layout step()
+  // streams (z = Σ_i r_i·column_i, one column per modal coordinate).
+  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomDofs> readout_by_dof = decltype(readout_by_dof)::Zero();
   Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh = decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
-  Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
-  Eigen::Matrix<double, kRomSensors, kRomDofs> sensor_rows = decltype(sensor_rows)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomSensors, kRomDofs, Eigen::RowMajor> sensor_rows = decltype(sensor_rows)::Zero();
 
   std::array<RomStiffnessTerm, kRomMeshes> meshes{};
   std::array<RomStiffnessTerm, kRomBearings> bearings{};
@@ -127,6 +142,10 @@ struct RomBuildReport {
 /// or the step/cut-off are invalid. Non-RT: allocates.
 std::unique_ptr<RomData> build_rom(const FullModel& model, double dt_s, double cutoff_hz,
                                    std::string* error = nullptr, RomBuildReport* report = nullptr);
+
+/// The instruction set of the step kernel this process runs (x86-64: the target_clones
+/// variant the loader picked for the CPU; aarch64: NEON). For benchmark reports.
+const char* rom_step_isa() noexcept;
 
 /// Inputs of one step, held over the step.
 struct RomInputs {
@@ -165,9 +184,9 @@ class Rom {
  private:
   const RomData* data_;
   std::atomic<const RomData*> pending_{nullptr};
-  RomData::Vec q_ = RomData::Vec::Zero();
-  RomData::Vec v_ = RomData::Vec::Zero();
-  RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
+  alignas(64) RomData::Vec q_ = RomData::Vec::Zero();
+  alignas(64) RomData::Vec v_ = RomData::Vec::Zero();
+  alignas(64) RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
   Eigen::Matrix<double, kRomBearingRank, 1> z_bearing_ = decltype(z_bearing_)::Zero();
   Eigen::Matrix<double, kRomMeshes, 1> z_mesh_ = decltype(z_mesh_)::Zero();
   double t_ = 0.0;

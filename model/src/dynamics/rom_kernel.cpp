@@ -1,0 +1,199 @@
+// One Rom::step() of linear algebra (equations in rom.hpp, layout in rom_kernel.hpp).
+//
+// Written for the vectoriser: every loop has a compile-time trip count over contiguous
+// arrays; the dot products keep kLanes partial sums (a fixed summation order, so the
+// result does not depend on the vector width the compiler picks); the state is
+// written to local arrays and copied out at the end, so no store can alias a load of
+// the model data. This file is compiled with -O3 -ffp-contract=fast (FMA where the
+// target has it: AVX2/AVX-512 clones, aarch64) — model/src/dynamics/CMakeLists.txt.
+#include "rom_kernel.hpp"
+
+namespace model::dynamics::detail {
+namespace {
+
+constexpr int kN = kKernelDofs;
+constexpr int kM = kKernelMeshes;
+constexpr int kB = kKernelBearingRank;
+constexpr int kZ = kM + kB;
+constexpr int kZpad = kKernelReadoutRows;  // kZ rounded up to whole Mesh8 vectors
+constexpr int kZv = kZpad / kM;
+static_assert(kZpad % kM == 0 && kZpad >= kZ, "read-out rows must fill whole vectors");
+constexpr int kLanes = 8;  // partial sums per dot product: one AVX-512 / two AVX2 / four NEON registers
+static_assert(kN % kLanes == 0, "kKernelDofs must be a multiple of the dot-product lanes");
+
+[[gnu::always_inline]] inline double sum_lanes(const double (&acc)[kLanes]) noexcept {
+  return ((acc[0] + acc[4]) + (acc[2] + acc[6])) + ((acc[1] + acc[5]) + (acc[3] + acc[7]));
+}
+
+// Eight doubles as one value (GCC/Clang vector extension): one AVX-512 register, two
+// AVX2, four SSE2 or NEON registers. Used where the mesh count is the natural vector
+// length, because there -O3's complete unrolling of the 8×8 loops runs before the loop
+// vectoriser and leaves scalar code behind.
+using Mesh8 = double __attribute__((vector_size(kM * sizeof(double))));
+static_assert(sizeof(Mesh8) == kM * sizeof(double), "one Mesh8 per mesh vector");
+
+// (I + A·G)⁻¹, A = diag(Δk_mesh), G = Wᵀ diag(b1q) W, by Gauss–Jordan elimination
+// without pivoting on the matrix held by columns (col[j] is column j; inv[j] becomes
+// column j of the inverse): every elimination step is one vector operation per column.
+// The inverse depends on Δk only, so the step computes it before the predictor: the
+// out-of-order core overlaps its chain of eight divisions with the predictor's
+// independent work, and applying it is one 8×8 product. |A·G| is the mesh stiffness
+// fluctuation over the stiffness the mesh sees (< 1 for any real mesh: a pair cannot
+// lose more than its own stiffness), so the diagonal dominates and pivoting buys
+// nothing. Returns false on a pivot that is not positive (a non-physical table).
+// Inlined so that each clone compiles it for its ISA.
+[[gnu::always_inline]] inline bool invert_mesh_system(Mesh8 (&col)[kM], Mesh8 (&inv)[kM]) noexcept {
+  Mesh8 inv_pivot{};
+  for (int k = 0; k < kM; ++k) {
+    const double p = col[k][k];
+    if (!(p > 1e-12)) return false;
+    inv_pivot[k] = 1.0 / p;
+    Mesh8 f = col[k] * inv_pivot[k];  // row multipliers A(i,k)/A(k,k); row k keeps its own
+    f[k] = 0.0;
+    // Columns left of k are eliminated already (zero off the diagonal); the identity's
+    // columns right of k are still untouched unit vectors (zero in row k).
+    for (int j = k + 1; j < kM; ++j) col[j] -= f * col[j][k];
+    for (int j = 0; j < k; ++j) inv[j] -= f * inv[j][k];
+    inv[k] = -f;
+    inv[k][k] = 1.0;
+  }
+  // Row i of the eliminated system still carries its pivot: divide it out.
+  for (int j = 0; j < kM; ++j) inv[j] *= inv_pivot;
+  return true;
+}
+
+}  // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// One clone per x86-64 micro-architecture level; GCC's resolver picks the best at load time.
+#define DRIVETWIN_ROM_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define DRIVETWIN_ROM_KERNEL_CLONES
+#endif
+
+DRIVETWIN_ROM_KERNEL_CLONES
+void rom_step_kernel(const RomKernelModel& m, const RomKernelCoefficients& c, const RomKernelState& s,
+                     double* acceleration_m_s2) noexcept {
+  const double* const q = s.q;
+  const double* const v = s.v;
+  const double* const g = s.g;
+
+  // (I + A G)⁻¹ first: it depends on the stiffness coefficients only (see above).
+  Mesh8 dk;
+  for (int i = 0; i < kM; ++i) dk[i] = c.dk_mesh[i];
+  Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + Δk_i G_ij
+  Mesh8 inv[kM] = {};
+  for (int j = 0; j < kM; ++j) {
+    Mesh8 gj;
+    __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
+    col[j] = dk * gj;
+    col[j][j] += 1.0;
+  }
+  const bool invertible = invert_mesh_system(col, inv);
+
+  // Explicit bearing fluctuation forces, at the deflections of t_n.
+  double fb[kB];
+  for (int j = 0; j < kB; ++j) fb[j] = c.dk_bearing_rank[j] * s.z_bearing[j];
+
+  // h = Φᵀf(t_{n+1}) − W_b·f_b and the predictor r (q⁺ without the implicit mesh term).
+  alignas(64) double h[kN];
+  alignas(64) double r[kN];
+  for (int i = 0; i < kN; ++i) {
+    double hi = 0.0;
+    for (int j = 0; j < kKernelForces; ++j) hi += c.force[j] * m.w_force[j * kN + i];
+    for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
+    h[i] = hi;
+    r[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
+  }
+
+  // z = [W W_b]ᵀ r, the mesh and bearing deflections of the predictor, as a sum of the
+  // read-out matrix's columns (no horizontal sums); kSets independent partial sums
+  // keep the floating-point adds from waiting on each other.
+  constexpr int kSets = 4;
+  Mesh8 z_sets[kSets][kZv] = {};
+  for (int i = 0; i < kN; i += kSets) {
+    for (int set = 0; set < kSets; ++set) {
+      const double* column = m.readout_by_dof + (i + set) * kZpad;
+      for (int b = 0; b < kZv; ++b) {
+        Mesh8 rb;
+        __builtin_memcpy(&rb, column + b * kM, sizeof rb);
+        z_sets[set][b] += r[i + set] * rb;
+      }
+    }
+  }
+  Mesh8 z[kZv];
+  for (int b = 0; b < kZv; ++b) z[b] = (z_sets[0][b] + z_sets[2][b]) + (z_sets[1][b] + z_sets[3][b]);
+
+  // Implicit mesh fluctuation (Woodbury): y = (I + A G)⁻¹ A Wᵀ r, A = diag(Δk_mesh(t_{n+1})).
+  // A non-physical table (a non-positive pivot) falls back to the explicit estimate A Wᵀ r.
+  const Mesh8 rhs = dk * z[0];
+  Mesh8 y = rhs;
+  if (invertible) {
+    y = inv[0] * rhs[0];
+    for (int j = 1; j < kM; ++j) y += inv[j] * rhs[j];
+  }
+
+  // Corrector: g⁺ = h − W y, q⁺ = r − b1q ⊙ W y, v⁺ from the propagators; the seat
+  // accelerations S q̈⁺ = S (g⁺ − c ⊙ v⁺ − ω² ⊙ q⁺) in the same pass.
+  alignas(64) double q_next[kN];
+  alignas(64) double v_next[kN];
+  alignas(64) double g_next[kN];
+  double acc0[kLanes] = {};
+  double acc1[kLanes] = {};
+  const double* s0 = m.sensor_rows;
+  const double* s1 = m.sensor_rows + kN;
+  for (int ib = 0; ib < kN; ib += kLanes) {
+    for (int l = 0; l < kLanes; ++l) {
+      const int i = ib + l;
+      double wy = 0.0;
+      for (int j = 0; j < kM; ++j) wy += y[j] * m.w_mesh[j * kN + i];
+      const double gn = h[i] - wy;
+      const double vn = m.pvq[i] * q[i] + m.pvv[i] * v[i] + m.b0v[i] * g[i] + m.b1v[i] * gn;
+      const double qn = r[i] - m.b1q[i] * wy;
+      const double qdd = gn - m.damping_1_s[i] * vn - m.omega2[i] * qn;
+      acc0[l] += s0[i] * qdd;
+      acc1[l] += s1[i] * qdd;
+      q_next[i] = qn;
+      v_next[i] = vn;
+      g_next[i] = gn;
+    }
+  }
+  for (int i = 0; i < kN; ++i) {
+    s.q[i] = q_next[i];
+    s.v[i] = v_next[i];
+    s.g[i] = g_next[i];
+  }
+  static_assert(kKernelSensors == 2, "the corrector pass accumulates two sensor rows");
+  acceleration_m_s2[0] = sum_lanes(acc0);
+  acceleration_m_s2[1] = sum_lanes(acc1);
+
+  // Deflections at t_{n+1}: Wᵀq⁺ = Wᵀr − G y, W_bᵀq⁺ = W_bᵀr − H y (H = W_bᵀ diag(b1q) W).
+  Mesh8 z_mesh = z[0];
+  for (int j = 0; j < kM; ++j) {
+    Mesh8 gj;
+    __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
+    z_mesh -= gj * y[j];
+  }
+  for (int k = 0; k < kM; ++k) s.z_mesh[k] = z_mesh[k];
+  for (int k = 0; k < kB; ++k) {
+    double zk = z[(kM + k) / kM][(kM + k) % kM];
+    for (int j = 0; j < kM; ++j) zk -= m.h_bearing_mesh[j * kB + k] * y[j];
+    s.z_bearing[k] = zk;
+  }
+}
+
+const char* rom_step_kernel_isa() noexcept {
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+  // The same order as the resolver's: the highest level the CPU supports.
+  __builtin_cpu_init();
+  if (__builtin_cpu_supports("x86-64-v4")) return "x86-64-v4 (AVX-512) clone";
+  if (__builtin_cpu_supports("x86-64-v3")) return "x86-64-v3 (AVX2, FMA) clone";
+  return "x86-64 baseline (SSE2) clone";
+#elif defined(__aarch64__)
+  return "aarch64 (NEON)";
+#else
+  return "portable";
+#endif
+}
+
+}  // namespace model::dynamics::detail

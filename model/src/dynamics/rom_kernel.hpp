@@ -1,0 +1,76 @@
+#pragma once
+// The linear algebra of one Rom::step() (rom.hpp), as plain fixed-trip-count loops
+// over contiguous arrays: private to model_dynamics.
+//
+// Why a separate translation unit without Eigen: on x86-64 the kernel is compiled
+// several times (GCC target_clones: AVX-512, AVX2+FMA, baseline SSE2) and the loader
+// picks the best one for the CPU once, at start-up. Eigen chooses its SIMD packets
+// from the translation unit's macros, so Eigen code inside such a clone would still
+// run at the baseline width, and Eigen instantiations compiled with different ISA in
+// different translation units would break the one-definition rule. Plain loops have
+// neither problem; GCC vectorises them for every clone, and for NEON on aarch64 (no
+// clones there: NEON is the baseline).
+//
+// Thread context: the kernel runs on the real-time thread; it allocates nothing,
+// throws nothing, takes no lock and reads no clock.
+
+namespace model::dynamics::detail {
+
+// Capacities (equal to kRomDofs etc. in rom.hpp; rom.cpp static_asserts that).
+inline constexpr int kKernelDofs = 64;
+inline constexpr int kKernelMeshes = 8;
+inline constexpr int kKernelBearingRank = 12;
+inline constexpr int kKernelForces = 2;
+inline constexpr int kKernelSensors = 2;
+/// Rows of the read-out [W W_b]ᵀ as the kernel stores it: the 8 + 12 rows padded with
+/// zeros to a multiple of 8 (whole vectors).
+inline constexpr int kKernelReadoutRows = 24;
+
+/// Read-only model data, pointers into RomData's Eigen storage (no copy). Every array
+/// named "[c][kKernelDofs]" holds c contiguous columns of kKernelDofs values.
+struct RomKernelModel {
+  const double* pqq;  // [kKernelDofs] first-order-hold propagators (rom.hpp)
+  const double* pqv;
+  const double* b0q;
+  const double* b1q;
+  const double* pvq;
+  const double* pvv;
+  const double* b0v;
+  const double* b1v;
+  const double* damping_1_s;     // [kKernelDofs] [1/s]
+  const double* omega2;          // [kKernelDofs] [1/s²]
+  const double* w_force;         // [kKernelForces][kKernelDofs]
+  const double* w_bearing;       // [kKernelBearingRank][kKernelDofs]
+  const double* w_mesh;          // [kKernelMeshes][kKernelDofs]
+  const double* readout_by_dof;  // [kKernelDofs][kKernelReadoutRows]: column i of [W W_b]ᵀ, zero-padded
+  const double* g_mesh;          // [kKernelMeshes][kKernelMeshes], column-major
+  const double* h_bearing_mesh;  // [kKernelMeshes][kKernelBearingRank], column-major
+  const double* sensor_rows;     // [kKernelSensors][kKernelDofs]
+  int force_count;               // used columns of w_force
+};
+
+/// The time-varying coefficients at t_{n+1}, computed by the caller from its tables.
+struct RomKernelCoefficients {
+  double force[kKernelForces];                // [N or N·m] amplitude of each w_force column
+  double dk_bearing_rank[kKernelBearingRank]; // [N/m] Δk of the bearing owning each W_b column
+  double dk_mesh[kKernelMeshes];              // [N/m] Δk of each mesh
+};
+
+/// The step's state, in and out (Rom's members).
+struct RomKernelState {
+  double* q;          // [kKernelDofs] modal displacement
+  double* v;          // [kKernelDofs] modal velocity
+  double* g;          // [kKernelDofs] modal force
+  double* z_bearing;  // [kKernelBearingRank] W_bᵀ q
+  double* z_mesh;     // [kKernelMeshes] Wᵀ q
+};
+
+/// Advances q, v, g, z_bearing, z_mesh by one step (equations in rom.hpp) and writes
+/// the seat accelerations S q̈ at t_{n+1} to acceleration_m_s2[kKernelSensors].
+void rom_step_kernel(const RomKernelModel& model, const RomKernelCoefficients& c, const RomKernelState& state,
+                     double* acceleration_m_s2) noexcept;
+
+/// Which kernel the loader chose ("avx512", "avx2-fma", "baseline"): for benchmark reports.
+const char* rom_step_kernel_isa() noexcept;
+
+}  // namespace model::dynamics::detail
