@@ -26,6 +26,8 @@
 #include "data/embedded.hpp"
 #include "fatigue/damage_history.hpp"
 #include "fatigue/dynamics_spectrum.hpp"
+#include "fatigue/progress.hpp"
+#include "fatigue/spectrum_cache.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
@@ -36,7 +38,6 @@ namespace mf = model::fatigue;
 namespace fs = std::filesystem;
 using app::cli::CommandError;
 
-constexpr char kSpectrumMagic[8] = {'D', 'T', 'S', 'P', 'E', 'C', '0', '1'};
 constexpr double kYearS = 365.25 * 86400.0;
 
 struct DamageArgs {
@@ -51,98 +52,14 @@ struct DamageArgs {
   std::string sn = "haibach";
   double period_s = 0.0;
   double k_a = 1.0;
-  double k_h_beta = 1.15;
+  double k_h_beta = 0.0;  // 0: ISO 6336-1 method C
+  std::string lead = "helix";
+  double f_ma_factor = 1.0;
+  double pinion_offset = 0.25;
   int accuracy_grade = 6;
   bool no_progress = false;
   bool no_cache = false;
 };
-
-std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
-  const auto* p = static_cast<const unsigned char*>(data);
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
-  return h;
-}
-
-std::string hex64(std::uint64_t v) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(v));
-  return buf;
-}
-
-fs::path default_cache_dir() {
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x) return fs::path(x) / "drivetwin";
-  if (const char* h = std::getenv("HOME"); h && *h) return fs::path(h) / ".cache" / "drivetwin";
-  return fs::temp_directory_path() / "drivetwin-cache";
-}
-
-// The spectrum depends on every drivetrain field (to_toml writes them all), the rating
-// options, the grid and the source: all go into the key; and on the rating code itself,
-// so a fingerprint of the channels' behaviour (each source's stress at rated torque, its
-// cycles per revolution and S-N curve) goes in too: a code change that moves any stress
-// invalidates old cache files.
-std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs, const mf::ChannelOptions& o,
-                           const mf::SpectrumGrid& g, mf::SpectrumSource source) {
-  std::uint64_t h = 1469598103934665603ull;
-  const std::string tag = "drivetwin-spectrum/4";  // bump when the dynamics adapter changes
-  const mf::LoadSample rated = cs.quasi_static_loads(d.turbine.rated_torque_nm);
-  for (std::size_t c = 0; c < cs.channel_count(); ++c) {
-    const mf::Channel& ch = cs.channel(c);
-    for (std::size_t k = 0; k < ch.source_count; ++k) {
-      const double v[] = {cs.stress(c, k, rated), ch.sources[k].cycles_per_rotor_rev, ch.curve.m, ch.curve.c,
-                          ch.curve.n_ref, ch.curve.knee_cycles};
-      h = fnv1a(h, v, sizeof v);
-    }
-  }
-  h = fnv1a(h, tag.data(), tag.size());
-  const std::string toml = app::config::to_toml(d);
-  h = fnv1a(h, toml.data(), toml.size());
-  const double nums[] = {o.k_a, o.rating.k_h_beta, o.rating.c_gamma_n_mm_um, o.rating.rack.addendum,
-                         o.rating.rack.dedendum, o.rating.rack.root_radius, g.torque_max_nm,
-                         g.speed_min_rpm, g.speed_max_rpm};
-  h = fnv1a(h, nums, sizeof nums);
-  const int ints[] = {o.rating.accuracy_grade, static_cast<int>(o.branch), static_cast<int>(g.torque_points),
-                      static_cast<int>(g.speed_points), static_cast<int>(source)};
-  return fnv1a(h, ints, sizeof ints);
-}
-
-bool load_cached(const fs::path& path, std::uint64_t key, std::size_t channels, mf::LoadSpectrum& s) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  char magic[8];
-  std::uint64_t k = 0, n = 0, check = 0;
-  in.read(magic, 8);
-  in.read(reinterpret_cast<char*>(&k), sizeof k);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
-  if (!in || std::memcmp(magic, kSpectrumMagic, 8) != 0 || k != key) return false;
-  const std::size_t expect = static_cast<std::size_t>(s.grid.torque_points) * s.grid.speed_points * channels;
-  if (n != expect) return false;
-  std::vector<double> v(n);
-  in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
-  in.read(reinterpret_cast<char*>(&check), sizeof check);
-  if (!in || check != fnv1a(1469598103934665603ull, v.data(), n * sizeof(double))) return false;
-  s.damage_per_rev = std::move(v);
-  s.channel_count = channels;
-  return true;
-}
-
-void store_cached(const fs::path& path, std::uint64_t key, const mf::LoadSpectrum& s) {
-  std::error_code ec;
-  fs::create_directories(path.parent_path(), ec);
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) return;  // a cache we cannot write is not an error: the next run rebuilds
-    const std::uint64_t n = s.damage_per_rev.size();
-    const std::uint64_t check = fnv1a(1469598103934665603ull, s.damage_per_rev.data(), n * sizeof(double));
-    out.write(kSpectrumMagic, 8);
-    out.write(reinterpret_cast<const char*>(&key), sizeof key);
-    out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(s.damage_per_rev.data()), static_cast<std::streamsize>(n * sizeof(double)));
-    out.write(reinterpret_cast<const char*>(&check), sizeof check);
-    if (!out) return;
-  }
-  fs::rename(tmp, path, ec);
-}
 
 // "builtin:NAME" reads an embedded data file (app/data/NAME) through a temporary copy.
 std::string resolve_input(const std::string& file, std::string& temp_path) {
@@ -197,7 +114,14 @@ void run(const DamageArgs& args) {
     throw CommandError("--torque-from: '" + args.torque_from + "' is not one of auto, torque, power, wind, wind-steady");
   mf::ChannelOptions options;
   options.k_a = args.k_a;
-  options.rating.k_h_beta = args.k_h_beta;
+  options.rating.k_h_beta_override = args.k_h_beta;
+  const auto lead = mf::parse_lead_modification(args.lead);
+  if (!lead) {
+    throw CommandError("--lead: '" + args.lead + "' is not one of none, helix, helix-crowning, crowning, end-relief");
+  }
+  options.rating.face_load.lead = *lead;
+  options.rating.face_load.f_ma_factor = args.f_ma_factor;
+  options.rating.face_load.pinion_offset_ratio = args.pinion_offset;
   options.rating.accuracy_grade = args.accuracy_grade;
   if (args.sn == "haibach") {
     options.branch = mf::KneeBranch::kHaibach;
@@ -206,7 +130,10 @@ void run(const DamageArgs& args) {
   } else {
     throw CommandError("--sn: '" + args.sn + "' is not one of haibach, iso");
   }
-  if (!(args.k_a >= 1.0) || !(args.k_h_beta >= 1.0)) throw CommandError("--k-a and --k-h-beta must be ≥ 1");
+  if (!(args.k_a >= 1.0)) throw CommandError("--k-a must be ≥ 1");
+  if (!(args.k_h_beta == 0.0 || args.k_h_beta >= 1.0)) throw CommandError("--k-h-beta must be ≥ 1 (or 0: method C)");
+  if (!(args.f_ma_factor >= 0.0 && args.f_ma_factor <= 1.0)) throw CommandError("--f-ma must be in [0, 1]");
+  if (!(args.pinion_offset >= 0.0 && args.pinion_offset < 0.5)) throw CommandError("--pinion-offset must be in [0, 0.5)");
   if (args.spectrum != "quasi-static" && args.spectrum != "dynamics") {
     throw CommandError("--spectrum: '" + args.spectrum + "' is not one of dynamics, quasi-static");
   }
@@ -222,13 +149,13 @@ void run(const DamageArgs& args) {
   grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
   if (source == mf::SpectrumSource::kDynamics) grid = app::fatigue::dynamics_grid(drivetrain);
   if (!(grid.torque_max_nm > 0.0)) throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
-  const std::uint64_t key = spectrum_key(drivetrain, channels, options, grid, source);
-  const fs::path cache_dir = args.cache_dir.empty() ? default_cache_dir() : fs::path(args.cache_dir);
-  const fs::path cache_file = cache_dir / ("spectrum-" + hex64(key) + ".bin");
+  const std::uint64_t key = app::fatigue::spectrum_key(drivetrain, channels, grid, source);
+  const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir() : fs::path(args.cache_dir);
+  const fs::path cache_file = app::fatigue::spectrum_cache_file(cache_dir, key);
   mf::LoadSpectrum spectrum;
   spectrum.grid = grid;
   spectrum.source = source;
-  bool cache_hit = !args.no_cache && load_cached(cache_file, key, channels.channel_count(), spectrum);
+  bool cache_hit = !args.no_cache && app::fatigue::load_cached_spectrum(cache_file, key, channels.channel_count(), spectrum);
   if (!cache_hit) {
     std::string sim_error;
     const mf::LoadSimulator simulator =
@@ -241,7 +168,7 @@ void run(const DamageArgs& args) {
     }
     spectrum = mf::build_load_spectrum(channels, grid, source, simulator, &error);
     if (spectrum.channel_count == 0) throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
-    if (!args.no_cache) store_cached(cache_file, key, spectrum);
+    if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);
   }
   spectrum.prepare();
   const auto t1 = std::chrono::steady_clock::now();
@@ -282,7 +209,7 @@ void run(const DamageArgs& args) {
   app::fatigue::HistoryOptions hopt;
   hopt.period_s = args.period_s;
   hopt.torque_from = torque_from;
-  const bool tty = !args.no_progress && isatty(STDERR_FILENO);
+  const bool tty = app::fatigue::show_progress(args.no_progress, STDERR_FILENO);
   const double total_rows = tty ? estimate_rows(path) : 0.0;
   if (tty) {
     hopt.progress = [total_rows](std::size_t rows) {
@@ -326,9 +253,19 @@ void run(const DamageArgs& args) {
                 "K_v = 1, no dynamic content; %s %s\n",
                 src, args.k_a, cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
   }
-  std::printf("# rating: ISO 6336-2/-3:2006 method B, K_Hβ = %.2f, ISO 1328 class %d; S-N beyond knee: %s\n",
-              args.k_h_beta, args.accuracy_grade,
+  std::printf("# rating: ISO 6336-2/-3:2006 method B, ISO 1328 class %d; S-N beyond knee: %s\n", args.accuracy_grade,
               options.branch == mf::KneeBranch::kHaibach ? "Haibach, slope -1/(2m-1)" : "ISO life-factor line (0.85 at 1e10)");
+  const mf::LoadSample rated_loads = channels.quasi_static_loads(drivetrain.turbine.rated_torque_nm);
+  if (args.k_h_beta > 0.0) {
+    std::printf("# K_Hβ = %.3f (--k-h-beta override, all meshes and loads)\n", args.k_h_beta);
+  } else {
+    std::printf("# K_Hβ: ISO 6336-1 method C per load (lead modification %s, f_ma = %.2f·f_Hβ, pinion s/l = %.2f); "
+                "at rated torque:", args.lead.c_str(), args.f_ma_factor, args.pinion_offset);
+    for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
+      std::printf(" %s %.3f", channels.mesh_id(m).c_str(), channels.mesh(m).face_load(rated_loads.mesh_force_n[m]).k_h_beta);
+    }
+    std::printf("\n");
+  }
   std::printf("# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu), no data %zu; "
               "gaps %zu (%.1f h missing)\n",
               h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time, h.rejected_speed,
@@ -372,8 +309,14 @@ void run(const DamageArgs& args) {
     j["file"] = args.file;
     j["drivetrain"] = drivetrain.name;
     j["spectrum"] = {{"source", src}, {"k_a", args.k_a}, {"cache", cache_hit ? "hit" : "built"}};
-    j["rating"] = {{"k_h_beta", args.k_h_beta}, {"accuracy_grade", args.accuracy_grade},
+    j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta) : nlohmann::json("iso6336-1-method-c")},
+                   {"lead_modification", args.lead}, {"f_ma_factor", args.f_ma_factor},
+                   {"pinion_offset_ratio", args.pinion_offset}, {"accuracy_grade", args.accuracy_grade},
                    {"sn_beyond_knee", args.sn}};
+    for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
+      const mf::FaceLoad f = channels.mesh(m).face_load(rated_loads.mesh_force_n[m]);
+      j["rating"]["k_h_beta_at_rated"][channels.mesh_id(m)] = f.k_h_beta;
+    }
     j["rows"] = {{"total", h.rows}, {"used", h.rows_used}, {"rejected", h.rows_rejected},
                  {"no_data", h.rows_no_data}, {"gaps", h.gaps}, {"gap_s", h.gap_s},
                  {"rejected_nonnumeric", h.rejected_nonnumeric}, {"rejected_time", h.rejected_time},
@@ -433,7 +376,16 @@ void setup(CLI::App& sub) {
   sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)");
   sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")->capture_default_str();
   sub.add_option("--k-a", args->k_a, "Application factor K_A of the quasi-static spectrum")->capture_default_str();
-  sub.add_option("--k-h-beta", args->k_h_beta, "Face load factor K_Hbeta")->capture_default_str();
+  sub.add_option("--k-h-beta", args->k_h_beta,
+                 "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
+  sub.add_option("--lead", args->lead,
+                 "Lead modification for K_Hbeta method C: none, helix, helix-crowning, crowning, end-relief")
+      ->capture_default_str();
+  sub.add_option("--f-ma", args->f_ma_factor, "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")
+      ->capture_default_str();
+  sub.add_option("--pinion-offset", args->pinion_offset,
+                 "Parallel-stage pinion offset s/l from mid-span (K_Hbeta method C)")
+      ->capture_default_str();
   sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")->capture_default_str();
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
   sub.callback([args] { run(*args); });

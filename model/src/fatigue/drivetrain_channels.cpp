@@ -141,8 +141,16 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       const PairGeometry g_pr = pair_geometry(zp, -zr, planet->profile_shift, ring->profile_shift,
                                               st.normal_module_m, st.pressure_angle_rad,
                                               st.helix_angle_rad, b_pr, options.rating.rack);
-      const MeshRating r_sp = mesh_rating(g_sp, *ms, *mp, options.k_a, options.rating);
-      const MeshRating r_pr = mesh_rating(g_pr, *mp, *mr, options.k_a, options.rating);
+      // K_Hβ (ISO 6336-1 method C, gear_rating.hpp): the sun's body carries the torque of all
+      // P planet meshes over its face width and its radial forces balance (no shaft bending);
+      // a planet is an idler (no torque through its body); its pin's bending is not in the
+      // description, so it is left out.
+      PinionShaft sun_body;
+      sun_body.torsion_meshes = static_cast<double>(st.planets);
+      PinionShaft planet_body;
+      planet_body.torsion_meshes = 0.0;
+      const MeshRating r_sp = mesh_rating(g_sp, *ms, *mp, options.k_a, options.rating, sun_body);
+      const MeshRating r_pr = mesh_rating(g_pr, *mp, *mr, options.k_a, options.rating, planet_body);
       // Carrier torque T_c = P·F_t·(d_s/2)·(1 + z_r/z_s) (ring fixed): F_t per planet mesh.
       const double ft_per_nm = t_in_per_nm / (st.planets * 0.5 * std::abs(g_sp.d_m[0]) * (1.0 + zr / zs));
       planets = st.planets;
@@ -203,7 +211,24 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
                                            st.pressure_angle_rad, st.helix_angle_rad,
                                            std::min(pinion->face_width_m, wheel->face_width_m),
                                            options.rating.rack);
-      const MeshRating r = mesh_rating(g, *mpn, *mw, options.k_a, options.rating);
+      // K_Hβ: the pinion shaft bends between its bearings (ISO 6336-1 method C, gear_rating.hpp):
+      // l = the shaft's length between the bearings, d_sh its diameter, s = pinion_offset_ratio·l;
+      // K' of ISO 6336-1 Figure 13 arrangement (a), where bending adds to torsion (the layout is
+      // not in the description; the adding case is the conservative one): 0.48 with the pinion
+      // stiffening its shaft (d1/d_sh ≥ 1.15), else 0.8.
+      const Shaft* pinion_shaft = d.shaft(pinion->shaft);
+      if (!pinion_shaft || !(pinion_shaft->length_m > 0.0) || !(pinion_shaft->diameter_m > 0.0)) {
+        fail("stage '" + st.id + "': pinion '" + pinion->id + "' sits on shaft '" + pinion->shaft +
+             "', which is missing or has a non-positive length or diameter (needed for K_Hβ)");
+        break;
+      }
+      PinionShaft body;
+      body.torsion_meshes = 1.0;
+      body.bearing_span_m = pinion_shaft->length_m;
+      body.offset_m = options.rating.face_load.pinion_offset_ratio * pinion_shaft->length_m;
+      body.shaft_diameter_m = pinion_shaft->diameter_m;
+      body.k_prime = std::abs(g.d_m[0]) / pinion_shaft->diameter_m >= 1.15 ? 0.48 : 0.8;
+      const MeshRating r = mesh_rating(g, *mpn, *mw, options.k_a, options.rating, body);
       const double ft_per_nm = t_in_per_nm / (0.5 * std::abs(g.d_m[1]));
       const int slot = add_mesh(wheel->id + "-" + pinion->id, r, ft_per_nm);
       if (slot < 0) break;

@@ -4,12 +4,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace model::fatigue {
 namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kMm = 1e3;  // [mm/m]
+
+constexpr double kFshConstant = 0.023;   // [µm·mm/N] ISO 6336-1 method C, f_sh
+constexpr double kMinLineLoadNmm = 1e-6; // [N/mm] floor of F_m/b in K_Hβ
 
 double involute(double a) { return std::tan(a) - a; }
 
@@ -117,8 +121,39 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   return f;
 }
 
+const char* lead_modification_name(LeadModification m) {
+  switch (m) {
+    case LeadModification::kNone: return "none";
+    case LeadModification::kHelixCorrection: return "helix";
+    case LeadModification::kHelixCorrectionAndCrowning: return "helix-crowning";
+    case LeadModification::kCrowning: return "crowning";
+    case LeadModification::kEndRelief: return "end-relief";
+  }
+  return "?";
+}
+
+std::optional<LeadModification> parse_lead_modification(std::string_view name) {
+  for (auto m : {LeadModification::kNone, LeadModification::kHelixCorrection,
+                 LeadModification::kHelixCorrectionAndCrowning, LeadModification::kCrowning,
+                 LeadModification::kEndRelief}) {
+    if (name == lead_modification_name(m)) return m;
+  }
+  return std::nullopt;
+}
+
+double PinionShaft::gamma(double d1_m, double b_m) const {
+  // ISO 6336-1:2006 method C, f_sh of a pinion (see the header): lengths in any one unit.
+  double bending = 0.0;
+  if (shaft_diameter_m > 0.0 && k_prime != 0.0) {
+    const double r = d1_m / shaft_diameter_m;
+    bending = k_prime * bearing_span_m * offset_m / (d1_m * d1_m) * r * r * r * r;
+  }
+  const double bd = b_m / d1_m;
+  return (std::abs(torsion_meshes + bending - 0.3) + 0.3) * bd * bd;
+}
+
 MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material& m2, double k_a,
-                       const RatingSettings& s) {
+                       const RatingSettings& s, const PinionShaft& pinion) {
   MeshRating r;
   r.geometry = p;
   const double cbb = std::cos(p.beta_b_rad);
@@ -151,12 +186,35 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   }
   r.k_a = k_a;
   r.k_v = 1.0;
-  r.k_h_beta = s.k_h_beta;
   // ISO 6336-1:2006 eq. 73–74: K_Fβ = K_Hβ^N_F, b/h the smaller of the pair, not below 3.
   const double h_tooth = (s.rack.addendum + s.rack.dedendum) * p.m_n_m;
   const double bh = std::max(3.0, p.b_m / h_tooth);
-  const double n_f = bh * bh / (1.0 + bh + bh * bh);
-  r.k_f_beta = std::pow(s.k_h_beta, n_f);
+  r.n_f = bh * bh / (1.0 + bh + bh * bh);
+  // K_Hβ inputs, ISO 6336-1:2006 method C (§7.5). Lengths in mm, µm as the standard writes them.
+  r.k_h_beta_fixed = s.k_h_beta_override;
+  const double b_mm = p.b_m * kMm;
+  r.f_sh_per_line_load = kFshConstant * pinion.gamma(std::abs(p.d_m[0]), p.b_m);
+  // Helix slope tolerance, ISO 1328-1:2013 §5.3 (= 1995 edition f_Hβ): grade 5 value
+  // (0.07·√d + 0.45·√b + 3) µm, d and b in mm, times √2 per grade; the larger gear's d.
+  const double d_big_mm = std::max(std::abs(p.d_m[0]), std::abs(p.d_m[1])) * kMm;
+  r.f_h_beta_um = (0.07 * std::sqrt(d_big_mm) + 0.45 * std::sqrt(b_mm) + 3.0) *
+                  std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
+  r.f_ma_um = s.face_load.f_ma_factor * r.f_h_beta_um;
+  switch (s.face_load.lead) {
+    case LeadModification::kNone: r.b1 = 1.0; r.b2 = 1.0; break;
+    case LeadModification::kHelixCorrection: r.b1 = 0.1; r.b2 = 1.0; break;
+    case LeadModification::kHelixCorrectionAndCrowning: r.b1 = 0.1; r.b2 = 0.5; break;
+    case LeadModification::kCrowning: r.b1 = 0.5; r.b2 = 0.5; break;
+    case LeadModification::kEndRelief: r.b1 = 0.7; r.b2 = 0.7; break;
+  }
+  r.c_gamma_beta = 0.85 * s.c_gamma_n_mm_um;  // ISO 6336-1:2006 §9: c_γβ = 0.85·c_γα
+  if (s.face_load.case_hardened) {
+    r.y_beta_factor = 0.15;   // case-hardened or nitrided: y_β = 0.15·F_βx, y_β ≤ 6 µm
+    r.y_beta_max_um = 6.0;
+  } else {
+    r.y_beta_factor = 320.0 / std::min(m1.sigma_hlim_mpa, m2.sigma_hlim_mpa);  // y_β = 320/σ_Hlim·F_βx
+    r.y_beta_max_um = std::numeric_limits<double>::infinity();
+  }
   // ISO 6336-3:2006 eq. 47: helix angle factor, ε_β ≤ 1 and β ≤ 30° in the formula.
   const double beta_deg = std::min(30.0, p.beta_rad * 180.0 / kPi);
   r.y_beta = 1.0 - std::min(1.0, eb) * beta_deg / 120.0;
@@ -169,7 +227,6 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   // K_Hα inputs: ISO 1328-1:2013 single pitch tolerance f_pT = (0.001·d + 0.4·m_n + 5)·√2^(A−5) µm
   // (d, m_n in mm), of the larger gear; f_pb = f_pt·cos α_t; y_α = 0.075·f_pb for
   // case-hardened steel (ISO 6336-1:2006 eq. 77).
-  const double d_big_mm = std::max(std::abs(p.d_m[0]), std::abs(p.d_m[1])) * kMm;
   const double f_pt_um = (0.001 * d_big_mm + 0.4 * p.m_n_m * kMm + 5.0) *
                          std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
   const double f_pb_um = f_pt_um * cat;
@@ -181,9 +238,32 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   return r;
 }
 
+FaceLoad MeshRating::face_load(double ft_n) const {
+  FaceLoad f;
+  const double b_mm = geometry.b_m * kMm;
+  // F_m = F_t·K_A·K_v (ISO 6336-1:2006 §7.5); a floor keeps K_Hβ finite at zero load
+  // (its √ branch grows as (F_m/b)^-½, so F_t·K_Hβ → 0 and the stress still vanishes).
+  f.line_load_n_mm = std::max(kMinLineLoadNmm, std::abs(ft_n) * k_a * k_v / b_mm);
+  if (k_h_beta_fixed > 0.0) {
+    f.k_h_beta = k_h_beta_fixed;
+  } else {
+    f.f_sh_um = f_sh_per_line_load * f.line_load_n_mm;
+    // F_βx = 1.33·B1·f_sh + B2·f_ma, not below F_βx,min = max(0.005·F_m/b, 0.5·f_Hβ).
+    const double fbx_min = std::max(0.005 * f.line_load_n_mm, 0.5 * f_h_beta_um);
+    f.f_beta_x_um = std::max(fbx_min, 1.33 * b1 * f.f_sh_um + b2 * f_ma_um);
+    f.y_beta_um = std::min(y_beta_factor * f.f_beta_x_um, y_beta_max_um);  // running-in allowance
+    f.f_beta_y_um = f.f_beta_x_um - f.y_beta_um;
+    // K_Hβ = 1 + c_γβ·F_βy/(2·F_m/b) while that is ≤ 2, else √(2·c_γβ·F_βy/(F_m/b)).
+    const double k = 1.0 + c_gamma_beta * f.f_beta_y_um / (2.0 * f.line_load_n_mm);
+    f.k_h_beta = k <= 2.0 ? k : std::sqrt(2.0 * c_gamma_beta * f.f_beta_y_um / f.line_load_n_mm);
+  }
+  f.k_f_beta = std::pow(f.k_h_beta, n_f);  // ISO 6336-1:2006 eq. 73
+  return f;
+}
+
 double MeshRating::k_alpha(double ft_n) const {
   const double b_mm = geometry.b_m * kMm;
-  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * k_h_beta / b_mm);  // [N/mm]
+  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * face_load(ft_n).k_h_beta / b_mm);  // [N/mm]
   double k;
   if (eps_gamma <= 2.0) {
     k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);                      // eq. 75
@@ -203,7 +283,7 @@ double MeshRating::contact_stress_nominal_mpa(double ft_n) const {
 double MeshRating::contact_stress_mpa(double ft_n, int gear) const {
   const double k_ha = std::min(k_alpha(ft_n), std::max(1.0, k_h_alpha_max));
   const double z = gear == 0 ? z_b : z_d;
-  return z * contact_stress_nominal_mpa(ft_n) * std::sqrt(k_a * k_v * k_h_beta * k_ha);
+  return z * contact_stress_nominal_mpa(ft_n) * std::sqrt(k_a * k_v * face_load(ft_n).k_h_beta * k_ha);
 }
 
 double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
@@ -213,7 +293,7 @@ double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
   const double m_mm = geometry.m_n_m * kMm;
   const BendingFormFactors& f = bending[gear];
   // σ_F = F_t/(b·m_n)·Y_F·Y_S·Y_β·Y_B·Y_DT·K_A·K_v·K_Fβ·K_Fα, Y_B = Y_DT = 1.
-  return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * k_f_beta * k_fa;
+  return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * face_load(ft_n).k_f_beta * k_fa;
 }
 
 }  // namespace model::fatigue
