@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
   const double rom_wall = wall_s() - rw0, rom_cpu = thread_cpu_s() - rc0;
   const double rom_sim = static_cast<double>(rom_steps) / kRate;
   if (rom_only) {
-    std::printf("rom_steps %ld simulated_s %.6f checksum %.6e\n", rom_steps, rom_sim, sink);
+    std::printf("rom_steps %ld simulated_s %.6f checksum %.6e kernel %s\n", rom_steps, rom_sim, sink, rom_step_isa());
     return 0;
   }
 
@@ -104,6 +104,7 @@ int main(int argc, char** argv) {
   std::printf("ROM: %d modes <= %.0f Hz + %d static corrections = %d DOF (capacity %d), built in %.1f ms CPU\n",
               report.eigenmodes, data->cutoff_hz, report.correction_vectors,
               report.eigenmodes + report.correction_vectors, kRomDofs, 1e3 * build_cpu);
+  std::printf("ROM step kernel: %s\n", rom_step_isa());
   std::printf("ROM  real-time factor: %8.1f x (CPU time)  %8.1f x (wall)   [%.2f s simulated]\n", rom_sim / rom_cpu,
               rom_sim / rom_wall, rom_sim);
   std::printf("full real-time factor: %8.3f x (CPU time)  %8.3f x (wall)   [%.2f s simulated, %d DOF, 2 steps/sample]\n",

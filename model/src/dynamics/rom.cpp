@@ -11,7 +11,7 @@
 namespace model::dynamics {
 
 static_assert(detail::kKernelDofs == kRomDofs && detail::kKernelMeshes == kRomMeshes &&
-                  detail::kKernelBearingRank == kRomBearingRank && detail::kKernelForces == kRomForces &&
+                  detail::kKernelBearings == kRomBearings && detail::kKernelBearingRank == kRomBearingRank && detail::kKernelForces == kRomForces &&
                   detail::kKernelSensors == kRomSensors && detail::kKernelReadoutRows == kRomReadoutRows,
               "rom_kernel.hpp's capacities must equal rom.hpp's");
 static_assert(kRomSensors == 2, "RomOutputs::acceleration_m_s2 is filled by the kernel");
@@ -171,6 +171,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   d.readout.bottomRows(kRomBearingRank) = d.w_bearing.transpose();
   d.readout_by_dof.topRows(kRomMeshes + kRomBearingRank) = d.readout;
   d.h_bearing_mesh = d.w_bearing.transpose() * d.b1q.asDiagonal() * d.w_mesh;
+  d.readout_correction.topRows(kRomMeshes) = d.g_mesh;
+  d.readout_correction.middleRows(kRomMeshes, kRomBearingRank) = d.h_bearing_mesh;
   for (int j = 0; j < d.force_count; ++j) {
     const ForceTerm& f = m.forces[j];
     d.w_force.col(j).head(total) = phi_r.transpose() * f.pattern;
@@ -248,40 +250,34 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const RomData& d = *data_;
   const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
 
-  // The time-varying coefficients at t_{n+1} from their tables.
-  detail::RomKernelCoefficients c{};
-  for (int j = 0; j < d.force_count; ++j) {
-    const RomForceTerm& ft = d.forces[j];
-    const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
-    c.force[j] = a * ft.shape.value(ft.order * revs_next + ft.phase_cycles);
-  }
-  std::array<double, kRomBearings> kb{};
-  for (int j = 0; j < kRomBearings; ++j) {
-    const RomStiffnessTerm& b = d.bearings[j];
-    kb[j] = b.mean_n_m * b.shape.value(b.order * revs_next + b.phase_cycles);
-    c.dk_bearing_rank[2 * j] = c.dk_bearing_rank[2 * j + 1] = kb[j] - b.mean_n_m;
-  }
-  for (int j = 0; j < kRomMeshes; ++j) {
-    const RomStiffnessTerm& mt = d.meshes[j];
-    c.dk_mesh[j] = mt.mean_n_m * (mt.shape.value(mt.order * revs_next + mt.phase_cycles) - 1.0);
-  }
-
-  // The linear algebra (predictor, Woodbury mesh solve, corrector, read-outs).
-  const detail::RomKernelModel model{d.pqq.data(),         d.pqv.data(),    d.b0q.data(),     d.b1q.data(),
-                                     d.pvq.data(),         d.pvv.data(),    d.b0v.data(),     d.b1v.data(),
-                                     d.damping_1_s.data(), d.omega2.data(), d.w_force.data(), d.w_bearing.data(),
-                                     d.w_mesh.data(),      d.readout_by_dof.data(), d.g_mesh.data(), d.h_bearing_mesh.data(),
-                                     d.sensor_rows.data(), d.force_count};
+  // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
+  const detail::RomKernelModel model{d.pqq.data(),
+                                     d.pqv.data(),
+                                     d.b0q.data(),
+                                     d.b1q.data(),
+                                     d.pvq.data(),
+                                     d.pvv.data(),
+                                     d.b0v.data(),
+                                     d.b1v.data(),
+                                     d.damping_1_s.data(),
+                                     d.omega2.data(),
+                                     d.w_force.data(),
+                                     d.w_bearing.data(),
+                                     d.w_mesh.data(),
+                                     d.readout_by_dof.data(),
+                                     d.g_mesh.data(),
+                                     d.readout_correction.data(),
+                                     d.sensor_rows.data(),
+                                     d.meshes.data(),
+                                     d.bearings.data(),
+                                     d.forces.data(),
+                                     d.force_count};
   const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(), z_mesh_.data()};
-  detail::rom_step_kernel(model, c, state, out.acceleration_m_s2.data());
+  const detail::RomKernelOutputs outputs{out.mesh_force_n.data(), out.bearing_force_x_n.data(),
+                                         out.bearing_force_y_n.data(), out.acceleration_m_s2.data()};
+  detail::rom_step_kernel(model, revs_next, in.input_torque_nm, state, outputs);
   revs_ = revs_next;
   t_ += d.dt_s;
-
-  for (int j = 0; j < kRomMeshes; ++j) out.mesh_force_n[j] = (d.meshes[j].mean_n_m + c.dk_mesh[j]) * z_mesh_[j];
-  for (int j = 0; j < kRomBearings; ++j) {
-    out.bearing_force_x_n[j] = kb[j] * z_bearing_[2 * j];
-    out.bearing_force_y_n[j] = kb[j] * z_bearing_[2 * j + 1];
-  }
 }
 
 const char* rom_step_isa() noexcept { return detail::rom_step_kernel_isa(); }

@@ -14,12 +14,15 @@
 // Thread context: the kernel runs on the real-time thread; it allocates nothing,
 // throws nothing, takes no lock and reads no clock.
 
+#include "model/dynamics/rom_terms.hpp"
+
 namespace model::dynamics::detail {
 
 // Capacities (equal to kRomDofs etc. in rom.hpp; rom.cpp static_asserts that).
 inline constexpr int kKernelDofs = 64;
 inline constexpr int kKernelMeshes = 8;
-inline constexpr int kKernelBearingRank = 12;
+inline constexpr int kKernelBearings = 6;
+inline constexpr int kKernelBearingRank = 2 * kKernelBearings;
 inline constexpr int kKernelForces = 2;
 inline constexpr int kKernelSensors = 2;
 /// Rows of the read-out [W W_b]ᵀ as the kernel stores it: the 8 + 12 rows padded with
@@ -44,16 +47,20 @@ struct RomKernelModel {
   const double* w_mesh;          // [kKernelMeshes][kKernelDofs]
   const double* readout_by_dof;  // [kKernelDofs][kKernelReadoutRows]: column i of [W W_b]ᵀ, zero-padded
   const double* g_mesh;          // [kKernelMeshes][kKernelMeshes], column-major
-  const double* h_bearing_mesh;  // [kKernelMeshes][kKernelBearingRank], column-major
+  const double* readout_correction;  // [kKernelMeshes][kKernelReadoutRows]: [G; H; 0] by columns
   const double* sensor_rows;     // [kKernelSensors][kKernelDofs]
-  int force_count;               // used columns of w_force
+  const RomStiffnessTerm* meshes;    // [kKernelMeshes]
+  const RomStiffnessTerm* bearings;  // [kKernelBearings]
+  const RomForceTerm* forces;        // [force_count]
+  int force_count;                   // used columns of w_force
 };
 
-/// The time-varying coefficients at t_{n+1}, computed by the caller from its tables.
-struct RomKernelCoefficients {
-  double force[kKernelForces];                // [N or N·m] amplitude of each w_force column
-  double dk_bearing_rank[kKernelBearingRank]; // [N/m] Δk of the bearing owning each W_b column
-  double dk_mesh[kKernelMeshes];              // [N/m] Δk of each mesh
+/// Where the step writes its outputs (RomOutputs' arrays).
+struct RomKernelOutputs {
+  double* mesh_force_n;       // [kKernelMeshes]
+  double* bearing_force_x_n;  // [kKernelBearings]
+  double* bearing_force_y_n;  // [kKernelBearings]
+  double* acceleration_m_s2;  // [kKernelSensors]
 };
 
 /// The step's state, in and out (Rom's members).
@@ -65,10 +72,12 @@ struct RomKernelState {
   double* z_mesh;     // [kKernelMeshes] Wᵀ q
 };
 
-/// Advances q, v, g, z_bearing, z_mesh by one step (equations in rom.hpp) and writes
-/// the seat accelerations S q̈ at t_{n+1} to acceleration_m_s2[kKernelSensors].
-void rom_step_kernel(const RomKernelModel& model, const RomKernelCoefficients& c, const RomKernelState& state,
-                     double* acceleration_m_s2) noexcept;
+/// Advances q, v, g, z_bearing, z_mesh by one step to t_{n+1} (equations in rom.hpp)
+/// and writes the outputs at t_{n+1}.
+/// @param rotor_revolutions_next  rotor angle at t_{n+1} [revolutions]
+/// @param input_torque_nm         input torque held over the step [N·m]
+void rom_step_kernel(const RomKernelModel& model, double rotor_revolutions_next, double input_torque_nm,
+                     const RomKernelState& state, const RomKernelOutputs& out) noexcept;
 
 /// Which kernel the loader chose ("avx512", "avx2-fma", "baseline"): for benchmark reports.
 const char* rom_step_kernel_isa() noexcept;

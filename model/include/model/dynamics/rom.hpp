@@ -20,7 +20,7 @@
 // Time stepping, fixed Δt: each mode is advanced by its exact discrete propagator for
 // a force varying linearly over the step (first-order-hold exponential integrator:
 // the 4×4 matrix exponential of [q, q̇, f, ḟ], computed at build time). The mesh terms
-// are implicit at t_{n+1} (Sherman–Morrison–Woodbury, one 8×8 LU per step); the bearing
+// are implicit at t_{n+1} (Sherman–Morrison–Woodbury, one 8×8 solve per step); the bearing
 // fluctuation terms are explicit (deflections of t_n). Stability: the modal part is
 // exact, hence stable for any Δt; the implicit mesh part is unconditionally stable;
 // the explicit bearing part is stable while k_θ·|W_b column|²/ω_i² < 1 for every mode,
@@ -29,10 +29,21 @@
 // Δt: the force is interpolated linearly over a step, which scales a forcing harmonic
 // at f by sinc²(π·f·Δt), sinc x = sin x / x — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25 600 s.
 //
+// How a step is computed (model/src/dynamics/rom_kernel.cpp; same equations, only the
+// rounding differs): the table look-ups, then (I + diag(Δk_mesh)·G)⁻¹ by Gauss–Jordan
+// without pivoting (it depends on the stiffness only, so its chain of divisions runs
+// alongside the predictor), the predictor r, the read-out [W W_b]ᵀr as a sum of the
+// columns of readout_by_dof, y = (I + A G)⁻¹ A Wᵀr, and one fused corrector pass that
+// also forms the seat accelerations. Plain fixed-length loops over the arrays below and
+// 8-wide vectors for the 8×8 system; on x86-64 GCC builds the kernel three times
+// (target_clones: x86-64-v4 = AVX-512, x86-64-v3 = AVX2 + FMA, baseline SSE2) and the
+// loader picks one for the CPU (rom_step_isa() says which); on aarch64 it is the NEON
+// baseline. The clones differ in rounding (FMA), not in the equations.
+//
 // Thread context: RomData is built on a non-RT thread (build_rom allocates, bounded by
 // the full model's size: one n×n eigen-decomposition, n = 140 for paper-2mw; 6 ms CPU
 // measured by tools/dynamics_bench).
-// Rom::step() is real-time safe: fixed-size Eigen, no allocation, no exceptions, no
+// Rom::step() is real-time safe: fixed-size arrays, no allocation, no exceptions, no
 // locks, no clock (time is advanced by Δt per call). A new RomData (calibrated
 // parameters) is handed over with Rom::request_swap() from any one non-RT thread; the
 // RT thread adopts it at the start of its next step() (an atomic pointer exchange)
@@ -49,6 +60,7 @@
 
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/periodic_table.hpp"
+#include "model/dynamics/rom_terms.hpp"
 
 namespace model::dynamics {
 
@@ -69,22 +81,6 @@ inline constexpr int kRomSensors = 2;       // point1, point2
 /// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
 /// padded with zeros to whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
-
-/// A time-varying stiffness in the ROM: k = mean·shape(order·N_rotor + phase).
-struct RomStiffnessTerm {
-  double mean_n_m = 0.0;      // [N/m]
-  double order = 0.0;         // [cycles per rotor revolution]
-  double phase_cycles = 0.0;  // [cycles]
-  PeriodicTable shape = PeriodicTable::constant(1.0);
-};
-
-struct RomForceTerm {
-  bool per_newton_metre = false;
-  double amplitude = 0.0;
-  double order = 0.0;
-  double phase_cycles = 0.0;
-  PeriodicTable shape = PeriodicTable::constant(1.0);
-};
 
 /// Everything a ROM step reads: immutable after build_rom(), fixed size.
 struct RomData {
@@ -120,6 +116,9 @@ struct RomData {
   // The same read-out by columns, zero-padded to kRomReadoutRows: the layout step()
   // streams (z = Σ_i r_i·column_i, one column per modal coordinate).
   alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomDofs> readout_by_dof = decltype(readout_by_dof)::Zero();
+  // [G; H] = [W W_b]ᵀ diag(b1q) W, zero-padded like readout_by_dof: the implicit mesh
+  // correction of the read-out (z⁺ = z − [G; H] y).
+  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomMeshes> readout_correction = decltype(readout_correction)::Zero();
   Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh = decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
   alignas(64) Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
   alignas(64) Eigen::Matrix<double, kRomSensors, kRomDofs, Eigen::RowMajor> sensor_rows = decltype(sensor_rows)::Zero();
