@@ -59,7 +59,22 @@ struct DamageArgs {
   int accuracy_grade = 6;
   bool no_progress = false;
   bool no_cache = false;
+  bool per_day = false;
+  std::string per_day_csv;
 };
+
+constexpr double kPaperDayDamage = 1.023e-5;  // [-] paper: sun contact damage of its one day
+constexpr double kPaperWindMps = 6.75;        // [m/s] paper's operating point (daily mean)
+constexpr std::size_t kNearestDays = 5;
+
+std::string utc_date(long long day) {
+  const std::time_t t = static_cast<std::time_t>(day) * 86400;
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d", &tm);
+  return buf;
+}
 
 // "builtin:NAME" reads an embedded data file (app/data/NAME) through a temporary copy.
 std::string resolve_input(const std::string& file, std::string& temp_path) {
@@ -209,6 +224,7 @@ void run(const DamageArgs& args) {
   app::fatigue::HistoryOptions hopt;
   hopt.period_s = args.period_s;
   hopt.torque_from = torque_from;
+  hopt.per_day = args.per_day || !args.per_day_csv.empty();
   const bool tty = app::fatigue::show_progress(args.no_progress, STDERR_FILENO);
   const double total_rows = tty ? estimate_rows(path) : 0.0;
   if (tty) {
@@ -303,6 +319,41 @@ void run(const DamageArgs& args) {
                 read_only_s, read_only_cpu_s, rows_cpu_s / std::max(read_only_cpu_s, 1e-9));
   }
 
+  app::fatigue::DayDistribution dist;
+  const std::size_t dc = h.breakdown_channel;
+  if (hopt.per_day) {
+    dist = app::fatigue::day_distribution(h.days, dc, 86400.0 - 0.5 * h.period_s, kPaperWindMps, kNearestDays);
+    const std::string name = channels.channel(dc).component + " " + mf::failure_mode_name(channels.channel(dc).mode);
+    std::printf("# per day: %s damage over %zu full UTC days (%zu partial days left out)\n", name.c_str(),
+                dist.full_days, dist.partial_days);
+    std::printf("#   min %.3e  Q1 %.3e  median %.3e  Q3 %.3e  max %.3e  mean %.3e  (paper, its one day: %.3e)\n",
+                dist.min, dist.q1, dist.median, dist.q3, dist.max, dist.mean, kPaperDayDamage);
+    std::printf("#   full days nearest the paper's operating point (daily mean wind %.2f m/s):\n", kPaperWindMps);
+    for (std::size_t i : dist.nearest) {
+      std::printf("#     %s  mean wind %5.2f m/s  damage %.3e\n", utc_date(h.days[i].day).c_str(),
+                  h.days[i].mean_wind_mps(), h.days[i].damage[dc]);
+    }
+    if (!args.per_day_csv.empty()) {
+      std::ofstream out(args.per_day_csv);
+      out << "date,covered_s,mean_wind_mps";
+      for (std::size_t c = 0; c < channels.channel_count(); ++c) {
+        const mf::Channel& ch = channels.channel(c);
+        out << ',' << ch.component << (ch.detail.empty() ? "" : " " + ch.detail) << ' ' << mf::failure_mode_name(ch.mode);
+      }
+      out << '\n';
+      char buf[32];
+      for (const auto& day : h.days) {
+        out << utc_date(day.day) << ',' << day.covered_s << ',' << day.mean_wind_mps();
+        for (double v : day.damage) {
+          std::snprintf(buf, sizeof buf, ",%.6e", v);
+          out << buf;
+        }
+        out << '\n';
+      }
+      if (!out) throw CommandError("--per-day-csv: cannot write '" + args.per_day_csv + "'");
+    }
+  }
+
   if (!args.json.empty()) {
     nlohmann::json j;
     j["format"] = "drivetwin-damage/1";
@@ -337,6 +388,16 @@ void run(const DamageArgs& args) {
                                {"rul_high_years", num(e.rul_high_s / kYearS)}});
     }
     for (const auto& i : h.issues) j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
+    if (hopt.per_day) {
+      j["per_day"] = {{"channel", dc}, {"full_days", dist.full_days}, {"partial_days", dist.partial_days},
+                      {"min", dist.min}, {"q1", dist.q1}, {"median", dist.median}, {"q3", dist.q3},
+                      {"max", dist.max}, {"mean", dist.mean}};
+      for (std::size_t i : dist.nearest) {
+        j["per_day"]["nearest_paper_wind"].push_back({{"date", utc_date(h.days[i].day)},
+                                                      {"mean_wind_mps", h.days[i].mean_wind_mps()},
+                                                      {"damage", h.days[i].damage[dc]}});
+      }
+    }
     j["timing_s"] = {{"spectrum", spectrum_s}, {"rows_wall", rows_s}, {"rows_cpu", rows_cpu_s}};
     j["torque_rows"] = {{"torque_nm", h.torque_rows_measured}, {"power", h.torque_rows_power},
                         {"wind_model", h.torque_rows_wind}};
@@ -388,6 +449,10 @@ void setup(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")->capture_default_str();
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
+  sub.add_flag("--per-day", args->per_day,
+               "Distribution of the most damaged gear-contact channel's damage per full UTC day, and the days "
+               "nearest the paper's operating point");
+  sub.add_option("--per-day-csv", args->per_day_csv, "Write every day's damage per channel to this CSV (implies --per-day)");
   sub.callback([args] { run(*args); });
 }
 

@@ -49,8 +49,15 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     ++counter;
     issue(row.row, hal::scada_field_name(f), where(row, f) + ": " + what + "; row skipped");
   };
+  DayRecord day_record;
   auto flush_day = [&]() {
     if (!day_has_data) return;
+    if (options.per_day) {
+      day_record.day = day;
+      day_record.damage = day_inc;
+      r.days.push_back(day_record);
+      day_record = DayRecord{};
+    }
     for (std::size_t c = 0; c < nc; ++c) {
       rates[c].add_interval(day_inc[c]);
       day_inc[c] = 0.0;
@@ -135,6 +142,11 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       day = today;
     }
     day_has_data = true;
+    day_record.covered_s += r.period_s;
+    if (row.has(ScadaField::kWindSpeed)) {
+      day_record.wind_sum_mps += row.get(ScadaField::kWindSpeed);
+      ++day_record.wind_rows;
+    }
     const double revs = rpm / 60.0 * r.period_s;
     spectrum.damage_per_rev_at(torque, rpm, d.data());
     const auto bin = std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
@@ -207,6 +219,44 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   r.breakdown_channel = worst;
   r.bin_damage = nc ? bin_damage[worst] : std::vector<double>(kTorqueBins, 0.0);
   return r;
+}
+
+DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel, double full_day_s,
+                                 double wind_ref_mps, std::size_t nearest_count) {
+  DayDistribution out;
+  std::vector<double> v;
+  std::vector<std::size_t> full;
+  for (std::size_t i = 0; i < days.size(); ++i) {
+    if (days[i].covered_s >= full_day_s && channel < days[i].damage.size()) {
+      v.push_back(days[i].damage[channel]);
+      full.push_back(i);
+    } else {
+      ++out.partial_days;
+    }
+  }
+  out.full_days = v.size();
+  if (v.empty()) return out;
+  std::sort(v.begin(), v.end());
+  auto quantile = [&v](double p) {
+    const double rank = p * static_cast<double>(v.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(rank));
+    const std::size_t hi = std::min(lo + 1, v.size() - 1);
+    return v[lo] + (rank - static_cast<double>(lo)) * (v[hi] - v[lo]);
+  };
+  out.min = v.front();
+  out.max = v.back();
+  out.q1 = quantile(0.25);
+  out.median = quantile(0.5);
+  out.q3 = quantile(0.75);
+  double sum = 0.0;
+  for (double x : v) sum += x;
+  out.mean = sum / static_cast<double>(v.size());
+  std::stable_sort(full.begin(), full.end(), [&](std::size_t a, std::size_t b) {
+    return std::abs(days[a].mean_wind_mps() - wind_ref_mps) < std::abs(days[b].mean_wind_mps() - wind_ref_mps);
+  });
+  full.resize(std::min(full.size(), nearest_count));
+  out.nearest = full;
+  return out;
 }
 
 }  // namespace app::fatigue

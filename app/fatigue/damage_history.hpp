@@ -61,7 +61,18 @@ struct HistoryOptions {
   double period_s = 0.0;  // [s] 0: detect
   std::size_t rul_short_window_days = 30;
   std::size_t max_rows = 0;  // stop after this many data rows (0: all)
+  bool per_day = false;      // also record the damage of every UTC day (HistoryResult::days)
   std::function<void(std::size_t rows)> progress;  // called every few thousand rows (may be empty)
+};
+
+/// One UTC day of the history (rows with t_s in [day·86 400, (day+1)·86 400)).
+struct DayRecord {
+  long long day = 0;             // [d] floor(t_s / 86 400): days since the epoch of t_s
+  double covered_s = 0.0;        // [s] used rows × period
+  double wind_sum_mps = 0.0;     // [m/s] sum of the used rows' wind speed
+  std::size_t wind_rows = 0;     // [-] used rows with a wind speed
+  std::vector<double> damage;    // [-] per channel, that day's damage
+  double mean_wind_mps() const { return wind_rows ? wind_sum_mps / static_cast<double>(wind_rows) : 0.0; }
 };
 
 struct HistoryResult {
@@ -78,8 +89,20 @@ struct HistoryResult {
   std::size_t breakdown_channel = 0;
   std::vector<double> bin_time_s, bin_damage;  // kTorqueBins each
   std::vector<HistoryIssue> issues;             // first kMaxIssues
+  std::vector<DayRecord> days;                  // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
 };
+
+/// Distribution of one channel's damage over the full days (covered_s ≥ full_day_s) of a
+/// history. Quantiles interpolate linearly between order statistics (Hyndman–Fan type 7:
+/// q(p) at rank (n − 1)·p).
+struct DayDistribution {
+  std::size_t full_days = 0, partial_days = 0;
+  double min = 0.0, q1 = 0.0, median = 0.0, q3 = 0.0, max = 0.0, mean = 0.0;  // [-] damage per day
+  std::vector<std::size_t> nearest;  // indices into the days vector: full days by |mean wind − wind_ref|, closest first
+};
+DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel, double full_day_s,
+                                 double wind_ref_mps, std::size_t nearest_count);
 
 /// Processes every row of an opened reader. Throws std::runtime_error only for failures
 /// that stop the whole file (I/O error, no usable rows to detect the period).

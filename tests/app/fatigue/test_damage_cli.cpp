@@ -1,0 +1,240 @@
+// `drivetwin damage` end to end, in-process: the --json summary parsed with nlohmann-json
+// and checked against the text table and a hand value; --per-day's distribution; the
+// progress bar only on a terminal; the spectrum cache key's code version.
+#include <fcntl.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/command.hpp"
+#include "fatigue/damage_history.hpp"
+#include "fatigue/progress.hpp"
+#include "fatigue/spectrum_cache.hpp"
+#include "model/fatigue/drivetrain_channels.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+namespace mf = model::fatigue;
+
+struct CliResult {
+  int exit_code = 0;
+  std::string error;
+  std::string out;
+};
+
+// Mirrors app/main.cpp: parse, run the command's callback, map errors to exit codes.
+CliResult run_cli(std::vector<std::string> args) {
+  CLI::App cli{"drivetwin"};
+  cli.require_subcommand(1);
+  for (const auto& command : app::cli::commands()) {
+    command.setup(*cli.add_subcommand(command.name, command.description));
+  }
+  std::vector<const char*> argv{"drivetwin"};
+  for (const auto& a : args) argv.push_back(a.c_str());
+  CliResult result;
+  app::cli::exit_status() = 0;
+  testing::internal::CaptureStdout();
+  try {
+    cli.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
+    result.exit_code = app::cli::exit_status();
+  } catch (const CLI::ParseError& e) {
+    result.exit_code = e.get_exit_code();
+    result.error = e.what();
+  } catch (const std::exception& e) {
+    result.exit_code = 1;
+    result.error = e.what();
+  }
+  result.out = testing::internal::GetCapturedStdout();
+  return result;
+}
+
+class DamageCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("drivetwin_damage_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+// The damage column of the text table's row for (component, mode).
+double table_damage(const std::string& out, const std::string& component, const std::string& mode) {
+  std::istringstream in(out);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream f(line);
+    std::string c, detail, m;
+    double d = 0.0;
+    if (f >> c >> detail >> m >> d && c == component && m == mode) return d;
+  }
+  ADD_FAILURE() << "no row " << component << " " << mode << " in\n" << out;
+  return 0.0;
+}
+
+TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
+  // Arrange: two UTC days of 10-min rows at rated torque 1.23e6 N·m and 14 rpm.
+  std::string csv = "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,pitch_deg,torque_nm\n";
+  for (int i = 0; i < 288; ++i) csv += std::to_string(600 * i) + ",12,14,,,1230000\n";
+  const fs::path scada = dir_ / "scada.csv", json = dir_ / "summary.json";
+  std::ofstream(scada) << csv;
+  // Act
+  const CliResult r = run_cli({"damage", scada.string(), "--json", json.string(), "--per-day", "--cache-dir",
+                               (dir_ / "cache").string()});
+  // Assert
+  ASSERT_EQ(r.exit_code, 0) << r.error;
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["format"], "drivetwin-damage/1");
+  EXPECT_EQ(j["rows"]["total"], 288);
+  EXPECT_EQ(j["rows"]["used"], 288);
+  EXPECT_DOUBLE_EQ(j["covered_s"].get<double>(), 288 * 600.0);
+  EXPECT_EQ(j["rating"]["k_h_beta"], "iso6336-1-method-c");
+  const nlohmann::json* sun = nullptr;
+  for (const auto& c : j["channels"]) {
+    if (c["component"] == "sun" && c["mode"] == "contact") sun = &c;
+  }
+  ASSERT_NE(sun, nullptr);
+  const double d_json = (*sun)["damage"].get<double>();
+  // Text table prints 5 significant digits.
+  EXPECT_NEAR(table_damage(r.out, "sun", "contact"), d_json, 1e-4 * d_json);
+  // Hand value, independent of the spectrum and history code: rotor revolutions
+  // 2 days·86 400 s·14/60 = 40 320; the sun meets 3 planets, z_r/z_s = 99/21 cycles per rotor
+  // revolution each, at the stress of the quasi-static rated mesh force; D = n/N(σ).
+  const mf::ChannelSet cs(model::paper_2mw(), mf::ChannelOptions{});
+  std::size_t c_sun = 0;
+  while (!(cs.channel(c_sun).component == "sun" && cs.channel(c_sun).mode == mf::FailureMode::kContact)) ++c_sun;
+  const double sigma = cs.stress(c_sun, 0, cs.quasi_static_loads(1.23e6));
+  const double hand = 40320.0 * 3.0 * 99.0 / 21.0 / cs.channel(c_sun).curve.cycles_to_failure(sigma);
+  EXPECT_NEAR(d_json, hand, 1e-9 * hand);
+  EXPECT_NEAR((*sun)["damage_per_day"].get<double>(), hand / 2.0, 1e-9 * hand);
+  // --per-day: two full days with the same damage, half the total each.
+  EXPECT_EQ(j["per_day"]["full_days"], 2);
+  EXPECT_NEAR(j["per_day"]["median"].get<double>(), hand / 2.0, 1e-9 * hand);
+}
+
+TEST(DayDistribution, QuartilesMedianAndNearestDaysFollowTheHandCalculation) {
+  // Arrange: five full days with damage 5, 1, 4, 2, 3 (·1e-6) and daily mean wind 9, 5, 7, 6.5, 8 m/s,
+  // and one partial day. Sorted: 1 2 3 4 5 → type 7 quantiles at ranks 1, 2, 3: Q1 2, median 3, Q3 4.
+  std::vector<app::fatigue::DayRecord> days;
+  const double damage[] = {5e-6, 1e-6, 4e-6, 2e-6, 3e-6};
+  const double wind[] = {9.0, 5.0, 7.0, 6.5, 8.0};
+  for (int i = 0; i < 5; ++i) {
+    app::fatigue::DayRecord d;
+    d.day = i;
+    d.covered_s = 86400.0;
+    d.wind_sum_mps = wind[i] * 144;
+    d.wind_rows = 144;
+    d.damage = {damage[i]};
+    days.push_back(d);
+  }
+  app::fatigue::DayRecord partial;
+  partial.covered_s = 600.0;
+  partial.damage = {1.0};
+  days.push_back(partial);
+  // Act
+  const auto dist = app::fatigue::day_distribution(days, 0, 86400.0, 6.75, 2);
+  // Assert: |wind − 6.75| = 2.25, 1.75, 0.25, 0.25, 1.25 → days 2 and 3 (tie kept in order).
+  EXPECT_EQ(dist.full_days, 5u);
+  EXPECT_EQ(dist.partial_days, 1u);
+  EXPECT_DOUBLE_EQ(dist.min, 1e-6);
+  EXPECT_DOUBLE_EQ(dist.q1, 2e-6);
+  EXPECT_DOUBLE_EQ(dist.median, 3e-6);
+  EXPECT_DOUBLE_EQ(dist.q3, 4e-6);
+  EXPECT_DOUBLE_EQ(dist.max, 5e-6);
+  EXPECT_DOUBLE_EQ(dist.mean, 3e-6);
+  ASSERT_EQ(dist.nearest.size(), 2u);
+  EXPECT_EQ(dist.nearest[0], 2u);
+  EXPECT_EQ(dist.nearest[1], 3u);
+}
+
+TEST(ProgressBar, IsDrawnOnATerminalButNotIntoAPipeOrWhenSwitchedOff) {
+  // Arrange: a pipe (as in CI logs and `| tee`) and a pseudo-terminal.
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(::grantpt(master), 0);
+  ASSERT_EQ(::unlockpt(master), 0);
+  const int tty = ::open(::ptsname(master), O_RDWR | O_NOCTTY);
+  ASSERT_GE(tty, 0);
+  // Act / Assert
+  EXPECT_FALSE(app::fatigue::show_progress(false, pipe_fds[1]));
+  EXPECT_TRUE(app::fatigue::show_progress(false, tty));
+  EXPECT_FALSE(app::fatigue::show_progress(true, tty));
+  ::close(tty);
+  ::close(master);
+  ::close(pipe_fds[0]);
+  ::close(pipe_fds[1]);
+}
+
+TEST_F(DamageCli, ASpectrumCachedByAnOlderCodeVersionIsNotReused) {
+  // Arrange: a spectrum stored under the current code version.
+  const model::Drivetrain d = model::paper_2mw();
+  const mf::ChannelSet cs(d, mf::ChannelOptions{});
+  mf::SpectrumGrid g;
+  g.torque_max_nm = 1.5 * d.turbine.rated_torque_nm;
+  g.speed_max_rpm = 18.0;
+  g.torque_points = 5;
+  g.speed_points = 3;
+  const mf::LoadSpectrum built = mf::build_load_spectrum(cs, g, mf::SpectrumSource::kQuasiStatic,
+                                                         mf::quasi_static_simulator(cs), nullptr);
+  const auto key_now = app::fatigue::spectrum_key(d, cs, g, mf::SpectrumSource::kQuasiStatic);
+  const auto key_old =
+      app::fatigue::spectrum_key(d, cs, g, mf::SpectrumSource::kQuasiStatic, app::fatigue::kSpectrumCodeVersion - 1);
+  const fs::path file_old = app::fatigue::spectrum_cache_file(dir_, key_old);
+  ASSERT_TRUE(app::fatigue::store_cached_spectrum(file_old, key_old, built));
+  // Act: the current code looks for its own key, also in the old file under its name.
+  mf::LoadSpectrum s;
+  s.grid = g;
+  const bool hit_own_file = app::fatigue::load_cached_spectrum(
+      app::fatigue::spectrum_cache_file(dir_, key_now), key_now, cs.channel_count(), s);
+  const bool hit_old_file = app::fatigue::load_cached_spectrum(file_old, key_now, cs.channel_count(), s);
+  const bool same_version_hits = app::fatigue::load_cached_spectrum(file_old, key_old, cs.channel_count(), s);
+  // Assert
+  EXPECT_NE(key_now, key_old);
+  EXPECT_NE(app::fatigue::spectrum_cache_file(dir_, key_now), file_old);
+  EXPECT_FALSE(hit_own_file);
+  EXPECT_FALSE(hit_old_file);
+  EXPECT_TRUE(same_version_hits);
+}
+
+TEST_F(DamageCli, ChangedRatingOptionsChangeTheCacheKey) {
+  const model::Drivetrain d = model::paper_2mw();
+  mf::ChannelOptions o;
+  const mf::ChannelSet a(d, o);
+  o.rating.face_load.lead = mf::LeadModification::kCrowning;
+  const mf::ChannelSet b(d, o);
+  mf::SpectrumGrid g;
+  g.torque_max_nm = 1.8e6;
+  g.speed_max_rpm = 18.0;
+  EXPECT_NE(app::fatigue::spectrum_key(d, a, g, mf::SpectrumSource::kQuasiStatic),
+            app::fatigue::spectrum_key(d, b, g, mf::SpectrumSource::kQuasiStatic));
+}
+
+TEST_F(DamageCli, BadFaceLoadOptionsAreRefusedWithTheOptionNamed) {
+  const fs::path scada = dir_ / "s.csv";
+  std::ofstream(scada) << "t_s,torque_nm,rotor_speed_rpm\n0,1000000,14\n600,1000000,14\n";
+  const CliResult lead = run_cli({"damage", scada.string(), "--lead", "barrel"});
+  EXPECT_EQ(lead.exit_code, 1);
+  EXPECT_THAT(lead.error, testing::HasSubstr("--lead: 'barrel'"));
+  const CliResult khb = run_cli({"damage", scada.string(), "--k-h-beta", "0.8"});
+  EXPECT_EQ(khb.exit_code, 1);
+  EXPECT_THAT(khb.error, testing::HasSubstr("--k-h-beta"));
+}
+
+}  // namespace
