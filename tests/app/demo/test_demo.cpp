@@ -1,0 +1,120 @@
+// `drivetwin demo` end to end, in-process (so it also runs under qemu-aarch64): the
+// gearbox stage's printed mesh forces against hand statics (torque / base radius,
+// written out here from drivetrain-2mw.md), its point1 lines against the gear
+// kinematics, and an unknown stage name giving a clear error.
+#include <gtest/gtest.h>
+
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/command.hpp"
+
+namespace {
+
+struct CliResult {
+  int exit_code = 0;
+  std::string error;
+  std::string out;
+};
+
+// Mirrors app/main.cpp: parse, run the command's callback, map errors to exit codes.
+CliResult run_cli(std::vector<std::string> args) {
+  CLI::App cli{"drivetwin"};
+  cli.require_subcommand(1);
+  for (const auto& command : app::cli::commands()) {
+    command.setup(*cli.add_subcommand(command.name, command.description));
+  }
+  std::vector<const char*> argv{"drivetwin"};
+  for (const auto& a : args) argv.push_back(a.c_str());
+  CliResult result;
+  app::cli::exit_status() = 0;
+  testing::internal::CaptureStdout();
+  try {
+    cli.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
+    result.exit_code = app::cli::exit_status();
+  } catch (const CLI::ParseError& e) {
+    result.exit_code = e.get_exit_code();
+    result.error = e.what();
+  } catch (const std::exception& e) {
+    result.exit_code = 1;
+    result.error = e.what();
+  }
+  result.out = testing::internal::GetCapturedStdout();
+  return result;
+}
+
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(DemoGearboxStage, MeanMeshForcesMatchTorqueOverBaseRadiusAndPoint1ShowsTheHighSpeedMesh) {
+  // Act
+  const CliResult r = run_cli({"demo", "--stage", "gearbox"});
+  ASSERT_EQ(r.exit_code, 0) << r.error;
+
+  // The input torque the stage printed (wind model at 6.75 m/s, 8.33 rpm), in kN·m.
+  const auto at = r.out.find("input torque ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const double torque_nm = std::stod(r.out.substr(at + 13)) * 1e3;
+  EXPECT_NEAR(torque_nm, 361747.0, 0.05 * 361747.0);  // the paper's check point, ±5 %
+
+  // Hand statics (drivetrain-2mw.md: z_s 21, z_r 99, m 17 mm, α 20°, 3 planets;
+  // helical stages m_n 14 mm, β 10°, 92/21 and 107/26).
+  const double cos20 = std::cos(20 * kPi / 180);
+  const double t_sun = torque_nm * 21.0 / 120.0;
+  const double f_sun_kn = t_sun / (3 * 21 * 0.017 / 2 * cos20) / 1e3;
+  const double beta = 10 * kPi / 180;
+  const double at_rad = std::atan(std::tan(20 * kPi / 180) / std::cos(beta));
+  const double bb = std::atan(std::tan(beta) * std::cos(at_rad));
+  const double rb_unit = 0.014 / std::cos(beta) / 2 * std::cos(at_rad) * std::cos(bb);
+  const double t_ims = t_sun * 21.0 / 92.0;
+  const double f_int_kn = t_ims / (21 * rb_unit) / 1e3;
+  const double f_hs_kn = t_ims * 26.0 / 107.0 / (26 * rb_unit) / 1e3;
+
+  std::map<std::string, double> mean_kn;
+  std::istringstream lines(r.out);
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream in(line);
+    std::string id;
+    double mean = 0.0;
+    if (in >> id >> mean && (id.find("planet") != std::string::npos || id == "intermediate" || id == "high_speed")) {
+      mean_kn[id] = mean;
+    }
+  }
+  ASSERT_EQ(mean_kn.size(), 8u) << r.out;
+  const double sun_mean = (mean_kn["sun_planet_1"] + mean_kn["sun_planet_2"] + mean_kn["sun_planet_3"]) / 3;
+  EXPECT_NEAR(sun_mean / f_sun_kn, 1.0, 0.01);
+  EXPECT_NEAR(mean_kn["intermediate"] / f_int_kn, 1.0, 0.01);
+  EXPECT_NEAR(mean_kn["high_speed"] / f_hs_kn, 1.0, 0.01);
+
+  // point1 (b5 seat, on the hss): every one of the strongest lines printed is a
+  // harmonic of the high-speed mesh, z_g4 × hss speed = 26 × 8.33/60 × (120/21)(92/21)(107/26)
+  // = 371.88 Hz (drivetrain-2mw.md), within two 0.78 Hz lines.
+  const auto p1 = r.out.find("point1");
+  ASSERT_NE(p1, std::string::npos);
+  const std::string point1 = r.out.substr(p1, r.out.find('\n', p1) - p1);
+  const double hss_mesh_hz = 8.33 / 60 * (120.0 / 21.0) * (92.0 / 21.0) * (107.0 / 26.0) * 26.0;
+  EXPECT_NEAR(hss_mesh_hz, 371.88, 0.05);
+  int lines_seen = 0;
+  for (std::size_t pos = point1.find(" Hz "); pos != std::string::npos; pos = point1.find(" Hz ", pos + 1)) {
+    const std::size_t start = point1.rfind(' ', pos - 1) + 1;
+    const double hz = std::stod(point1.substr(start, pos - start));
+    const double k = std::round(hz / hss_mesh_hz);
+    EXPECT_GE(k, 1.0) << point1;
+    EXPECT_NEAR(hz, k * hss_mesh_hz, 1.6) << point1;
+    ++lines_seen;
+  }
+  EXPECT_GE(lines_seen, 3) << point1;
+}
+
+TEST(DemoCommand, AnUnknownStageIsNamedInTheErrorAndFails) {
+  const CliResult r = run_cli({"demo", "--stage", "no-such-stage"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.error.find("no-such-stage"), std::string::npos) << r.error;
+}
+
+}  // namespace
