@@ -71,7 +71,12 @@ void run(const SimulateArgs& a) {
   } catch (const std::exception& e) {
     throw CommandError(std::string("--drivetrain: ") + e.what());
   }
+  if (!(a.rpm > 0.0) || !std::isfinite(a.rpm)) throw CommandError("--rpm: expected a finite value > 0 [rpm]");
   if (a.torque_nm < 0.0 || !std::isfinite(a.torque_nm)) throw CommandError("--torque: expected a finite value ≥ 0 [N·m]");
+  if (!(a.seconds > 0.0) || !(a.seconds <= 3600.0)) throw CommandError("--seconds: expected a value in (0, 3600] [s]");
+  if (!(a.sample_rate_hz > 0.0) || !std::isfinite(a.sample_rate_hz)) {
+    throw CommandError("--rate: expected a finite value > 0 [Hz]");
+  }
   const model::dynamics::OperatingPoint op{a.rpm, a.torque_nm};
   model::dynamics::SimulationSettings s;
   s.seconds = a.seconds;
