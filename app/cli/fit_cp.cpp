@@ -1,6 +1,9 @@
-// `drivetwin fit-cp <scada.csv>`: fits the Cp(λ, β) surface of a drivetrain
-// description to SCADA rows in operation (method: app/wind/cp_fit.hpp), prints
-// the fitted [turbine.cp] table and, with --update FILE, writes it into FILE.
+// `drivetwin fit-cp <scada.csv>`: fits the Cp(λ, β) surface and the SCADA
+// corrections (no-load loss, nacelle transfer function offset, yaw loss exponent)
+// of a drivetrain description to SCADA rows in operation (method:
+// app/wind/cp_fit.hpp), prints the fitted [turbine.cp] and [turbine.corrections]
+// tables, optionally the MAPE on a held-out window, and with --update FILE writes
+// both tables into FILE.
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -25,23 +28,49 @@ struct FitArgs {
   std::string columns = "bundle";
   std::string from;
   std::string to;
+  std::string test_from;
+  std::string test_to;
+  std::string free = "table,loss,offset,gain";
+  bool constant_density = false;
   std::string update;
 };
+
+app::wind::FitOptions parse_free(const std::string& text) {
+  app::wind::FitOptions o;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item == "table") {
+      o.cp_table = true;
+    } else if (item == "loss") {
+      o.no_load_loss = true;
+    } else if (item == "offset") {
+      o.nacelle_offset = true;
+    } else if (item == "gain") {
+      o.nacelle_gain = true;
+    } else if (item == "yaw") {
+      o.yaw_exponent = true;
+    } else if (item != "none" && !item.empty()) {
+      throw app::cli::CommandError("--free: unknown parameter '" + item +
+                                   "' (expected a list of table, loss, offset, gain, yaw, or none)");
+    }
+  }
+  return o;
+}
 
 app::wind::TorqueSummary evaluate(const FitArgs& args, const hal::ScadaColumns& columns,
                                   const model::Drivetrain& d, const app::wind::TimeWindow& window,
                                   std::vector<app::wind::FitRow>* rows) {
   hal::ScadaCsvReader reader;
   if (!reader.open(args.file, columns)) throw app::cli::CommandError(reader.error());
-  const app::wind::TorqueEstimator estimator(d, true);
-  constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
+  app::wind::EstimatorOptions options;
+  options.measured_temperature = !args.constant_density;
+  const app::wind::TorqueEstimator estimator(d, options);
   try {
     return app::wind::run_torque(
         reader, estimator, window, [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
           if (rows == nullptr || !e.in_operation) return;
-          rows->push_back({row.get(hal::ScadaField::kWindSpeed),
-                           row.get(hal::ScadaField::kRotorSpeed) * kRpm,
-                           0.0, false, e.reference_torque_nm});  // pitch: see TorqueEstimator
+          rows->push_back(app::wind::fit_row_of(row, e));
         });
   } catch (const std::runtime_error& e) {
     throw app::cli::CommandError(e.what());
@@ -54,47 +83,72 @@ void print_mape(const char* label, const app::wind::MapeAccumulator& m) {
               m.count(2), m.mape_pct(), m.count());
 }
 
+app::wind::TimeWindow window_of(const std::string& from, const std::string& to,
+                                const char* from_name, const char* to_name) {
+  app::wind::TimeWindow w;
+  if (!from.empty()) w.from_s = app::wind::parse_time_option(from_name, from);
+  if (!to.empty()) w.to_s = app::wind::parse_time_option(to_name, to);
+  return w;
+}
+
 void run(const FitArgs& args) {
   model::Drivetrain d = app::config::load_drivetrain(args.drivetrain);
   std::string error;
   const auto columns = hal::parse_scada_columns(args.columns, &error);
   if (!columns) throw app::cli::CommandError("--columns: " + error);
-  app::wind::TimeWindow window;
-  if (!args.from.empty()) window.from_s = app::wind::parse_time_option("--from", args.from);
-  if (!args.to.empty()) window.to_s = app::wind::parse_time_option("--to", args.to);
+  const app::wind::FitOptions options = parse_free(args.free);
+  const app::wind::TimeWindow window = window_of(args.from, args.to, "--from", "--to");
 
   std::vector<app::wind::FitRow> rows;
-  evaluate(args, *columns, d, window, &rows);
-  const app::wind::CpFitResult fit = app::wind::fit_cp_surface(d.turbine, rows);
+  const auto before = evaluate(args, *columns, d, window, &rows);
+  const app::wind::CpFitResult fit = app::wind::fit_cp_surface(d.turbine, rows, options);
   d.turbine.cp = fit.surface;
+  d.turbine.corrections = fit.corrections;
   const model::wind::CpPeak peak = model::wind::find_cp_peak(fit.surface);
 
   std::printf("# fit-cp %s (%s .. %s), drivetrain %s, %zu rows in operation\n", args.file.c_str(),
               args.from.empty() ? "start" : args.from.c_str(), args.to.empty() ? "end" : args.to.c_str(),
               d.name.c_str(), fit.rows);
+  std::printf("# free: %s%s%s%s%s; air density: %s\n",
+              options.cp_table ? "Cp(lambda) table knots" : "c1, lambda_scale",
+              options.no_load_loss ? ", no_load_loss_w" : "",
+              options.nacelle_offset ? ", nacelle_wind_offset_mps" : "",
+              options.nacelle_gain ? ", nacelle_wind_gain" : "",
+              options.yaw_exponent ? ", yaw_loss_exponent" : "",
+              args.constant_density || before.density_rows == 0
+                  ? "constant (description's air_density_kg_m3)"
+                  : "from the ambient temperature column at site_altitude_m (ISA pressure)");
   std::printf("# Levenberg-Marquardt status %d after %d iterations; mean |relative torque error| "
-              "%.4f (textbook start) -> %.4f\n",
+              "%.4f (start) -> %.4f\n",
               fit.lm_status, fit.iterations, fit.mean_abs_relative_error_before, fit.mean_abs_relative_error_after);
   std::printf("# fitted surface: Cp_max %.4f at lambda_opt %.3f (beta = 0)\n", peak.cp_max,
               peak.lambda_opt);
   const auto summary = evaluate(args, *columns, d, window, nullptr);
   print_mape("# fitting window", summary.mape);
-  const std::string table = app::wind::cp_table_toml(fit.surface);
-  std::printf("%s", table.c_str());
+  if (!args.test_from.empty() || !args.test_to.empty()) {
+    const app::wind::TimeWindow test =
+        window_of(args.test_from, args.test_to, "--test-from", "--test-to");
+    const auto held_out = evaluate(args, *columns, d, test, nullptr);
+    print_mape("# held-out window", held_out.mape);
+  }
+  const std::string cp_table = app::wind::cp_table_toml(fit.surface);
+  const std::string corrections_table = app::wind::corrections_table_toml(fit.corrections);
+  std::printf("%s\n%s", cp_table.c_str(), corrections_table.c_str());
 
   if (!args.update.empty()) {
     std::ifstream in(args.update, std::ios::binary);
     if (!in) throw app::cli::CommandError(args.update + ": cannot read");
     std::stringstream text;
     text << in.rdbuf();
-    const std::string updated = app::wind::replace_cp_table(text.str(), table, args.update);
+    std::string updated = app::wind::replace_cp_table(text.str(), cp_table, args.update);
+    updated = app::wind::replace_or_append_table(updated, "turbine.corrections", corrections_table);
     in.close();
     // Check the result still parses before overwriting.
     (void)app::config::parse_drivetrain(updated, args.update);
     std::ofstream out(args.update, std::ios::binary | std::ios::trunc);
     out << updated;
     if (!out) throw app::cli::CommandError(args.update + ": cannot write");
-    std::printf("# wrote [turbine.cp] into %s\n", args.update.c_str());
+    std::printf("# wrote [turbine.cp] and [turbine.corrections] into %s\n", args.update.c_str());
   }
 }
 
@@ -106,12 +160,23 @@ void setup(CLI::App& sub) {
   sub.add_option("--columns", args->columns, "Column mapping: bundle, kelmarsh or 'field=Column;...'");
   sub.add_option("--from", args->from, "Fit rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
   sub.add_option("--to", args->to, "Fit rows before this UTC time");
+  sub.add_option("--test-from", args->test_from,
+                 "Also report the MAPE of the fitted description on rows from this time");
+  sub.add_option("--test-to", args->test_to, "... up to this time");
+  sub.add_option("--free", args->free,
+                 "What the fit frees besides the Cp surface: a list of table (a Cp(lambda) table "
+                 "instead of Heier's c1 and lambda_scale), loss (no-load loss), offset and gain "
+                 "(nacelle transfer function), yaw (yaw loss exponent), or none")
+      ->default_val("table,loss,offset,gain");
+  sub.add_flag("--constant-density", args->constant_density,
+               "Ignore an ambient temperature column: constant air_density_kg_m3");
   sub.add_option("--update", args->update,
-                 "Replace the [turbine.cp] table of this description file with the fit");
+                 "Replace the [turbine.cp] and [turbine.corrections] tables of this description "
+                 "file with the fit");
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"fit-cp", "Fit the Cp(lambda, beta) surface of a drivetrain description to SCADA", &setup});
+    {"fit-cp", "Fit the Cp(lambda, beta) surface and SCADA corrections of a drivetrain description", &setup});
 
 }  // namespace

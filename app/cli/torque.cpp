@@ -43,7 +43,9 @@ void run(const TorqueArgs& args) {
 
   hal::ScadaCsvReader reader;
   if (!reader.open(args.file, *columns)) throw app::cli::CommandError(reader.error());
-  const app::wind::TorqueEstimator estimator(drivetrain, !args.steady_state);
+  app::wind::EstimatorOptions options;
+  options.measured_speed = !args.steady_state;
+  const app::wind::TorqueEstimator estimator(drivetrain, options);
   const double eta = drivetrain.turbine.drivetrain_efficiency;
 
   bool first = true;
@@ -54,14 +56,15 @@ void run(const TorqueArgs& args) {
   } else if (!args.no_rows) {
     std::printf("# drivetrain %s; torque = rotor (low-speed shaft) input torque [N·m]\n",
                 drivetrain.name.c_str());
-    std::printf("%8s %14s %9s %9s %13s %12s %12s %9s\n", "row", "t_s", "wind_mps", "rotor_rpm",
-                "region", "torque_nm", "reference_nm", "error_pct");
+    std::printf("# with --compare: estimate_nm = the estimate on the reference's side (see summary)\n");
+    std::printf("%8s %14s %9s %9s %13s %12s %12s %12s %9s\n", "row", "t_s", "wind_mps",
+                "rotor_rpm", "region", "torque_nm", "estimate_nm", "reference_nm", "error_pct");
   }
   auto on_row = [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
     if (args.no_rows) return;
     const bool has_ref = e.reference != ReferenceKind::kNone;
     const double err_pct = has_ref && e.reference_torque_nm != 0.0
-                               ? 100.0 * (e.load.torque_nm - e.reference_torque_nm) /
+                               ? 100.0 * (e.compared_torque_nm - e.reference_torque_nm) /
                                      std::fabs(e.reference_torque_nm)
                                : std::nan("");
     if (args.json) {
@@ -73,6 +76,7 @@ void run(const TorqueArgs& args) {
                        {"torque_nm", e.load.torque_nm}};
       if (args.compare) {
         j["reference_nm"] = has_ref ? nlohmann::json(e.reference_torque_nm) : nullptr;
+        j["estimate_nm"] = has_ref ? nlohmann::json(e.compared_torque_nm) : nullptr;
         j["in_operation"] = e.in_operation;
         if (!e.in_operation) j["excluded_because"] = e.excluded_because;
       }
@@ -82,7 +86,7 @@ void run(const TorqueArgs& args) {
                   row.get(hal::ScadaField::kWindSpeed), row.get(hal::ScadaField::kRotorSpeed),
                   model::wind::region_name(e.load.region), e.load.torque_nm);
       if (args.compare && has_ref) {
-        std::printf(" %12.0f %9.2f%s", e.reference_torque_nm, err_pct,
+        std::printf(" %12.0f %12.0f %9.2f%s", e.compared_torque_nm, e.reference_torque_nm, err_pct,
                     e.in_operation ? "" : "  (not counted)");
       }
       std::printf("\n");
@@ -105,8 +109,10 @@ void run(const TorqueArgs& args) {
     if (args.compare) {
       nlohmann::json s{{"rows", summary.rows},
                        {"rows_in_operation", m.count()},
-                       {"reference", summary.measured_torque_rows > 0 ? "torque_nm" : "P/(eta*omega)"},
+                       {"reference", summary.measured_torque_rows > 0 ? "torque_nm" : "P/omega"},
                        {"drivetrain_efficiency", eta},
+                       {"no_load_loss_w", drivetrain.turbine.corrections.no_load_loss_w},
+                       {"density_from_temperature_rows", summary.density_rows},
                        {"mape_pct", number_or_null(m.mape_pct())}};
       for (std::size_t r = 0; r < m.kRegions; ++r) {
         s["regions"][app::wind::MapeAccumulator::region_label(r)] = {
@@ -128,8 +134,23 @@ void run(const TorqueArgs& args) {
   }
   std::printf("# reference: %s", summary.measured_torque_rows > 0 ? "measured torque_nm" : "");
   if (summary.power_rows > 0) {
-    std::printf("%sP/(eta*omega), eta = %.3f (drivetrain_efficiency)",
-                summary.measured_torque_rows > 0 ? " and " : "", eta);
+    std::printf("%smeasured P/omega, against the estimate (eta*T*omega - P0)/omega, eta = %.3f, "
+                "P0 = %.1f kW",
+                summary.measured_torque_rows > 0 ? " and " : "", eta,
+                drivetrain.turbine.corrections.no_load_loss_w / 1e3);
+  }
+  std::printf("\n# air density: ");
+  if (summary.density_rows > 0) {
+    std::printf("from the ambient temperature in %zu rows (ISA pressure at %.0f m)%s",
+                summary.density_rows, drivetrain.turbine.site_altitude_m,
+                summary.density_rows < summary.rows ? ", else constant" : "");
+  } else {
+    std::printf("constant %.3f kg/m3 (no ambient temperature column or values)",
+                drivetrain.turbine.air_density_kg_m3);
+  }
+  if (summary.yaw_rows > 0) {
+    std::printf("; yaw error used in %zu rows (cos^%.2f)", summary.yaw_rows,
+                drivetrain.turbine.corrections.yaw_loss_exponent);
   }
   std::printf("\n# MAPE over rows in operation (app/wind/torque_estimate.hpp):\n");
   std::printf("%-8s %8s %9s\n", "region", "rows", "MAPE_pct");
@@ -150,9 +171,10 @@ void setup(CLI::App& sub) {
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--columns", args->columns,
                  "Column mapping: bundle (default), kelmarsh, or 'field=Column;...' with field in "
-                 "t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm");
+                 "t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm, "
+                 "ambient_temperature_c, yaw_error_deg");
   sub.add_flag("--compare", args->compare,
-               "MAPE per operating region against measured torque_nm, else P/(eta*omega)");
+               "MAPE per operating region against measured torque_nm, else measured P/omega");
   sub.add_flag("--json", args->json, "Machine-readable output");
   sub.add_flag("--no-rows", args->no_rows, "Print only the --compare summary");
   sub.add_flag("--steady-state", args->steady_state,

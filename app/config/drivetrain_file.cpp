@@ -31,6 +31,7 @@ using model::MeasurementPoint;
 using model::Shaft;
 using model::StageType;
 using model::Turbine;
+using model::TurbineCorrections;
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
@@ -40,6 +41,7 @@ enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLea
 template <class T>
 using Member = std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
                             std::array<double, 3> T::*, std::array<double, 6> T::*,
+                            std::array<double, model::kCpTableKnots> T::*,
                             StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
@@ -67,12 +69,22 @@ const std::vector<Key<Turbine>> kTurbineKeys{
     {"cp_max", &Turbine::cp_max, Range::kNonNegative},
     {"lambda_opt", &Turbine::lambda_opt, Range::kNonNegative},
     {"drivetrain_efficiency", &Turbine::drivetrain_efficiency, Range::kFraction},
+    {"site_altitude_m", &Turbine::site_altitude_m},
+};
+const std::vector<Key<TurbineCorrections>> kCorrectionKeys{
+    {"no_load_loss_w", &TurbineCorrections::no_load_loss_w},
+    {"nacelle_wind_gain", &TurbineCorrections::nacelle_wind_gain, Range::kPositive},
+    {"nacelle_wind_offset_mps", &TurbineCorrections::nacelle_wind_offset_mps},
+    {"yaw_loss_exponent", &TurbineCorrections::yaw_loss_exponent, Range::kNonNegative},
 };
 const std::vector<Key<CpSurface>> kCpKeys{
     {"c", &CpSurface::c},
     {"lambda_i_beta", &CpSurface::lambda_i_beta},
     {"lambda_i_cubic", &CpSurface::lambda_i_cubic},
     {"lambda_scale", &CpSurface::lambda_scale, Range::kPositive},
+    {"table_lambda_min", &CpSurface::table_lambda_min, Range::kNonNegative},
+    {"table_lambda_max", &CpSurface::table_lambda_max, Range::kNonNegative},
+    {"table_cp", &CpSurface::table_cp, Range::kNonNegative},
 };
 const std::vector<Key<Material>> kMaterialKeys{
     {"id", &Material::id},
@@ -249,7 +261,8 @@ class Reader {
               field.push_back(*v);
             }
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
-                               std::is_same_v<Field, std::array<double, 6>>) {
+                               std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
               fail(&node, key, "expected an array of " + std::to_string(field.size()) +
@@ -379,10 +392,16 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
   if (const toml::node* node = root.get("turbine")) {
     const toml::table* table = node->as_table();
     if (table == nullptr) reader.fail(node, "turbine", "expected a table [turbine]");
-    reader.read(*table, d.turbine, kTurbineKeys, "turbine", {"cp"});
+    reader.read(*table, d.turbine, kTurbineKeys, "turbine", {"cp", "corrections"});
     if (const toml::node* cp = table->get("cp")) {
       if (!cp->is_table()) reader.fail(cp, "turbine.cp", "expected a table [turbine.cp]");
       reader.read(*cp->as_table(), d.turbine.cp, kCpKeys, "turbine.cp");
+    }
+    if (const toml::node* c = table->get("corrections")) {
+      if (!c->is_table()) {
+        reader.fail(c, "turbine.corrections", "expected a table [turbine.corrections]");
+      }
+      reader.read(*c->as_table(), d.turbine.corrections, kCorrectionKeys, "turbine.corrections");
     }
   }
   if (const toml::node* n = root.get("materials")) {
@@ -420,6 +439,14 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
   if (t.min_rotor_speed_rpm > t.rated_rotor_speed_rpm) {
     reader.fail(turbine_node, "turbine.min_rotor_speed_rpm",
                 "expected at most turbine.rated_rotor_speed_rpm");
+  }
+  if (t.cp.table_lambda_max > t.cp.table_lambda_min) {
+    for (std::size_t i = 0; i < t.cp.table_cp.size(); ++i) {
+      if (t.cp.table_cp[i] > 16.0 / 27.0) {  // Betz limit
+        reader.fail(turbine_node, "turbine.cp.table_cp[" + std::to_string(i) + "]",
+                    "expected at most the Betz limit 16/27 = 0.5926");
+      }
+    }
   }
   auto check_ref = [&](const std::string& key, const std::string& id, bool ok, const char* what) {
     if (!id.empty() && !ok) reader.fail(nullptr, key, "\"" + id + "\" is not the id of any " + what);
@@ -490,7 +517,8 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
             for (std::size_t i = 0; i < field.size(); ++i) out << (i ? ", " : "") << quote(field[i]);
             out << ']';
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
-                               std::is_same_v<Field, std::array<double, 6>>) {
+                               std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             out << '[';
             for (std::size_t i = 0; i < field.size(); ++i) {
               out << (i ? ", " : "") << format_double(field[i] / k.scale);
@@ -556,6 +584,8 @@ std::string to_toml(const model::Drivetrain& d) {
   write(out, d.turbine, kTurbineKeys);
   out << "\n[turbine.cp]\n";
   write(out, d.turbine.cp, kCpKeys);
+  out << "\n[turbine.corrections]\n";
+  write(out, d.turbine.corrections, kCorrectionKeys);
   write_list(out, d.materials, kMaterialKeys, "materials");
   write_list(out, d.shafts, kShaftKeys, "shafts");
   write_list(out, d.gears, kGearKeys, "gears");

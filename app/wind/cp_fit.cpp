@@ -8,6 +8,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "model/wind/cp_surface.hpp"
 #include "model/wind/wind_load.hpp"
 
 namespace app::wind {
@@ -18,45 +19,89 @@ namespace {
 // surface into shapes with Cp > 1 outside the data (tried: Cp 6.6 at λ = 20);
 // freeing the pitch term c3 lets it trade region 3 (few rows) for rows pitched by
 // transients below rated wind (tried: c3 = 5, every region-3 estimate 0).
-constexpr int kParams = 2;
+// The corrections FitOptions frees follow, in this order: P_0 (in kW, so that
+// all parameters are of order 1 for the finite-difference Jacobian), b, x.
+constexpr int kSurfaceParams = 2;
 constexpr int kIrlsRounds = 8;
+constexpr double kLossScaleW = 1e3;     // [W] per unit of the P_0 parameter
+constexpr double kStartYawExponent = 2.0;
 
-model::CpSurface with_params(model::CpSurface s, const Eigen::VectorXd& p) {
-  s.c[0] = p[0];
-  s.lambda_scale = p[1];
-  return s;
+constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
+
+int surface_parameter_count(const FitOptions& o) {
+  return o.cp_table ? static_cast<int>(model::kCpTableKnots) : kSurfaceParams;
 }
 
-Eigen::VectorXd params_of(const model::CpSurface& s) {
-  Eigen::VectorXd p(kParams);
-  p << s.c[0], s.lambda_scale;
+int parameter_count(const FitOptions& o) {
+  return surface_parameter_count(o) + (o.no_load_loss ? 1 : 0) + (o.nacelle_offset ? 1 : 0) +
+         (o.nacelle_gain ? 1 : 0) + (o.yaw_exponent ? 1 : 0);
+}
+
+double logistic(double q) { return 1.0 / (1.0 + std::exp(-q)); }
+double logit(double y) { return std::log(y / (1.0 - y)); }
+
+model::Turbine with_params(model::Turbine t, const FitOptions& o, const Eigen::VectorXd& p) {
+  Eigen::Index i = 0;
+  if (o.cp_table) {
+    for (double& knot : t.cp.table_cp) knot = model::wind::kBetzLimit * logistic(p[i++]);
+  } else {
+    t.cp.c[0] = p[i++];
+    t.cp.lambda_scale = p[i++];
+  }
+  if (o.no_load_loss) t.corrections.no_load_loss_w = p[i++] * kLossScaleW;
+  if (o.nacelle_offset) t.corrections.nacelle_wind_offset_mps = p[i++];
+  if (o.nacelle_gain) t.corrections.nacelle_wind_gain = p[i++];
+  if (o.yaw_exponent) t.corrections.yaw_loss_exponent = p[i++];
+  return t;
+}
+
+Eigen::VectorXd params_of(const model::Turbine& t, const FitOptions& o) {
+  Eigen::VectorXd p(parameter_count(o));
+  Eigen::Index i = 0;
+  if (o.cp_table) {
+    for (double knot : t.cp.table_cp) {
+      p[i++] = logit(std::clamp(knot / model::wind::kBetzLimit, 1e-6, 1.0 - 1e-6));
+    }
+  } else {
+    p[i++] = t.cp.c[0];
+    p[i++] = t.cp.lambda_scale;
+  }
+  if (o.no_load_loss) p[i++] = t.corrections.no_load_loss_w / kLossScaleW;
+  if (o.nacelle_offset) p[i++] = t.corrections.nacelle_wind_offset_mps;
+  if (o.nacelle_gain) p[i++] = t.corrections.nacelle_wind_gain;
+  if (o.yaw_exponent) p[i++] = t.corrections.yaw_loss_exponent;
   return p;
 }
 
 struct Residuals : Eigen::DenseFunctor<double> {
-  Residuals(const model::Turbine& turbine, const std::vector<FitRow>& rows)
-      : Eigen::DenseFunctor<double>(kParams, static_cast<int>(rows.size())),
+  Residuals(const model::Turbine& turbine, const std::vector<FitRow>& rows,
+            const FitOptions& options)
+      : Eigen::DenseFunctor<double>(parameter_count(options), static_cast<int>(rows.size())),
         turbine_(turbine),
-        rows_(rows) {}
+        rows_(rows),
+        options_(options) {}
 
   int operator()(const Eigen::VectorXd& p, Eigen::VectorXd& r) const {
-    model::Turbine t = turbine_;
-    t.cp = with_params(t.cp, p);
-    const model::wind::WindLoad load(t);
+    const model::wind::WindLoad load(with_params(turbine_, options_, p));
     for (std::size_t i = 0; i < rows_.size(); ++i) {
       const FitRow& row = rows_[i];
-      const double torque =
-          load.with_rotor_speed(row.wind_speed_mps, row.rotor_speed_rad_s, row.pitch_rad,
-                                row.has_pitch)
-              .torque_nm;
+      const double torque = load.with_rotor_speed(row.wind_speed_mps, row.rotor_speed_rad_s,
+                                                  row.pitch_rad, row.has_pitch, row.inflow)
+                                .torque_nm;
+      // The estimate on the reference's side (app/wind/torque_estimate.hpp).
+      const double compared =
+          row.electrical_reference
+              ? load.electrical_power_w(torque, row.rotor_speed_rad_s) / row.rotor_speed_rad_s
+              : torque;
       r[static_cast<Eigen::Index>(i)] =
-          weight_[i] * (torque - row.reference_torque_nm) / row.reference_torque_nm;
+          weight_[i] * (compared - row.reference_torque_nm) / row.reference_torque_nm;
     }
     return 0;
   }
 
   const model::Turbine& turbine_;
   const std::vector<FitRow>& rows_;
+  FitOptions options_;
   std::vector<double> weight_ = std::vector<double>(rows_.size(), 1.0);
 };
 
@@ -79,18 +124,59 @@ model::CpSurface textbook_cp_surface() {
   return s;
 }
 
-CpFitResult fit_cp_surface(const model::Turbine& turbine, const std::vector<FitRow>& rows) {
-  if (rows.size() < static_cast<std::size_t>(kParams) * 10) {
+FitRow fit_row_of(const hal::ScadaRow& row, const RowEstimate& e) {
+  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+  FitRow r{row.get(hal::ScadaField::kWindSpeed),
+           row.get(hal::ScadaField::kRotorSpeed) * kRpmToRadS,
+           0.0,  // pitch: see TorqueEstimator (curtailment filter only)
+           false,
+           e.reference_torque_nm,
+           e.reference == ReferenceKind::kPowerOverSpeed,
+           {}};
+  if (e.density_measured) r.inflow.air_density_kg_m3 = e.air_density_kg_m3;
+  if (row.has(hal::ScadaField::kYawError)) {
+    r.inflow.yaw_error_rad = row.get(hal::ScadaField::kYawError) * kDegToRad;
+  }
+  return r;
+}
+
+model::CpSurface textbook_cp_table(const model::Turbine& turbine) {
+  model::CpSurface s = textbook_cp_surface();
+  const double r = turbine.rotor_radius_m;
+  s.table_lambda_min = 0.9 * turbine.rated_rotor_speed_rpm * kRpmToRadS * r / turbine.rated_wind_mps;
+  const double min_rpm =
+      turbine.min_rotor_speed_rpm > 0.0 ? turbine.min_rotor_speed_rpm : turbine.rated_rotor_speed_rpm;
+  s.table_lambda_max = turbine.cut_in_wind_mps > 0.0
+                           ? 1.1 * min_rpm * kRpmToRadS * r / turbine.cut_in_wind_mps
+                           : 2.0 * s.table_lambda_min;
+  model::CpSurface heier = s;
+  heier.table_lambda_max = heier.table_lambda_min = 0.0;
+  const double step = (s.table_lambda_max - s.table_lambda_min) / static_cast<double>(model::kCpTableKnots - 1);
+  for (std::size_t k = 0; k < model::kCpTableKnots; ++k) {
+    const double lambda = s.table_lambda_min + step * static_cast<double>(k);
+    s.table_cp[k] = std::clamp(model::wind::power_coefficient(heier, lambda, 0.0), 0.01,
+                               0.99 * model::wind::kBetzLimit);
+  }
+  return s;
+}
+
+CpFitResult fit_cp_surface(const model::Turbine& turbine, const std::vector<FitRow>& rows,
+                           const FitOptions& options) {
+  const int params = parameter_count(options);
+  if (rows.size() < static_cast<std::size_t>(params) * 10) {
     throw std::runtime_error("fit-cp: " + std::to_string(rows.size()) +
                              " rows in operation in the fitting window; need at least " +
-                             std::to_string(kParams * 10));
+                             std::to_string(params * 10));
   }
   model::Turbine start = turbine;
-  const model::CpSurface textbook = textbook_cp_surface();
-  start.cp = textbook;
+  start.cp = options.cp_table ? textbook_cp_table(turbine) : textbook_cp_surface();
+  // Corrections not freed are none (a = 1, b = 0, P_0 = 0, x = 0), whatever the
+  // description holds: a re-run, or an ablation, does not inherit an earlier fit.
+  start.corrections = model::TurbineCorrections{};
+  if (options.yaw_exponent) start.corrections.yaw_loss_exponent = kStartYawExponent;
 
-  Residuals residuals(start, rows);
-  Eigen::VectorXd p = params_of(start.cp);
+  Residuals residuals(start, rows, options);
+  Eigen::VectorXd p = params_of(start, options);
   Eigen::VectorXd r(static_cast<Eigen::Index>(rows.size()));
 
   CpFitResult result;
@@ -102,18 +188,22 @@ CpFitResult fit_cp_surface(const model::Turbine& turbine, const std::vector<FitR
     std::fill(residuals.weight_.begin(), residuals.weight_.end(), 1.0);
     residuals(p, r);
     for (std::size_t i = 0; i < rows.size(); ++i) {
-      residuals.weight_[i] = 1.0 / std::sqrt(std::max(std::fabs(r[static_cast<Eigen::Index>(i)]), 1e-3));
+      residuals.weight_[i] =
+          1.0 / std::sqrt(std::max(std::fabs(r[static_cast<Eigen::Index>(i)]), 1e-3));
     }
     Eigen::NumericalDiff<Residuals> numeric(residuals);
     Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Residuals>> lm(numeric);
     lm.setMaxfev(2000);
+    lm.setFactor(1.0);  // initial step bound: small steps keep logistic knots off saturation
     result.lm_status = static_cast<int>(lm.minimize(p));
     result.iterations += static_cast<int>(lm.iterations());
   }
   std::fill(residuals.weight_.begin(), residuals.weight_.end(), 1.0);
   residuals(p, r);
   result.mean_abs_relative_error_after = r.cwiseAbs().mean();
-  result.surface = with_params(start.cp, p);
+  const model::Turbine fitted = with_params(start, options, p);
+  result.surface = fitted.cp;
+  result.corrections = fitted.corrections;
   result.rows = rows.size();
   return result;
 }
@@ -124,7 +214,34 @@ std::string cp_table_toml(const model::CpSurface& s) {
   out += "]\nlambda_i_beta = " + format_double(s.lambda_i_beta) +
          "\nlambda_i_cubic = " + format_double(s.lambda_i_cubic) +
          "\nlambda_scale = " + format_double(s.lambda_scale) + "\n";
+  if (model::wind::has_cp_table(s)) {
+    out += "table_lambda_min = " + format_double(s.table_lambda_min) +
+           "\ntable_lambda_max = " + format_double(s.table_lambda_max) + "\ntable_cp = [";
+    for (std::size_t i = 0; i < s.table_cp.size(); ++i) {
+      out += (i ? ", " : "") + format_double(s.table_cp[i]);
+    }
+    out += "]\n";
+  }
   return out;
+}
+
+std::string corrections_table_toml(const model::TurbineCorrections& c) {
+  return "[turbine.corrections]\nno_load_loss_w = " + format_double(c.no_load_loss_w) +
+         "\nnacelle_wind_gain = " + format_double(c.nacelle_wind_gain) +
+         "\nnacelle_wind_offset_mps = " + format_double(c.nacelle_wind_offset_mps) +
+         "\nyaw_loss_exponent = " + format_double(c.yaw_loss_exponent) + "\n";
+}
+
+std::string replace_or_append_table(const std::string& text, const std::string& header,
+                                    const std::string& table) {
+  const std::string marker = "\n[" + header + "]";
+  const std::size_t start = text.find(marker);
+  if (start == std::string::npos) {
+    return text + (text.empty() || text.back() == '\n' ? "\n" : "\n\n") + table;
+  }
+  std::size_t end = text.find("\n[", start + marker.size());
+  end = end == std::string::npos ? text.size() : end + 1;
+  return text.substr(0, start + 1) + table + (end < text.size() ? "\n" : "") + text.substr(end);
 }
 
 std::string replace_cp_table(const std::string& text, const std::string& table,

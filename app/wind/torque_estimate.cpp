@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#include "model/wind/corrections.hpp"
+
 namespace app::wind {
 namespace {
 constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
@@ -28,10 +30,11 @@ std::string num(double v) {
 
 TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain, bool use_measured_speed,
                                  bool use_measured_pitch)
-    : turbine_(drivetrain.turbine),
-      load_(drivetrain.turbine),
-      use_measured_speed_(use_measured_speed),
-      use_measured_pitch_(use_measured_pitch) {}
+    : TorqueEstimator(drivetrain, EstimatorOptions{use_measured_speed, use_measured_pitch}) {}
+
+TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain,
+                                 const EstimatorOptions& options)
+    : turbine_(drivetrain.turbine), load_(drivetrain.turbine), options_(options) {}
 
 bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row,
                                RowEstimate& out, std::string* error) const {
@@ -69,27 +72,61 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
              " kW is beyond twice the rated power (" + num(max_kw) + " kW)";
     return false;
   }
+  const bool has_temperature = row.has(ScadaField::kAmbientTemperature);
+  const double temperature_c = row.get(ScadaField::kAmbientTemperature);
+  if (has_temperature &&
+      (temperature_c < kMinPlausibleTemperatureC || temperature_c > kMaxPlausibleTemperatureC)) {
+    *error = where(reader, row, ScadaField::kAmbientTemperature) + ": " + num(temperature_c) +
+             " degC is outside the plausible ambient range " + num(kMinPlausibleTemperatureC) +
+             " to " + num(kMaxPlausibleTemperatureC) + " degC";
+    return false;
+  }
+  const bool has_yaw = row.has(ScadaField::kYawError);
+  const double yaw_deg = row.get(ScadaField::kYawError);
+  if (has_yaw && std::fabs(yaw_deg) > kMaxPlausibleYawErrorDeg) {
+    *error = where(reader, row, ScadaField::kYawError) + ": " + num(yaw_deg) +
+             " deg is not an angle difference (expected -180 to 180 deg)";
+    return false;
+  }
   if (!has_wind) {
     out.excluded_because = "no wind speed";
     return true;
   }
 
   const double speed_rad_s = std::max(0.0, rpm) * kRpmToRadS;
-  if (use_measured_speed_ && has_speed) {
-    const bool pitch = use_measured_pitch_ && has_pitch;
-    out.load = load_.with_rotor_speed(wind, speed_rad_s, pitch ? pitch_deg * kDegToRad : 0.0, pitch);
+  model::wind::Inflow inflow;
+  out.air_density_kg_m3 = turbine_.air_density_kg_m3;
+  if (options_.measured_temperature && has_temperature) {
+    inflow.air_density_kg_m3 =
+        model::wind::air_density_kg_m3(temperature_c, turbine_.site_altitude_m);
+    out.air_density_kg_m3 = inflow.air_density_kg_m3;
+    out.density_measured = true;
+  }
+  if (options_.measured_yaw && has_yaw && turbine_.corrections.yaw_loss_exponent > 0.0) {
+    inflow.yaw_error_rad = yaw_deg * kDegToRad;
+    out.yaw_measured = true;
+  }
+  if (options_.measured_speed && has_speed) {
+    const bool pitch = options_.measured_pitch && has_pitch;
+    out.load = load_.with_rotor_speed(wind, speed_rad_s, pitch ? pitch_deg * kDegToRad : 0.0,
+                                      pitch, inflow);
   } else {
     out.load = load_.steady_state(wind);
+    out.density_measured = false;
+    out.yaw_measured = false;
+    out.air_density_kg_m3 = turbine_.air_density_kg_m3;
   }
 
-  // Reference torque.
+  // Reference torque, and the estimate on the same side of the drivetrain.
   if (row.has(ScadaField::kTorque)) {
     out.reference = ReferenceKind::kMeasuredTorque;
     out.reference_torque_nm = row.get(ScadaField::kTorque);
+    out.compared_torque_nm = out.load.torque_nm;
   } else if (has_power && has_speed && speed_rad_s > 0.0) {
     out.reference = ReferenceKind::kPowerOverSpeed;
-    out.reference_torque_nm =
-        power_kw * 1e3 / (turbine_.drivetrain_efficiency * speed_rad_s);
+    out.reference_torque_nm = power_kw * 1e3 / speed_rad_s;
+    // Electrical-side torque at the measured speed: (η·T·ω − P_0)/ω.
+    out.compared_torque_nm = load_.electrical_power_w(out.load.torque_nm, speed_rad_s) / speed_rad_s;
   }
 
   // In operation?
@@ -132,8 +169,8 @@ void MapeAccumulator::add(const RowEstimate& e) {
       return;  // stopped although "in operation" cannot happen: speed filter above
   }
   ++count_[region];
-  sum_abs_pct_[region] +=
-      100.0 * std::fabs(e.load.torque_nm - e.reference_torque_nm) / std::fabs(e.reference_torque_nm);
+  sum_abs_pct_[region] += 100.0 * std::fabs(e.compared_torque_nm - e.reference_torque_nm) /
+                          std::fabs(e.reference_torque_nm);
 }
 
 std::size_t MapeAccumulator::count() const { return count_[0] + count_[1] + count_[2]; }
@@ -162,6 +199,8 @@ void TorqueSummary::add(const RowEstimate& e) {
   }
   if (e.reference == ReferenceKind::kMeasuredTorque) ++measured_torque_rows;
   if (e.reference == ReferenceKind::kPowerOverSpeed) ++power_rows;
+  if (e.density_measured) ++density_rows;
+  if (e.yaw_measured) ++yaw_rows;
   mape.add(e);
   if (!e.in_operation) {
     for (auto& [reason, count] : excluded) {

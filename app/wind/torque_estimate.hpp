@@ -7,10 +7,18 @@
 // accumulates MAPE per operating region.
 //
 // Reference torque (what the estimate is compared with):
-//   measured `torque_nm` when the row has it, else
-//   P_el / (η·ω): measured electrical power over measured rotor speed, divided
-//   by the description's drivetrain_efficiency η (rotor → electrical power;
-//   paper-2mw: η = 1, i.e. plain P/ω; kelmarsh-mm92: η = 0.94, an assumption).
+//   measured `torque_nm` when the row has it (compared with the rotor torque
+//   estimate T), else
+//   P_el / ω: measured electrical power over measured rotor speed, the measured
+//   torque on the electrical side. The estimate is then converted to that side,
+//   (η·T·ω − P_0)/ω (model/wind/corrections.hpp: drivetrain_efficiency η,
+//   no-load loss P_0), so that the MAPE's denominator is the measurement. With
+//   P_0 = 0 this is the same MAPE as T against P/(η·ω).
+//
+// Inflow (model::wind::Inflow): with an ambient temperature column the air
+// density is ρ(T, site altitude) (model/wind/corrections.hpp), else the
+// description's constant ρ; a yaw error column feeds the cos^x(γ) factor.
+// Both can be switched off (EstimatorOptions) to measure what they do.
 //
 // Rows in operation (the only ones counted in MAPE), all of:
 //   - a reference torque exists and is > 0 (generating),
@@ -42,19 +50,37 @@ inline constexpr double kCurtailPowerFraction = 0.5;   // [-] of rated power, ab
 inline constexpr double kMaxPlausibleWindMps = 75.0;   // [m/s] above any recorded 10-min mean
 inline constexpr double kMaxPlausibleSpeedFactor = 1.5;// [-] × rated rotor speed
 inline constexpr double kMinPlausibleRotorRpm = -1.0;  // [rpm] small negatives are sensor offset
+inline constexpr double kMinPlausibleTemperatureC = -60.0;  // [°C] below any nacelle ambient record
+inline constexpr double kMaxPlausibleTemperatureC = 60.0;   // [°C]
+inline constexpr double kMaxPlausibleYawErrorDeg = 180.0;   // [deg] an angle difference, |γ| ≤ 180
 
 enum class ReferenceKind { kNone, kMeasuredTorque, kPowerOverSpeed };
 
 struct RowEstimate {
   model::wind::WindLoadOutput load;
   double reference_torque_nm = 0.0;   // [N·m] valid when reference != kNone
+  double compared_torque_nm = 0.0;    // [N·m] the estimate on the reference's side: load.torque_nm
+                                      // against torque_nm, (η·T·ω − P_0)/ω against P/ω
+  double air_density_kg_m3 = 0.0;     // [kg/m³] used; from the temperature when density_measured
+  bool density_measured = false;      // ρ from this row's ambient temperature
+  bool yaw_measured = false;          // this row's yaw error fed the cos^x factor
   ReferenceKind reference = ReferenceKind::kNone;
   bool in_operation = false;          // counted in MAPE
   const char* excluded_because = "";  // why not in operation ("" when it is)
 };
 
+/// Which measurements the estimate uses (all that a file has, by default).
+struct EstimatorOptions {
+  bool measured_speed = true;        // false: the controller's steady state
+  bool measured_pitch = false;       // see TorqueEstimator
+  bool measured_temperature = true;  // ρ from the ambient temperature column when present
+  bool measured_yaw = true;          // cos^x(yaw error) when the column is present
+};
+
 class TorqueEstimator {
  public:
+  TorqueEstimator(const model::Drivetrain& drivetrain, const EstimatorOptions& options);
+
   /// @param use_measured_speed  false: ignore measured rotor speed / pitch and use
   ///                            the controller's steady state (for comparison)
   /// @param use_measured_pitch  feed the measured pitch into Cp(λ, β). Off by default:
@@ -71,12 +97,12 @@ class TorqueEstimator {
                 std::string* error) const;
 
   const model::wind::WindLoad& load() const { return load_; }
+  const EstimatorOptions& options() const { return options_; }
 
  private:
   model::Turbine turbine_;
   model::wind::WindLoad load_;
-  bool use_measured_speed_;
-  bool use_measured_pitch_;
+  EstimatorOptions options_;
 };
 
 /// Mean absolute percentage error per region (2, 2½, 3) and overall.
@@ -102,7 +128,9 @@ struct TorqueSummary {
   double min_torque_nm = std::numeric_limits<double>::infinity();   // [N·m] over rows with T > 0
   double max_torque_nm = 0.0;                                       // [N·m]
   std::size_t measured_torque_rows = 0;  // reference = measured torque_nm
-  std::size_t power_rows = 0;            // reference = P/(η·ω)
+  std::size_t power_rows = 0;            // reference = P/ω
+  std::size_t density_rows = 0;          // ρ from the row's ambient temperature
+  std::size_t yaw_rows = 0;              // yaw error used
   MapeAccumulator mape;
   std::vector<std::pair<std::string, std::size_t>> excluded;  // reason, rows
   void add(const RowEstimate& e);

@@ -40,8 +40,10 @@ enum class ScadaField : std::uint8_t {
   kPower,       // [kW]  power_kw, electrical
   kPitch,       // [deg] pitch_deg, blade pitch
   kTorque,      // [N·m] torque_nm, measured rotor torque
+  kAmbientTemperature,  // [°C] ambient_temperature_c (drivetwin extension of the bundle)
+  kYawError,            // [deg] yaw_error_deg: wind direction − nacelle heading (extension)
 };
-inline constexpr std::size_t kScadaFieldCount = 6;
+inline constexpr std::size_t kScadaFieldCount = 8;
 
 /// The bundle's column name of a field ("t_s", "wind_speed_mps", ...).
 const char* scada_field_name(ScadaField field);
@@ -52,14 +54,16 @@ struct ScadaColumns {
   std::array<std::string, kScadaFieldCount> column{};
 };
 
-/// The bundle's own header names (recording-bundle.md).
+/// The bundle's own header names (recording-bundle.md), plus the two optional
+/// extensions ambient_temperature_c and yaw_error_deg.
 ScadaColumns bundle_scada_columns();
 /// The Kelmarsh wind farm export (Plumley 2022, doi:10.5281/zenodo.5841833).
 ScadaColumns kelmarsh_scada_columns();
 
 /// Parses a mapping: a preset name ("bundle", "kelmarsh") or a list
 /// `field=Column name;field=Column name...` with field one of the bundle names
-/// (t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm);
+/// (t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm,
+/// ambient_temperature_c, yaw_error_deg);
 /// unnamed fields keep the bundle's names. On failure returns nullopt and sets
 /// *error to a message naming the offending part.
 std::optional<ScadaColumns> parse_scada_columns(std::string_view spec, std::string* error);

@@ -9,7 +9,8 @@ namespace hal {
 namespace {
 
 constexpr std::array<const char*, kScadaFieldCount> kFieldNames{
-    "t_s", "wind_speed_mps", "rotor_speed_rpm", "power_kw", "pitch_deg", "torque_nm"};
+    "t_s",       "wind_speed_mps", "rotor_speed_rpm",       "power_kw",
+    "pitch_deg", "torque_nm",      "ambient_temperature_c", "yaw_error_deg"};
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
@@ -81,8 +82,9 @@ ScadaColumns bundle_scada_columns() {
 
 ScadaColumns kelmarsh_scada_columns() {
   ScadaColumns c;
-  c.column = {"Date and time", "Wind speed (m/s)", "Rotor speed (RPM)",
-              "Power (kW)",    "Pitch angle (\u00b0)", ""};
+  c.column = {"Date and time", "Wind speed (m/s)",     "Rotor speed (RPM)",
+              "Power (kW)",    "Pitch angle (\u00b0)", "",
+              "Nacelle ambient temperature (\u00b0C)", "Yaw error (\u00b0)"};
   return c;
 }
 
@@ -116,7 +118,7 @@ std::optional<ScadaColumns> parse_scada_columns(std::string_view spec, std::stri
     if (!known) {
       *error = "column mapping: unknown field '" + std::string(field) +
                "' (expected one of t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, "
-               "torque_nm)";
+               "torque_nm, ambient_temperature_c, yaw_error_deg)";
       return std::nullopt;
     }
   }

@@ -1,12 +1,71 @@
 #include "model/wind/cp_surface.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 
 namespace model::wind {
+
+namespace {
+
+// Heier's surface at the scaled tip-speed ratio λ' (> 0).
+double heier_cp(const CpSurface& surface, double lambda, double pitch_rad);
+
+// Monotone piecewise-cubic Hermite interpolation (Fritsch & Carlson 1980) of the
+// table at λ'; end values held outside the knots.
+double table_cp(const CpSurface& surface, double lambda) {
+  constexpr std::size_t n = kCpTableKnots;
+  const auto& y = surface.table_cp;
+  const double h = (surface.table_lambda_max - surface.table_lambda_min) / static_cast<double>(n - 1);
+  if (lambda <= surface.table_lambda_min) return y[0];
+  if (lambda >= surface.table_lambda_max) return y[n - 1];
+  const double x = (lambda - surface.table_lambda_min) / h;
+  const std::size_t k = std::min(static_cast<std::size_t>(x), n - 2);
+  const double t = x - static_cast<double>(k);
+  // Secant slopes (per knot spacing) and Fritsch–Carlson tangents: zero at a local
+  // extremum, else the harmonic mean of the neighbouring secants (Fritsch & Butland
+  // form), one-sided at the ends.
+  auto secant = [&](std::size_t i) { return y[i + 1] - y[i]; };
+  auto tangent = [&](std::size_t i) {
+    if (i == 0) return secant(0);
+    if (i == n - 1) return secant(n - 2);
+    const double a = secant(i - 1);
+    const double b = secant(i);
+    if (a * b <= 0.0) return 0.0;
+    return 2.0 * a * b / (a + b);
+  };
+  const double m0 = tangent(k);
+  const double m1 = tangent(k + 1);
+  const double t2 = t * t;
+  const double t3 = t2 * t;
+  // Cubic Hermite basis.
+  return (2.0 * t3 - 3.0 * t2 + 1.0) * y[k] + (t3 - 2.0 * t2 + t) * m0 +
+         (-2.0 * t3 + 3.0 * t2) * y[k + 1] + (t3 - t2) * m1;
+}
+
+}  // namespace
+
+bool has_cp_table(const CpSurface& surface) {
+  return surface.table_lambda_max > surface.table_lambda_min;
+}
 
 double power_coefficient(const CpSurface& surface, double tip_speed_ratio, double pitch_rad) {
   const double lambda = surface.lambda_scale * tip_speed_ratio;
   if (!(lambda > 0.0)) return 0.0;
+  if (has_cp_table(surface)) {
+    const double tabulated = table_cp(surface, lambda);
+    if (pitch_rad == 0.0) return tabulated > 0.0 ? tabulated : 0.0;
+    const double unpitched = heier_cp(surface, lambda, 0.0);
+    const double ratio = unpitched > 0.0 ? heier_cp(surface, lambda, pitch_rad) / unpitched : 0.0;
+    const double cp = tabulated * ratio;
+    return cp > 0.0 && std::isfinite(cp) ? cp : 0.0;
+  }
+  return heier_cp(surface, lambda, pitch_rad);
+}
+
+namespace {
+
+double heier_cp(const CpSurface& surface, double lambda, double pitch_rad) {
   // Heier's coefficients expect β in degrees.
   const double beta_deg = pitch_rad * (180.0 / 3.14159265358979323846);
   const double denominator = lambda + surface.lambda_i_beta * beta_deg;
@@ -21,6 +80,8 @@ double power_coefficient(const CpSurface& surface, double tip_speed_ratio, doubl
                     c[5] * lambda;
   return cp > 0.0 && std::isfinite(cp) ? cp : 0.0;
 }
+
+}  // namespace
 
 CpPeak find_cp_peak(const CpSurface& surface) {
   constexpr double kLambdaMin = 1.0;

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "model/wind/corrections.hpp"
+
 namespace model::wind {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -105,6 +107,18 @@ WindLoadOutput WindLoad::steady_state(double wind_speed_mps) const {
 
 WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
                                           double pitch_rad, bool has_pitch) const {
+  return with_rotor_speed(wind_speed_mps, rotor_speed_rad_s, pitch_rad, has_pitch, Inflow{});
+}
+
+double WindLoad::electrical_power_w(double rotor_torque_nm, double rotor_speed_rad_s) const {
+  return model::wind::electrical_power_w(rotor_torque_nm * rotor_speed_rad_s,
+                                         turbine_.drivetrain_efficiency,
+                                         turbine_.corrections.no_load_loss_w);
+}
+
+WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
+                                          double pitch_rad, bool has_pitch,
+                                          const Inflow& inflow) const {
   WindLoadOutput out;
   out.region = region_of(wind_speed_mps);
   out.rotor_speed_rad_s = rotor_speed_rad_s;
@@ -115,15 +129,26 @@ WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_sp
     out.region = OperatingRegion::kStopped;
     return out;
   }
-  out.tip_speed_ratio = rotor_speed_rad_s * turbine_.rotor_radius_m / wind_speed_mps;
+  const TurbineCorrections& k = turbine_.corrections;
+  const double free_wind_mps =
+      free_stream_wind_mps(wind_speed_mps, k.nacelle_wind_gain, k.nacelle_wind_offset_mps);
+  out.tip_speed_ratio =
+      free_wind_mps > 0.0 ? rotor_speed_rad_s * turbine_.rotor_radius_m / free_wind_mps : 0.0;
   if (out.region == OperatingRegion::kRated && !has_pitch) {
     out.torque_nm = rated_torque_nm_;
   } else {
-    out.torque_nm = std::min(
-        aerodynamic_torque_nm(wind_speed_mps, rotor_speed_rad_s, has_pitch ? pitch_rad : 0.0),
-        rated_torque_nm_);
+    const bool own_density = inflow.air_density_kg_m3 > 0.0;  // false for NaN too
+    const double density_scale =
+        own_density ? inflow.air_density_kg_m3 / turbine_.air_density_kg_m3 : 1.0;
+    const double yaw_scale =
+        k.yaw_loss_exponent > 0.0 ? yaw_power_factor(inflow.yaw_error_rad, k.yaw_loss_exponent)
+                                  : 1.0;
+    out.torque_nm = std::min(density_scale * yaw_scale *
+                                 aerodynamic_torque_nm(free_wind_mps, rotor_speed_rad_s,
+                                                       has_pitch ? pitch_rad : 0.0),
+                             rated_torque_nm_);
   }
-  out.power_coefficient = effective_cp(out.torque_nm, rotor_speed_rad_s, wind_speed_mps);
+  out.power_coefficient = effective_cp(out.torque_nm, rotor_speed_rad_s, free_wind_mps);
   return out;
 }
 

@@ -77,6 +77,38 @@ TEST_F(ScadaCsv, ReadsKelmarshColumnsWithDegreeSignsAndDateTimes) {
   EXPECT_DOUBLE_EQ(row.get(ScadaField::kPower), 189.5);
 }
 
+TEST_F(ScadaCsv, ReadsKelmarshAmbientTemperatureAndYawErrorAndNamesABadCell) {
+  // Arrange: the two optional columns of the Kelmarsh export; the second row's
+  // temperature is text.
+  const std::string path = write(
+      "k.csv",
+      "Date and time,Wind speed (m/s),Nacelle ambient temperature (\u00b0C),Yaw error (\u00b0)\n"
+      "2019-01-01 00:10:00,4.33,9.01,-7.5\n"
+      "2019-01-01 00:20:00,4.40,warm,1.0\n");
+  hal::ScadaCsvReader reader;
+  ASSERT_TRUE(reader.open(path, hal::kelmarsh_scada_columns())) << reader.error();
+  hal::ScadaRow row;
+  // Act / Assert
+  ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
+  EXPECT_DOUBLE_EQ(row.get(ScadaField::kAmbientTemperature), 9.01);
+  EXPECT_DOUBLE_EQ(row.get(ScadaField::kYawError), -7.5);
+  ASSERT_EQ(reader.next(row), ScadaReadResult::kError);
+  EXPECT_NE(reader.error().find("row 2 (line 3), column 'Nacelle ambient temperature (\u00b0C)': "
+                                "'warm' is not a number"),
+            std::string::npos)
+      << reader.error();
+}
+
+TEST_F(ScadaCsv, BundleFileWithoutTheOptionalExtensionsHasThemAbsent) {
+  const std::string path = write("scada.csv", "t_s,wind_speed_mps\n0,5\n");
+  hal::ScadaCsvReader reader;
+  ASSERT_TRUE(reader.open(path, hal::bundle_scada_columns())) << reader.error();
+  hal::ScadaRow row;
+  ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
+  EXPECT_FALSE(reader.has_column(ScadaField::kAmbientTemperature));
+  EXPECT_FALSE(row.has(ScadaField::kYawError));
+}
+
 TEST_F(ScadaCsv, CustomMappingRenamesOnlyTheNamedFields) {
   std::string error;
   const auto columns = hal::parse_scada_columns("wind_speed_mps=WS; power_kw = P (kW)", &error);

@@ -34,12 +34,30 @@ struct Material {
   double reversed_bending_factor = 0.7;// [-] Y_M for fully reversed root stress (idler / planet), ISO 6336-3 Annex B
 };
 
+/// Knots of a tabulated Cp(λ) curve (CpSurface::table_cp).
+inline constexpr std::size_t kCpTableKnots = 12;
+
 /// Power coefficient surface Cp(λ, β): the form is defined in model/wind.
 struct CpSurface {
   std::array<double, 6> c{};  // [-] surface coefficients c1..c6 (see model/wind/cp_surface.hpp)
   double lambda_i_beta = 0.08;   // [-] λ_i coupling to pitch
   double lambda_i_cubic = 0.035; // [-] λ_i pitch cubic term
   double lambda_scale = 1.0;     // [-] s: the surface is evaluated at s·λ (places λ_opt)
+  // Optional tabulated Cp(λ, 0) on kCpTableKnots equally spaced λ from table_lambda_min
+  // to table_lambda_max (used when max > min; model/wind/cp_surface.hpp).
+  double table_lambda_min = 0.0;          // [-]
+  double table_lambda_max = 0.0;          // [-]
+  std::array<double, kCpTableKnots> table_cp{};  // [-] Cp at the knots, each in [0, 16/27]
+};
+
+/// What lies between the SCADA measurements and the rotor's aerodynamic power,
+/// and between that power and the grid (model/wind/corrections.hpp; fitted to
+/// SCADA by `drivetwin fit-cp`). The defaults change nothing.
+struct TurbineCorrections {
+  double no_load_loss_w = 0.0;           // [W] P_0 in P_el = η·P_aero − P_0
+  double nacelle_wind_gain = 1.0;        // [-] a in v_free = a·v_nacelle + b (IEC 61400-12-2 NTF)
+  double nacelle_wind_offset_mps = 0.0;  // [m/s] b
+  double yaw_loss_exponent = 0.0;        // [-] x in P ∝ cos^x(yaw error); 0: no yaw correction
 };
 
 struct Turbine {
@@ -56,6 +74,8 @@ struct Turbine {
   double lambda_opt = 0.0;             // [-] tip-speed ratio of cp_max
   CpSurface cp;                        // Cp(λ, β)
   double drivetrain_efficiency = 1.0;  // [-] rotor (aerodynamic) power → electrical power
+  double site_altitude_m = 0.0;        // [m] above sea level: pressure for ρ from a measured temperature
+  TurbineCorrections corrections;      // SCADA → rotor → grid (defaults: none)
 };
 
 enum class StageType { kPlanetary, kParallel };

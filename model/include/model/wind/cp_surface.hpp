@@ -16,12 +16,26 @@
 // Negative values (a rotor driven by the generator) are clamped to 0: the twin
 // estimates the load a turning rotor puts on the drivetrain, never motoring.
 //
+// Tabulated alternative (CpSurface::table_cp, when table_lambda_max > table_lambda_min):
+// Cp(λ', 0) is the monotone piecewise-cubic Hermite interpolant (Fritsch & Carlson,
+// SIAM J. Numer. Anal. 17(2), 1980) of kCpTableKnots values at equally spaced λ',
+// held at the end values outside the knots. It is C¹ and never leaves the range of
+// the neighbouring knot values, so knots within [0, 16/27] keep Cp below the Betz
+// limit everywhere. Pitch enters as Heier's relative factor:
+//   Cp(λ', β) = Cp_table(λ') · Cp_Heier(λ', β) / Cp_Heier(λ', 0)   (0 when the denominator is).
+//
 // Thread context: pure functions of their arguments, no allocation, no
 // exceptions, no blocking; safe on the real-time thread.
 
 #include "model/drivetrain/description.hpp"
 
 namespace model::wind {
+
+/// The Betz limit 16/27: the most a free-stream actuator disc can extract.
+inline constexpr double kBetzLimit = 16.0 / 27.0;
+
+/// Whether the surface uses its Cp(λ) table rather than Heier's c1..c6.
+bool has_cp_table(const CpSurface& surface);
 
 /// Cp(λ, β) of the surface above, clamped to [0, ∞).
 /// @param surface          coefficients (description's Turbine::cp)

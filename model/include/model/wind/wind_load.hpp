@@ -37,8 +37,14 @@
 // With a measured rotor speed (SCADA) the estimate is aerodynamic with that
 // speed and the measured pitch (β = 0 when none is measured), limited to
 // T_rated; in region 3 without a measured pitch it is T_rated (the controller
-// holds it). Regions are labelled from the wind speed as above; a rotor turning
-// slower than kStoppedRotorSpeedRadS is reported stopped with T = 0.
+// holds it). Regions are labelled from the measured wind speed as above (what
+// the turbine's controller sees); a rotor turning slower than
+// kStoppedRotorSpeedRadS is reported stopped with T = 0. The aerodynamics of
+// that path use the description's corrections (model/wind/corrections.hpp):
+// the measured (nacelle) wind speed goes through the nacelle transfer function,
+// ρ is the measured-temperature density when the caller has one, and a yaw
+// error reduces the power by cos^x(γ). The defaults (a = 1, b = 0, x = 0, the
+// description's ρ) leave the estimate exactly as without them.
 //
 // Thread context: construct at start-up (no allocation either); every query is
 // a pure, allocation-free, exception-free function safe on the real-time thread.
@@ -61,6 +67,13 @@ enum class OperatingRegion : std::uint8_t {
 
 /// Short stable name ("below_cut_in", "2", "2.5", "3", "above_cut_out", "stopped").
 const char* region_name(OperatingRegion region);
+
+/// What a SCADA row says about the inflow besides the wind speed.
+struct Inflow {
+  double air_density_kg_m3 = 0.0;  // [kg/m³] e.g. from a measured temperature; ≤ 0 or NaN:
+                                   // the description's air_density_kg_m3
+  double yaw_error_rad = 0.0;      // [rad] wind direction − rotor axis
+};
 
 struct WindLoadOutput {
   double torque_nm = 0.0;          // [N·m] rotor torque into the gearbox (low-speed shaft)
@@ -88,6 +101,16 @@ class WindLoad {
   /// @param pitch_rad          measured blade pitch [rad]; ignored unless has_pitch
   WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
                                   double pitch_rad, bool has_pitch) const;
+
+  /// As above with a measured inflow (density, yaw error).
+  /// @param wind_speed_mps  measured (nacelle) wind speed [m/s]; the aerodynamics use the
+  ///                        free stream a·v + b (TurbineCorrections)
+  WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
+                                  double pitch_rad, bool has_pitch, const Inflow& inflow) const;
+
+  /// Electrical power that a rotor torque at a speed delivers: η·T·ω − P_0 [W]
+  /// (model/wind/corrections.hpp, drivetrain_efficiency and no_load_loss_w).
+  double electrical_power_w(double rotor_torque_nm, double rotor_speed_rad_s) const;
 
   /// Aerodynamic torque ½ρπR²v³·Cp(λ, β)/ω [N·m], no region logic, no limit;
   /// 0 when ω ≤ 0 or v ≤ 0.
