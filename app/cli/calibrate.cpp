@@ -1,7 +1,9 @@
 // `drivetwin calibrate <bundle> [--json out]`: the paper's similarity
 // indicators f1/f2/f3 of the twin's simulated vibration against a recording
-// at both measurement points, and — when any is above its threshold — a MOGOA
-// calibration of the uncertain dynamics parameters (model/calibration/).
+// at both measurement points, and — when any is above its threshold — a
+// calibration of the uncertain dynamics parameters (model/calibration/):
+// --method trust-region (default; derivative-free least squares on the
+// features, model/calibration/trust_region.hpp), improved or published MOGOA.
 //
 // Prints the indicators before, the optimiser's progress, the chosen
 // parameters and the indicators after; --json writes the same with the keys
@@ -12,9 +14,10 @@
 // was), 2 when the calibration could not bring them all within, 1 for a bad
 // bundle or channel (a message names the file, the channel and what was wrong).
 //
-// Simulator: --simulator lumped (default; model/calibration/lumped_simulator.hpp,
-// the cheap stand-in) or rom (the dynamics ROM, model/dynamics/simulate.hpp,
-// through app/calibration/rom_simulator.hpp); every output names it.
+// Simulator: --simulator rom (default; the twin's dynamics ROM,
+// model/dynamics/simulate.hpp, through model/calibration/dynamics_simulator.hpp)
+// or lumped (model/calibration/lumped_simulator.hpp, the cheap stand-in the
+// first calibrator was developed on); every output names it.
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -29,11 +32,11 @@
 #include <string>
 #include <vector>
 
-#include "calibration/rom_simulator.hpp"
 #include "cli/command.hpp"
 #include "config/drivetrain_file.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/calibration/calibrator.hpp"
+#include "model/calibration/dynamics_simulator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
@@ -53,8 +56,9 @@ struct CalibrateArgs {
   std::string bundle;
   std::string json;
   std::string drivetrain;  // overrides the bundle's drivetrain when set
-  std::string method = "improved";
-  std::string simulator = "lumped";
+  std::string method = "trust-region";
+  std::string simulator = "rom";
+  std::size_t evaluations = 60;
   std::size_t population = 20;
   std::size_t iterations = 50;
   std::uint64_t seed = 1;
@@ -207,12 +211,16 @@ void run(const CalibrateArgs& args) {
     cc.method = mc::CalibrationMethod::kPublishedMogoa;
   } else if (args.method == "improved") {
     cc.method = mc::CalibrationMethod::kImprovedMogoa;
+  } else if (args.method == "trust-region") {
+    cc.method = mc::CalibrationMethod::kTrustRegion;
   } else {
-    throw CommandError("--method: expected 'published' or 'improved', got '" + args.method + "'");
+    throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" + args.method + "'");
   }
   cc.mogoa.population = args.population;
   cc.mogoa.max_iterations = args.iterations;
   cc.mogoa.seed = args.seed;
+  cc.trust_region.max_evaluations = args.evaluations;
+  cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
   mc::LumpedSimulatorConfig sc;
   sc.harmonics = args.harmonics;
   sc.max_duration_s = 4.0 * static_cast<double>(args.revolutions + 4) /
@@ -225,10 +233,12 @@ void run(const CalibrateArgs& args) {
   if (args.simulator == "lumped") {
     simulator = std::make_unique<mc::LumpedSimulator>(drivetrain, sc);
   } else if (args.simulator == "rom") {
-    // ROM at the recording's rate would cost most; 4× the top harmonic as for the stand-in, 0.5 s settling.
-    simulator = std::make_unique<app::calibration::RomSimulator>(drivetrain, sc.sample_rate_hz, 0.5);
+    // The ROM at the recording's rate would cost most: ≥ 6× the top harmonic (dynamics_simulator.hpp),
+    // after 0.5 s of settling from the static deflection.
+    simulator = std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom,
+                                                        mc::rom_sample_rate_hz(top_hz), 0.5);
   } else {
-    throw CommandError("--simulator: expected 'lumped' or 'rom', got '" + args.simulator + "'");
+    throw CommandError("--simulator: expected 'rom' or 'lumped', got '" + args.simulator + "'");
   }
   auto calibrator = std::make_unique<mc::Calibrator>(*simulator, drivetrain, fc, cc);
   if (calibrator->status() != dsp::DspStatus::kOk) {
@@ -329,14 +339,24 @@ void run(const CalibrateArgs& args) {
     if (!args.quiet) std::printf("every indicator within its threshold: no calibration needed\n");
   } else {
     if (!args.quiet) {
-      std::printf("calibrating: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n", args.method.c_str(),
-                  args.population, args.iterations, static_cast<unsigned long long>(args.seed));
+      if (cc.method == mc::CalibrationMethod::kTrustRegion) {
+        std::printf("calibrating: trust-region least squares on the features, at most %zu evaluations\n",
+                    args.evaluations);
+      } else {
+        std::printf("calibrating: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n", args.method.c_str(),
+                    args.population, args.iterations, static_cast<unsigned long long>(args.seed));
+      }
     }
     const auto t0 = std::chrono::steady_clock::now();
     calibrator->start(before);
     mc::StepStatus st;
     while ((st = calibrator->step()) == mc::StepStatus::kRunning) {
-      if (!args.quiet && (calibrator->iteration() % 5 == 0 || calibrator->iteration() <= 1)) {
+      const bool tr = cc.method == mc::CalibrationMethod::kTrustRegion;
+      if (!args.quiet && tr) {
+        std::printf("  evaluation %3zu  best worst-indicator/threshold %.3f  trust radius %.3g%s\n",
+                    calibrator->evaluations(), calibrator->best_ratio(), calibrator->trust_radius(),
+                    calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
+      } else if (!args.quiet && (calibrator->iteration() % 5 == 0 || calibrator->iteration() <= 1)) {
         std::printf("  iteration %3zu  evaluations %5zu  best worst-indicator/threshold %.3f%s\n",
                     calibrator->iteration(), calibrator->evaluations(), calibrator->best_ratio(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
@@ -389,8 +409,9 @@ void setup(CLI::App& sub) {
   sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")->required();
   sub.add_option("--json", args->json, "Write the result as JSON to this file");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
-  sub.add_option("--method", args->method, "improved (default) or published MOGOA");
-  sub.add_option("--simulator", args->simulator, "lumped (default, stand-in) or rom (dynamics ROM)");
+  sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA");
+  sub.add_option("--simulator", args->simulator, "rom (default, the dynamics ROM) or lumped (stand-in)");
+  sub.add_option("--evaluations", args->evaluations, "trust-region: model evaluations at most (default 60)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)");
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
   sub.add_option("--seed", args->seed, "Random seed (default 1)");

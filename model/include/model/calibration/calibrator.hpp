@@ -1,9 +1,10 @@
 #pragma once
 // Calibration of the twin (VBDM-DT §2.3.2, §3.2): when a similarity
-// indicator of either measurement point exceeds its threshold, MOGOA moves the
-// uncertain dynamics parameters to minimise the six indicators
+// indicator of either measurement point exceeds its threshold, an optimiser
+// moves the uncertain dynamics parameters to minimise the six indicators
 // (f1, f2, f3 at point1 and point2) of the simulated against the measured
-// vibration, and the calibrator picks from the Pareto archive:
+// vibration, and the calibrator picks, from the Pareto archive of the
+// parameter sets it evaluated:
 //   the member with every indicator within its threshold that is nearest the
 //   ideal point (the archive's component-wise minimum), distances measured in
 //   units of each indicator's threshold; if no member is within all
@@ -11,20 +12,40 @@
 //
 // Decision variables (8): Rayleigh η [1/s] and ζ [s], the mesh stiffness
 // scale of each of the 3 stages and the bearing stiffness scale of each of the
-// 3 parallel shafts (model::DynamicsParameters). The optimiser searches their
+// 3 parallel shafts (model::DynamicsParameters). The optimisers search their
 // logarithms within CalibrationSpace's bounds (ratios, not differences, are
 // what is uncertain about a damping or a stiffness).
 //
+// Optimisers (CalibrationMethod):
+//  - kTrustRegion (default): derivative-free least squares (trust_region.hpp,
+//    after DFO-GN, Cartis & Roberts 2019) on the features the indicators are
+//    made of. One model evaluation returns the whole feature vector
+//      φ = (ln RMS, ln A_1 … ln A_n) of point1, then of point2
+//    and the residual is r = w ∘ (φ(x) − φ_measured) with
+//      w = 1/0.5 for ln RMS                   (f1's threshold: f1 ≈ |ln RMS ratio|)
+//      w = 1/(0.2·√n_p) for each tone that the measurement resolves, 0 for the others
+//                                             (f3's threshold: Σ r² = mean (ln ratio)² / 0.2²)
+//    so F = ‖r‖² ≈ Σ_points (f1/0.5)² + (f3-like/0.2)²; f2 (shape) follows
+//    when the amplitudes match. Cold start: n = 8 probes build J (9
+//    evaluations), then one evaluation per iteration. Warm start: the previous
+//    calibration's parameters AND its feature Jacobian J (Broyden-updated as
+//    the run goes): the first evaluation is already a step of the model.
+//  - kImprovedMogoa: MOGOA + the current/previous parameters in the initial
+//    population + a preference-guided target (mogoa.hpp).
+//  - kPublishedMogoa: MOGOA as published (random initial population).
+//
 // Thread context: a low-priority worker owns the Calibrator and calls
 // start() and then step() until it returns a final status; each step() is one
-// MOGOA iteration (population × one simulation). cancel() and read_result()
-// may be called from any thread at any time: cancel() sets an atomic flag
-// that the next step() honours, and read_result() reads the last published
-// result through a seqlock of atomic words (lock-free, never blocks the
-// writer; the real-time loop can poll it and swap the parameters in at a cycle
-// boundary). Construct at start-up: all buffers, the FFT plan and the MOGOA
-// storage are allocated there; start()/step() do not allocate (the simulator
-// must not either).
+// model evaluation (trust region) or one MOGOA iteration (population × one
+// simulation). cancel() and read_result() may be called from any thread at
+// any time: cancel() sets an atomic flag that the next step() honours, and
+// read_result() reads the last published result through a seqlock of atomic
+// words (lock-free, never blocks the writer; the real-time loop can poll it
+// and swap the parameters in at a cycle boundary). Construct at start-up: all
+// buffers, the FFT plan, the MOGOA and trust-region storage and the archive
+// are allocated there; start()/step() do not allocate (the simulator must not
+// either for that to hold: the lumped stand-in does not, the dynamics ROM
+// adapter does, see dynamics_simulator.hpp).
 
 #include <array>
 #include <atomic>
@@ -36,6 +57,7 @@
 #include "model/calibration/indicators.hpp"
 #include "model/calibration/mogoa.hpp"
 #include "model/calibration/simulator.hpp"
+#include "model/calibration/trust_region.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
@@ -70,11 +92,17 @@ bool needs_calibration(const PointIndicators& indicators);
 enum class CalibrationMethod : std::uint8_t {
   kPublishedMogoa,  // MOGOA as published, random initial population
   kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target
+  kTrustRegion,     // derivative-free least squares on the features (see above); warm start reuses J
 };
 
+/// The trust-region method's model of the features: ∂φ/∂x at the last
+/// calibration (rows: features of FeatureLayout, columns: the 8 variables).
+using FeatureJacobian = TrustRegionLeastSquares::Jacobian;
+
 struct CalibratorConfig {
-  CalibrationMethod method = CalibrationMethod::kImprovedMogoa;
+  CalibrationMethod method = CalibrationMethod::kTrustRegion;
   MogoaConfig mogoa{};                   // population, iterations, seed (archive_size kept ≤ kMaxArchive)
+  TrustRegionConfig trust_region{};      // budget, radii, probe basis seed
   double preference_target_share = 0.5;  // [-] improved method only
   bool stop_at_threshold = false;        // finish as soon as one evaluated solution fits everywhere
   CalibrationSpace space{};
@@ -88,7 +116,7 @@ struct CalibrationResult {
   bool fits = false;                  // every indicator of the chosen parameters within its threshold
   DynamicsParameters parameters{};    // chosen parameters
   PointIndicators indicators{};       // their indicators
-  std::size_t iterations = 0;         // [-] MOGOA iterations made
+  std::size_t iterations = 0;         // [-] MOGOA iterations / trust-region steps made
   std::size_t evaluations = 0;        // [-] model evaluations made
   std::size_t evaluations_to_threshold = 0;  // [-] at the first fitting evaluation; 0: none
 };
@@ -118,12 +146,17 @@ class Calibrator {
   bool evaluate(const DynamicsParameters& params, PointIndicators& out);
 
   /// Begins a calibration from `current` (the fields not calibrated are kept).
-  /// `previous`, when given, is the last calibration's result (warm start of
-  /// the improved method). Returns false for an unusable configuration.
-  bool start(const DynamicsParameters& current, const std::optional<DynamicsParameters>& previous = std::nullopt);
+  /// `previous`, when given, is the last calibration's result (warm start:
+  /// the improved MOGOA seeds it into its population; the trust region starts
+  /// from it instead of `current`). `previous_model` is that calibration's
+  /// feature Jacobian (feature_model()); when absent, the trust region reuses
+  /// this calibrator's own last model if it has one and `previous` is given.
+  /// Returns false for an unusable configuration.
+  bool start(const DynamicsParameters& current, const std::optional<DynamicsParameters>& previous = std::nullopt,
+             const FeatureJacobian* previous_model = nullptr);
 
-  /// One MOGOA iteration (the first step evaluates the initial population).
-  /// Publishes the result when the run ends.
+  /// One model evaluation (trust region) or one MOGOA iteration (the first
+  /// step evaluates the initial population). Publishes the result when the run ends.
   StepStatus step();
 
   /// Requests the running calibration to stop at the next step(); any thread.
@@ -135,10 +168,16 @@ class Calibrator {
 
   std::size_t evaluations() const { return problem_.evaluations; }
   std::size_t evaluations_to_threshold() const { return problem_.evaluations_to_threshold; }
-  std::size_t iteration() const { return mogoa_ ? mogoa_->iteration() : 0; }
+  std::size_t iteration() const;
   /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2) of member i.
-  std::size_t archive_count() const { return mogoa_ ? mogoa_->archive_count() : 0; }
-  double archive_objective(std::size_t i, std::size_t k) const { return mogoa_->archive_objective(i, k); }
+  std::size_t archive_count() const;
+  double archive_objective(std::size_t i, std::size_t k) const;
+  /// The trust region's feature Jacobian after the last run; false when none
+  /// (no trust-region run finished its model yet).
+  bool feature_model(FeatureJacobian& out) const;
+  /// Number of features φ (2 × (1 + mesh tones)) and the trust region's radius.
+  std::size_t feature_count() const { return feature_count_; }
+  double trust_radius() const { return tr_ ? tr_->radius() : 0.0; }
   /// Smallest worst_threshold_ratio over both points seen so far (≤ 1: fits).
   double best_ratio() const { return problem_.best_ratio; }
 
@@ -157,6 +196,21 @@ class Calibrator {
     double preference(const double* f) const override;
   };
 
+  // The trust region's view: x (log variables) → φ (log features).
+  struct FeatureProblem : FeatureMap {
+    Calibrator* owner = nullptr;
+    std::size_t variables() const override { return kCalibrationVariables; }
+    std::size_t features() const override { return owner->feature_count_; }
+    double lower(std::size_t i) const override { return owner->config_.space.lower(i); }
+    double upper(std::size_t i) const override { return owner->config_.space.upper(i); }
+    bool evaluate(const double* x, double* phi) override;
+  };
+
+  // One evaluation of x for either optimiser: indicators into f (penalties on
+  // failure), log features into phi when non-null; counts and archives (trust region).
+  bool evaluate_variables(const double* x, double* f, double* phi);
+  bool simulate_features(const DynamicsParameters& params, std::array<dsp::PointFeatures, kMeasurementPoints>& out);
+  void archive_add(const double* x, const double* f);
   void finish(bool cancelled);
   void publish(const CalibrationResult& result);
 
@@ -168,7 +222,16 @@ class Calibrator {
   OperatingPoint op_{};
   DynamicsParameters base_{};
   Problem problem_;
+  FeatureProblem feature_problem_;
   std::optional<Mogoa> mogoa_;
+  std::optional<TrustRegionLeastSquares> tr_;
+  std::size_t feature_count_ = 0;
+  FeatureJacobian last_model_ = FeatureJacobian::Zero();
+  bool last_model_valid_ = false;
+  // Pareto archive of the trust region's evaluations (MOGOA keeps its own).
+  std::size_t archive_n_ = 0;
+  std::array<std::array<double, kCalibrationVariables>, kMaxArchive> archive_x_{};
+  std::array<std::array<double, kCalibrationObjectives>, kMaxArchive> archive_f_{};
   StepStatus state_ = StepStatus::kIdle;
   std::atomic<bool> cancel_requested_{false};
 
