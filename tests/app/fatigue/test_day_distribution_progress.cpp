@@ -1,0 +1,71 @@
+// The pieces of `drivetwin damage` that need no command registry: --per-day's distribution
+// of daily damage, and the progress bar only on a terminal.
+#include <fcntl.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "fatigue/damage_history.hpp"
+#include "fatigue/progress.hpp"
+
+namespace {
+
+TEST(DayDistribution, QuartilesMedianAndNearestDaysFollowTheHandCalculation) {
+  // Arrange: five full days with damage 5, 1, 4, 2, 3 (·1e-6) and daily mean wind 9, 5, 7, 6.5, 8 m/s,
+  // and one partial day. Sorted: 1 2 3 4 5 → type 7 quantiles at ranks 1, 2, 3: Q1 2, median 3, Q3 4.
+  std::vector<app::fatigue::DayRecord> days;
+  const double damage[] = {5e-6, 1e-6, 4e-6, 2e-6, 3e-6};
+  const double wind[] = {9.0, 5.0, 7.0, 6.5, 8.0};
+  for (int i = 0; i < 5; ++i) {
+    app::fatigue::DayRecord d;
+    d.day = i;
+    d.covered_s = 86400.0;
+    d.wind_sum_mps = wind[i] * 144;
+    d.wind_rows = 144;
+    d.damage = {damage[i]};
+    days.push_back(d);
+  }
+  app::fatigue::DayRecord partial;
+  partial.covered_s = 600.0;
+  partial.damage = {1.0};
+  days.push_back(partial);
+  // Act
+  const auto dist = app::fatigue::day_distribution(days, 0, 86400.0, 6.75, 2);
+  // Assert: |wind − 6.75| = 2.25, 1.75, 0.25, 0.25, 1.25 → days 2 and 3 (tie kept in order).
+  EXPECT_EQ(dist.full_days, 5u);
+  EXPECT_EQ(dist.partial_days, 1u);
+  EXPECT_DOUBLE_EQ(dist.min, 1e-6);
+  EXPECT_DOUBLE_EQ(dist.q1, 2e-6);
+  EXPECT_DOUBLE_EQ(dist.median, 3e-6);
+  EXPECT_DOUBLE_EQ(dist.q3, 4e-6);
+  EXPECT_DOUBLE_EQ(dist.max, 5e-6);
+  EXPECT_DOUBLE_EQ(dist.mean, 3e-6);
+  ASSERT_EQ(dist.nearest.size(), 2u);
+  EXPECT_EQ(dist.nearest[0], 2u);
+  EXPECT_EQ(dist.nearest[1], 3u);
+}
+
+TEST(ProgressBar, IsDrawnOnATerminalButNotIntoAPipeOrWhenSwitchedOff) {
+  // Arrange: a pipe (as in CI logs and `| tee`) and a pseudo-terminal.
+  int pipe_fds[2];
+  ASSERT_EQ(::pipe(pipe_fds), 0);
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  ASSERT_GE(master, 0);
+  ASSERT_EQ(::grantpt(master), 0);
+  ASSERT_EQ(::unlockpt(master), 0);
+  const int tty = ::open(::ptsname(master), O_RDWR | O_NOCTTY);
+  ASSERT_GE(tty, 0);
+  // Act / Assert
+  EXPECT_FALSE(app::fatigue::show_progress(false, pipe_fds[1]));
+  EXPECT_TRUE(app::fatigue::show_progress(false, tty));
+  EXPECT_FALSE(app::fatigue::show_progress(true, tty));
+  ::close(tty);
+  ::close(master);
+  ::close(pipe_fds[0]);
+  ::close(pipe_fds[1]);
+}
+
+}  // namespace
