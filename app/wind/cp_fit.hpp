@@ -17,7 +17,9 @@
 // every knot and hence the whole monotone interpolant stays within the Betz
 // limit; the knots span λ from 0.9·ω_rated·R/v_rated to 1.1·ω_min·R/v_cut_in,
 // the tip-speed ratios of the rows in operation below rated wind with a margin
-// for 10-minute averaging (from the description alone, before any fit).
+// for 10-minute averaging (from the description alone, before any fit), and a
+// weak pull of each knot towards its textbook value keeps knots without data
+// where the textbook puts them (cp_fit.cpp, kKnotPriorWeight).
 // With FitOptions also the no-load loss
 // P_0, the nacelle transfer function's offset b (gain a stays 1: with a and b
 // free, a trades against c1 and s), and the yaw loss exponent x
