@@ -4,8 +4,8 @@
 // trip count over contiguous arrays; products with the read-out matrices are sums of
 // their columns (no horizontal sums), and the two sensor dot products keep kLanes
 // partial sums in a fixed order, so the result does not depend on the vector width
-// the compiler picks; the state is written to local arrays and copied out at the end,
-// so no store can alias a load of the model data. The 8×8 mesh system uses 8-wide
+// the compiler picks; the state arrays are `__restrict` (only the kernel touches them
+// during a step), so the corrector updates them in place. The 8×8 mesh system uses 8-wide
 // vectors (Mesh8) explicitly. This file is compiled with -O3 -ffp-contract=fast (FMA
 // where the target has it: AVX2/AVX-512 clones, aarch64) — model/src/dynamics/CMakeLists.txt.
 //
@@ -90,12 +90,13 @@ constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
 #define DRIVETWIN_ROM_KERNEL_CLONES
 #endif
 
-DRIVETWIN_ROM_KERNEL_CLONES
-void rom_step_kernel(const RomKernelModel& m, const double revs, const double input_torque_nm,
-                     const RomKernelState& s, const RomKernelOutputs& out) noexcept {
-  const double* const q = s.q;
-  const double* const v = s.v;
-  const double* const g = s.g;
+namespace {
+// The step proper. The state arrays are `__restrict`: the kernel reads and writes them
+// only through these pointers, so the corrector writes them in place without the
+// compiler guarding every store against the model data.
+[[gnu::always_inline]] inline void step(const RomKernelModel& m, const double revs, const double input_torque_nm,
+                                        double* __restrict q, double* __restrict v, double* __restrict g,
+                                        const RomKernelState& s, const RomKernelOutputs& out) noexcept {
 
   // The time-varying coefficients at t_{n+1} from their tables (in the clone: the
   // look-ups' floor() is one instruction with SSE4.1 and later).
@@ -174,9 +175,6 @@ void rom_step_kernel(const RomKernelModel& m, const double revs, const double in
 
   // Corrector: g⁺ = h − W y, q⁺ = r − b1q ⊙ W y, v⁺ from the propagators; the seat
   // accelerations S q̈⁺ = S (g⁺ − c ⊙ v⁺ − ω² ⊙ q⁺) in the same pass.
-  alignas(64) double q_next[kN];
-  alignas(64) double v_next[kN];
-  alignas(64) double g_next[kN];
   double acc0[kLanes] = {};
   double acc1[kLanes] = {};
   const double* s0 = m.sensor_rows;
@@ -192,15 +190,10 @@ void rom_step_kernel(const RomKernelModel& m, const double revs, const double in
       const double qdd = gn - m.damping_1_s[i] * vn - m.omega2[i] * qn;
       acc0[l] += s0[i] * qdd;
       acc1[l] += s1[i] * qdd;
-      q_next[i] = qn;
-      v_next[i] = vn;
-      g_next[i] = gn;
+      q[i] = qn;
+      v[i] = vn;
+      g[i] = gn;
     }
-  }
-  for (int i = 0; i < kN; ++i) {
-    s.q[i] = q_next[i];
-    s.v[i] = v_next[i];
-    s.g[i] = g_next[i];
   }
   static_assert(kKernelSensors == 2, "the corrector pass accumulates two sensor rows");
   out.acceleration_m_s2[0] = sum_lanes(acc0);
@@ -226,6 +219,13 @@ void rom_step_kernel(const RomKernelModel& m, const double revs, const double in
     out.bearing_force_x_n[j] = k_bearing[j] * z_next[kM + 2 * j];
     out.bearing_force_y_n[j] = k_bearing[j] * z_next[kM + 2 * j + 1];
   }
+}
+}  // namespace
+
+DRIVETWIN_ROM_KERNEL_CLONES
+void rom_step_kernel(const RomKernelModel& m, const double revs, const double input_torque_nm,
+                     const RomKernelState& s, const RomKernelOutputs& out) noexcept {
+  step(m, revs, input_torque_nm, s.q, s.v, s.g, s, out);
 }
 
 const char* rom_step_kernel_isa() noexcept {
