@@ -51,8 +51,9 @@ app::wind::FitOptions parse_free(const std::string& text) {
     } else if (item == "yaw") {
       o.yaw_exponent = true;
     } else if (item != "none" && !item.empty()) {
-      throw app::cli::CommandError("--free: unknown parameter '" + item +
-                                   "' (expected a list of table, loss, offset, gain, yaw, or none)");
+      throw app::cli::CommandError(
+          "--free: unknown parameter '" + item +
+          "' (expected a list of table, loss, offset, gain, yaw, or none)");
     }
   }
   return o;
@@ -67,20 +68,22 @@ app::wind::TorqueSummary evaluate(const FitArgs& args, const hal::ScadaColumns& 
   options.measured_temperature = !args.constant_density;
   const app::wind::TorqueEstimator estimator(d, options);
   try {
-    return app::wind::run_torque(
-        reader, estimator, window, [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
-          if (rows == nullptr || !e.in_operation) return;
-          rows->push_back(app::wind::fit_row_of(row, e));
-        });
+    return app::wind::run_torque(reader, estimator, window,
+                                 [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
+                                   if (rows == nullptr || !e.in_operation) return;
+                                   rows->push_back(app::wind::fit_row_of(row, e));
+                                 });
   } catch (const std::runtime_error& e) {
     throw app::cli::CommandError(e.what());
   }
 }
 
 void print_mape(const char* label, const app::wind::MapeAccumulator& m) {
-  std::printf("%s MAPE: region 2 %.2f %% (%zu rows), 2.5 %.2f %% (%zu), 3 %.2f %% (%zu), all %.2f %% (%zu)\n",
-              label, m.mape_pct(0), m.count(0), m.mape_pct(1), m.count(1), m.mape_pct(2),
-              m.count(2), m.mape_pct(), m.count());
+  std::printf(
+      "%s MAPE: region 2 %.2f %% (%zu rows), 2.5 %.2f %% (%zu), 3 %.2f %% (%zu), all %.2f %% "
+      "(%zu)\n",
+      label, m.mape_pct(0), m.count(0), m.mape_pct(1), m.count(1), m.mape_pct(2), m.count(2),
+      m.mape_pct(), m.count());
 }
 
 app::wind::TimeWindow window_of(const std::string& from, const std::string& to,
@@ -107,8 +110,8 @@ void run(const FitArgs& args) {
   const model::wind::CpPeak peak = model::wind::find_cp_peak(fit.surface);
 
   std::printf("# fit-cp %s (%s .. %s), drivetrain %s, %zu rows in operation\n", args.file.c_str(),
-              args.from.empty() ? "start" : args.from.c_str(), args.to.empty() ? "end" : args.to.c_str(),
-              d.name.c_str(), fit.rows);
+              args.from.empty() ? "start" : args.from.c_str(),
+              args.to.empty() ? "end" : args.to.c_str(), d.name.c_str(), fit.rows);
   std::printf("# free: %s%s%s%s%s; air density: %s\n",
               options.cp_table ? "Cp(lambda) table knots" : "c1, lambda_scale",
               options.no_load_loss ? ", no_load_loss_w" : "",
@@ -118,9 +121,11 @@ void run(const FitArgs& args) {
               args.constant_density || before.density_rows == 0
                   ? "constant (description's air_density_kg_m3)"
                   : "from the ambient temperature column at site_altitude_m (ISA pressure)");
-  std::printf("# Levenberg-Marquardt status %d after %d iterations; mean |relative torque error| "
-              "%.4f (start) -> %.4f\n",
-              fit.lm_status, fit.iterations, fit.mean_abs_relative_error_before, fit.mean_abs_relative_error_after);
+  std::printf(
+      "# Levenberg-Marquardt status %d after %d iterations; mean |relative torque error| "
+      "%.4f (start) -> %.4f\n",
+      fit.lm_status, fit.iterations, fit.mean_abs_relative_error_before,
+      fit.mean_abs_relative_error_after);
   std::printf("# fitted surface: Cp_max %.4f at lambda_opt %.3f (beta = 0)\n", peak.cp_max,
               peak.lambda_opt);
   const auto summary = evaluate(args, *columns, d, window, nullptr);
@@ -157,8 +162,10 @@ void setup(CLI::App& sub) {
   sub.add_option("scada_csv", args->file, "SCADA CSV with wind, rotor speed, pitch and power")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--columns", args->columns, "Column mapping: bundle, kelmarsh or 'field=Column;...'");
-  sub.add_option("--from", args->from, "Fit rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
+  sub.add_option("--columns", args->columns,
+                 "Column mapping: bundle, kelmarsh or 'field=Column;...'");
+  sub.add_option("--from", args->from,
+                 "Fit rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
   sub.add_option("--to", args->to, "Fit rows before this UTC time");
   sub.add_option("--test-from", args->test_from,
                  "Also report the MAPE of the fitted description on rows from this time");
@@ -177,6 +184,7 @@ void setup(CLI::App& sub) {
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"fit-cp", "Fit the Cp(lambda, beta) surface and SCADA corrections of a drivetrain description", &setup});
+    {"fit-cp", "Fit the Cp(lambda, beta) surface and SCADA corrections of a drivetrain description",
+     &setup});
 
 }  // namespace

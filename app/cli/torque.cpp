@@ -56,9 +56,10 @@ void run(const TorqueArgs& args) {
   } else if (!args.no_rows) {
     std::printf("# drivetrain %s; torque = rotor (low-speed shaft) input torque [N·m]\n",
                 drivetrain.name.c_str());
-    std::printf("# with --compare: estimate_nm = the estimate on the reference's side (see summary)\n");
-    std::printf("%8s %14s %9s %9s %13s %12s %12s %12s %9s\n", "row", "t_s", "wind_mps",
-                "rotor_rpm", "region", "torque_nm", "estimate_nm", "reference_nm", "error_pct");
+    std::printf(
+        "# with --compare: estimate_nm = the estimate on the reference's side (see summary)\n");
+    std::printf("%8s %14s %9s %9s %13s %12s %12s %12s %9s\n", "row", "t_s", "wind_mps", "rotor_rpm",
+                "region", "torque_nm", "estimate_nm", "reference_nm", "error_pct");
   }
   auto on_row = [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
     if (args.no_rows) return;
@@ -126,18 +127,21 @@ void run(const TorqueArgs& args) {
   }
   if (!args.compare) return;
   std::printf("\n# %s: %zu rows; estimate uses %s\n", reader.path().c_str(), summary.rows,
-              args.steady_state ? "the controller's steady-state speed (--steady-state)"
-                                : "measured rotor speed where present (pitch: curtailment filter only)");
+              args.steady_state
+                  ? "the controller's steady-state speed (--steady-state)"
+                  : "measured rotor speed where present (pitch: curtailment filter only)");
   if (summary.measured_torque_rows + summary.power_rows == 0) {
-    std::printf("# no reference: the file has neither torque_nm nor power_kw with rotor_speed_rpm\n");
+    std::printf(
+        "# no reference: the file has neither torque_nm nor power_kw with rotor_speed_rpm\n");
     return;
   }
   std::printf("# reference: %s", summary.measured_torque_rows > 0 ? "measured torque_nm" : "");
   if (summary.power_rows > 0) {
-    std::printf("%smeasured P/omega, against the estimate (eta*T*omega - P0)/omega, eta = %.3f, "
-                "P0 = %.1f kW",
-                summary.measured_torque_rows > 0 ? " and " : "", eta,
-                drivetrain.turbine.corrections.no_load_loss_w / 1e3);
+    std::printf(
+        "%smeasured P/omega, against the estimate (eta*T*omega - P0)/omega, eta = %.3f, "
+        "P0 = %.1f kW",
+        summary.measured_torque_rows > 0 ? " and " : "", eta,
+        drivetrain.turbine.corrections.no_load_loss_w / 1e3);
   }
   std::printf("\n# air density: ");
   if (summary.density_rows > 0) {
@@ -166,7 +170,8 @@ void run(const TorqueArgs& args) {
 
 void setup(CLI::App& sub) {
   auto args = std::make_shared<TorqueArgs>();
-  sub.add_option("scada_csv", args->file, "SCADA CSV (recording bundle scada.csv or a mapped export)")
+  sub.add_option("scada_csv", args->file,
+                 "SCADA CSV (recording bundle scada.csv or a mapped export)")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--columns", args->columns,
@@ -179,7 +184,8 @@ void setup(CLI::App& sub) {
   sub.add_flag("--no-rows", args->no_rows, "Print only the --compare summary");
   sub.add_flag("--steady-state", args->steady_state,
                "Ignore measured rotor speed and pitch; use the controller's steady state");
-  sub.add_option("--from", args->from, "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
+  sub.add_option("--from", args->from,
+                 "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
   sub.add_option("--to", args->to, "Only rows before this UTC time");
   sub.callback([args] { run(*args); });
 }

@@ -51,14 +51,14 @@ void run_wind_stage(const app::demo::DemoContext& ctx) {
                  s.max_torque_nm / 1e3);
   }
   const auto& m = s.mape;
-  std::fprintf(ctx.out,
-               "MAPE of (η·T·ω − P0)/ω vs measured P/ω, η = %.2f, P0 = %.1f kW, air density from "
-               "the ambient temperature in %zu rows, %zu rows in operation: region 2 %.1f %% (%zu), "
-               "2.5 %.1f %% (%zu), 3 %.1f %% (%zu), all %.1f %%\n",
-               drivetrain.turbine.drivetrain_efficiency,
-               drivetrain.turbine.corrections.no_load_loss_w / 1e3, s.density_rows, m.count(),
-               m.mape_pct(0), m.count(0), m.mape_pct(1), m.count(1), m.mape_pct(2), m.count(2),
-               m.mape_pct());
+  std::fprintf(
+      ctx.out,
+      "MAPE of (η·T·ω − P0)/ω vs measured P/ω, η = %.2f, P0 = %.1f kW, air density from "
+      "the ambient temperature in %zu rows, %zu rows in operation: region 2 %.1f %% (%zu), "
+      "2.5 %.1f %% (%zu), 3 %.1f %% (%zu), all %.1f %%\n",
+      drivetrain.turbine.drivetrain_efficiency, drivetrain.turbine.corrections.no_load_loss_w / 1e3,
+      s.density_rows, m.count(), m.mape_pct(0), m.count(0), m.mape_pct(1), m.count(1),
+      m.mape_pct(2), m.count(2), m.mape_pct());
   for (const auto& [reason, count] : s.excluded) {
     std::fprintf(ctx.out, "not counted: %zu rows, %s\n", count, reason.c_str());
   }

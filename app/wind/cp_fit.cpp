@@ -23,7 +23,7 @@ namespace {
 // all parameters are of order 1 for the finite-difference Jacobian), b, x.
 constexpr int kSurfaceParams = 2;
 constexpr int kIrlsRounds = 8;
-constexpr double kLossScaleW = 1e3;     // [W] per unit of the P_0 parameter
+constexpr double kLossScaleW = 1e3;  // [W] per unit of the P_0 parameter
 constexpr double kStartYawExponent = 2.0;
 // A weak pull of each table knot towards its textbook start value, so that a knot
 // with (almost) no rows in its λ interval stays where the textbook puts it instead
@@ -32,7 +32,9 @@ constexpr double kStartYawExponent = 2.0;
 // data outweigh by orders of magnitude.
 constexpr double kKnotPriorWeight = 3.16;
 
-int prior_count(const FitOptions& o) { return o.cp_table ? static_cast<int>(model::kCpTableKnots) : 0; }
+int prior_count(const FitOptions& o) {
+  return o.cp_table ? static_cast<int>(model::kCpTableKnots) : 0;
+}
 
 constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
 
@@ -159,15 +161,17 @@ FitRow fit_row_of(const hal::ScadaRow& row, const RowEstimate& e) {
 model::CpSurface textbook_cp_table(const model::Turbine& turbine) {
   model::CpSurface s = textbook_cp_surface();
   const double r = turbine.rotor_radius_m;
-  s.table_lambda_min = 0.9 * turbine.rated_rotor_speed_rpm * kRpmToRadS * r / turbine.rated_wind_mps;
-  const double min_rpm =
-      turbine.min_rotor_speed_rpm > 0.0 ? turbine.min_rotor_speed_rpm : turbine.rated_rotor_speed_rpm;
+  s.table_lambda_min =
+      0.9 * turbine.rated_rotor_speed_rpm * kRpmToRadS * r / turbine.rated_wind_mps;
+  const double min_rpm = turbine.min_rotor_speed_rpm > 0.0 ? turbine.min_rotor_speed_rpm
+                                                           : turbine.rated_rotor_speed_rpm;
   s.table_lambda_max = turbine.cut_in_wind_mps > 0.0
                            ? 1.1 * min_rpm * kRpmToRadS * r / turbine.cut_in_wind_mps
                            : 2.0 * s.table_lambda_min;
   model::CpSurface heier = s;
   heier.table_lambda_max = heier.table_lambda_min = 0.0;
-  const double step = (s.table_lambda_max - s.table_lambda_min) / static_cast<double>(model::kCpTableKnots - 1);
+  const double step =
+      (s.table_lambda_max - s.table_lambda_min) / static_cast<double>(model::kCpTableKnots - 1);
   for (std::size_t k = 0; k < model::kCpTableKnots; ++k) {
     const double lambda = s.table_lambda_min + step * static_cast<double>(k);
     s.table_cp[k] = std::clamp(model::wind::power_coefficient(heier, lambda, 0.0), 0.01,

@@ -42,9 +42,9 @@ namespace app::wind {
 
 /// One row used for fitting.
 struct FitRow {
-  double wind_speed_mps;       // [m/s] measured (nacelle)
-  double rotor_speed_rad_s;    // [rad/s] measured
-  double pitch_rad;            // [rad]
+  double wind_speed_mps;     // [m/s] measured (nacelle)
+  double rotor_speed_rad_s;  // [rad/s] measured
+  double pitch_rad;          // [rad]
   bool has_pitch;
   double reference_torque_nm;  // [N·m] P/ω when electrical_reference, else measured torque
   bool electrical_reference = false;
@@ -58,20 +58,20 @@ FitRow fit_row_of(const hal::ScadaRow& row, const RowEstimate& estimate);
 
 /// Which parameters besides c1 and s the fit frees.
 struct FitOptions {
-  bool cp_table = false;       // fit the Cp(λ) table's knots instead of c1 and s
-  bool no_load_loss = false;   // P_0
-  bool nacelle_offset = false; // b of v_free = a·v_nacelle + b
-  bool nacelle_gain = false;   // a
-  bool yaw_exponent = false;   // x of cos^x(γ)
+  bool cp_table = false;        // fit the Cp(λ) table's knots instead of c1 and s
+  bool no_load_loss = false;    // P_0
+  bool nacelle_offset = false;  // b of v_free = a·v_nacelle + b
+  bool nacelle_gain = false;    // a
+  bool yaw_exponent = false;    // x of cos^x(γ)
 };
 
 struct CpFitResult {
-  model::CpSurface surface;     // fitted
-  model::TurbineCorrections corrections;  // fitted where FitOptions frees them, else as given
-  std::size_t rows = 0;         // rows fitted
+  model::CpSurface surface;                     // fitted
+  model::TurbineCorrections corrections;        // fitted where FitOptions frees them, else as given
+  std::size_t rows = 0;                         // rows fitted
   double mean_abs_relative_error_before = 0.0;  // [-] with the textbook start
   double mean_abs_relative_error_after = 0.0;   // [-]
-  int lm_status = 0;            // Eigen::LevenbergMarquardtSpace::Status
+  int lm_status = 0;                            // Eigen::LevenbergMarquardtSpace::Status
   int iterations = 0;
 };
 

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <cstdlib>
+#include <numbers>
 #include <stdexcept>
 
 #include "model/wind/corrections.hpp"
@@ -108,8 +108,8 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
   }
   if (options_.measured_speed && has_speed) {
     const bool pitch = options_.measured_pitch && has_pitch;
-    out.load = load_.with_rotor_speed(wind, speed_rad_s, pitch ? pitch_deg * kDegToRad : 0.0,
-                                      pitch, inflow);
+    out.load = load_.with_rotor_speed(wind, speed_rad_s, pitch ? pitch_deg * kDegToRad : 0.0, pitch,
+                                      inflow);
   } else {
     out.load = load_.steady_state(wind);
     out.density_measured = false;
@@ -126,7 +126,8 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
     out.reference = ReferenceKind::kPowerOverSpeed;
     out.reference_torque_nm = power_kw * 1e3 / speed_rad_s;
     // Electrical-side torque at the measured speed: (η·T·ω − P_0)/ω.
-    out.compared_torque_nm = load_.electrical_power_w(out.load.torque_nm, speed_rad_s) / speed_rad_s;
+    out.compared_torque_nm =
+        load_.electrical_power_w(out.load.torque_nm, speed_rad_s) / speed_rad_s;
   }
 
   // In operation?

@@ -45,25 +45,25 @@
 
 namespace app::wind {
 
-inline constexpr double kCurtailPitchDeg = 3.0;        // [deg]
-inline constexpr double kCurtailPowerFraction = 0.5;   // [-] of rated power, above rated wind
-inline constexpr double kMaxPlausibleWindMps = 75.0;   // [m/s] above any recorded 10-min mean
-inline constexpr double kMaxPlausibleSpeedFactor = 1.5;// [-] × rated rotor speed
-inline constexpr double kMinPlausibleRotorRpm = -1.0;  // [rpm] small negatives are sensor offset
+inline constexpr double kCurtailPitchDeg = 3.0;          // [deg]
+inline constexpr double kCurtailPowerFraction = 0.5;     // [-] of rated power, above rated wind
+inline constexpr double kMaxPlausibleWindMps = 75.0;     // [m/s] above any recorded 10-min mean
+inline constexpr double kMaxPlausibleSpeedFactor = 1.5;  // [-] × rated rotor speed
+inline constexpr double kMinPlausibleRotorRpm = -1.0;    // [rpm] small negatives are sensor offset
 inline constexpr double kMinPlausibleTemperatureC = -60.0;  // [°C] below any nacelle ambient record
 inline constexpr double kMaxPlausibleTemperatureC = 60.0;   // [°C]
-inline constexpr double kMaxPlausibleYawErrorDeg = 180.0;   // [deg] an angle difference, |γ| ≤ 180
+inline constexpr double kMaxPlausibleYawErrorDeg = 180.0;  // [deg] an angle difference, |γ| ≤ 180
 
 enum class ReferenceKind { kNone, kMeasuredTorque, kPowerOverSpeed };
 
 struct RowEstimate {
   model::wind::WindLoadOutput load;
-  double reference_torque_nm = 0.0;   // [N·m] valid when reference != kNone
-  double compared_torque_nm = 0.0;    // [N·m] the estimate on the reference's side: load.torque_nm
-                                      // against torque_nm, (η·T·ω − P_0)/ω against P/ω
-  double air_density_kg_m3 = 0.0;     // [kg/m³] used; from the temperature when density_measured
-  bool density_measured = false;      // ρ from this row's ambient temperature
-  bool yaw_measured = false;          // this row's yaw error fed the cos^x factor
+  double reference_torque_nm = 0.0;  // [N·m] valid when reference != kNone
+  double compared_torque_nm = 0.0;   // [N·m] the estimate on the reference's side: load.torque_nm
+                                     // against torque_nm, (η·T·ω − P_0)/ω against P/ω
+  double air_density_kg_m3 = 0.0;    // [kg/m³] used; from the temperature when density_measured
+  bool density_measured = false;     // ρ from this row's ambient temperature
+  bool yaw_measured = false;         // this row's yaw error fed the cos^x factor
   ReferenceKind reference = ReferenceKind::kNone;
   bool in_operation = false;          // counted in MAPE
   const char* excluded_because = "";  // why not in operation ("" when it is)
@@ -125,12 +125,12 @@ class MapeAccumulator {
 struct TorqueSummary {
   std::size_t rows = 0;
   std::array<std::size_t, 6> region_rows{};  // indexed by model::wind::OperatingRegion
-  double min_torque_nm = std::numeric_limits<double>::infinity();   // [N·m] over rows with T > 0
-  double max_torque_nm = 0.0;                                       // [N·m]
-  std::size_t measured_torque_rows = 0;  // reference = measured torque_nm
-  std::size_t power_rows = 0;            // reference = P/ω
-  std::size_t density_rows = 0;          // ρ from the row's ambient temperature
-  std::size_t yaw_rows = 0;              // yaw error used
+  double min_torque_nm = std::numeric_limits<double>::infinity();  // [N·m] over rows with T > 0
+  double max_torque_nm = 0.0;                                      // [N·m]
+  std::size_t measured_torque_rows = 0;                            // reference = measured torque_nm
+  std::size_t power_rows = 0;                                      // reference = P/ω
+  std::size_t density_rows = 0;  // ρ from the row's ambient temperature
+  std::size_t yaw_rows = 0;      // yaw error used
   MapeAccumulator mape;
   std::vector<std::pair<std::string, std::size_t>> excluded;  // reason, rows
   void add(const RowEstimate& e);
@@ -146,9 +146,9 @@ struct TimeWindow {
 /// Streams every row of an opened reader through the estimator; rows outside
 /// the window are skipped. Calls on_row (may be empty) for each estimated row.
 /// Throws std::runtime_error naming file, row and column on bad input.
-TorqueSummary run_torque(hal::ScadaCsvReader& reader, const TorqueEstimator& estimator,
-                         const TimeWindow& window,
-                         const std::function<void(const hal::ScadaRow&, const RowEstimate&)>& on_row);
+TorqueSummary run_torque(
+    hal::ScadaCsvReader& reader, const TorqueEstimator& estimator, const TimeWindow& window,
+    const std::function<void(const hal::ScadaRow&, const RowEstimate&)>& on_row);
 
 /// Parses "YYYY-MM-DD" or "YYYY-MM-DD HH:MM:SS" (UTC) or a number of seconds.
 /// Throws std::runtime_error naming the option on failure.

@@ -34,12 +34,12 @@ namespace hal {
 
 /// The quantities a SCADA row can carry, in the units of the bundle's scada.csv.
 enum class ScadaField : std::uint8_t {
-  kTime,        // [s]   t_s (or a date-time, converted)
-  kWindSpeed,   // [m/s] wind_speed_mps, hub height / nacelle anemometer
-  kRotorSpeed,  // [rpm] rotor_speed_rpm (low-speed shaft)
-  kPower,       // [kW]  power_kw, electrical
-  kPitch,       // [deg] pitch_deg, blade pitch
-  kTorque,      // [N·m] torque_nm, measured rotor torque
+  kTime,                // [s]   t_s (or a date-time, converted)
+  kWindSpeed,           // [m/s] wind_speed_mps, hub height / nacelle anemometer
+  kRotorSpeed,          // [rpm] rotor_speed_rpm (low-speed shaft)
+  kPower,               // [kW]  power_kw, electrical
+  kPitch,               // [deg] pitch_deg, blade pitch
+  kTorque,              // [N·m] torque_nm, measured rotor torque
   kAmbientTemperature,  // [°C] ambient_temperature_c (drivetwin extension of the bundle)
   kYawError,            // [deg] yaw_error_deg: wind direction − nacelle heading (extension)
 };
@@ -73,10 +73,10 @@ std::optional<double> parse_utc_datetime_s(std::string_view text);
 
 /// One data row.
 struct ScadaRow {
-  std::size_t row = 0;   // data row number, 1 = first row after the header
-  std::size_t line = 0;  // line number in the file, 1 = header
-  std::array<double, kScadaFieldCount> value{};   // NaN when absent
-  std::array<bool, kScadaFieldCount> present{};   // false: column not mapped or cell empty
+  std::size_t row = 0;                           // data row number, 1 = first row after the header
+  std::size_t line = 0;                          // line number in the file, 1 = header
+  std::array<double, kScadaFieldCount> value{};  // NaN when absent
+  std::array<bool, kScadaFieldCount> present{};  // false: column not mapped or cell empty
 
   double get(ScadaField f) const { return value[static_cast<std::size_t>(f)]; }
   bool has(ScadaField f) const { return present[static_cast<std::size_t>(f)]; }

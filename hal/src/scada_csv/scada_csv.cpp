@@ -14,7 +14,8 @@ constexpr std::array<const char*, kScadaFieldCount> kFieldNames{
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
   return s;
 }
 
@@ -82,9 +83,14 @@ ScadaColumns bundle_scada_columns() {
 
 ScadaColumns kelmarsh_scada_columns() {
   ScadaColumns c;
-  c.column = {"Date and time", "Wind speed (m/s)",     "Rotor speed (RPM)",
-              "Power (kW)",    "Pitch angle (\u00b0)", "",
-              "Nacelle ambient temperature (\u00b0C)", "Yaw error (\u00b0)"};
+  c.column = {"Date and time",
+              "Wind speed (m/s)",
+              "Rotor speed (RPM)",
+              "Power (kW)",
+              "Pitch angle (\u00b0)",
+              "",
+              "Nacelle ambient temperature (\u00b0C)",
+              "Yaw error (\u00b0)"};
   return c;
 }
 

@@ -16,7 +16,8 @@ double heier_cp(const CpSurface& surface, double lambda, double pitch_rad);
 double table_cp(const CpSurface& surface, double lambda) {
   constexpr std::size_t n = kCpTableKnots;
   const auto& y = surface.table_cp;
-  const double h = (surface.table_lambda_max - surface.table_lambda_min) / static_cast<double>(n - 1);
+  const double h =
+      (surface.table_lambda_max - surface.table_lambda_min) / static_cast<double>(n - 1);
   if (lambda <= surface.table_lambda_min) return y[0];
   if (lambda >= surface.table_lambda_max) return y[n - 1];
   const double x = (lambda - surface.table_lambda_min) / h;
@@ -75,9 +76,9 @@ double heier_cp(const CpSurface& surface, double lambda, double pitch_rad) {
       1.0 / denominator - surface.lambda_i_cubic / (beta_deg * beta_deg * beta_deg + 1.0);
   const auto& c = surface.c;
   // Slootweg et al. 2003, eq. 3 (with Heier's c6·λ term)
-  const double cp = c[0] * (c[1] * inv_lambda_i - c[2] * beta_deg - c[3]) *
-                        std::exp(-c[4] * inv_lambda_i) +
-                    c[5] * lambda;
+  const double cp =
+      c[0] * (c[1] * inv_lambda_i - c[2] * beta_deg - c[3]) * std::exp(-c[4] * inv_lambda_i) +
+      c[5] * lambda;
   return cp > 0.0 && std::isfinite(cp) ? cp : 0.0;
 }
 

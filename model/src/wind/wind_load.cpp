@@ -37,9 +37,9 @@ WindLoad::WindLoad(const Turbine& turbine)
       rated_torque_nm_(turbine.rated_torque_nm),
       half_rho_area_(0.5 * turbine.air_density_kg_m3 * kPi * turbine.rotor_radius_m *
                      turbine.rotor_radius_m) {
-  speed_limit_wind_mps_ =
-      peak_.lambda_opt > 0.0 ? rated_speed_rad_s_ * turbine_.rotor_radius_m / peak_.lambda_opt
-                             : 0.0;
+  speed_limit_wind_mps_ = peak_.lambda_opt > 0.0
+                              ? rated_speed_rad_s_ * turbine_.rotor_radius_m / peak_.lambda_opt
+                              : 0.0;
   double speed = 0.0;
   torque_at_speed_limit_nm_ = tracking_torque_nm(speed_limit_wind_mps_, &speed);
 }
@@ -50,8 +50,7 @@ double WindLoad::aerodynamic_torque_nm(double wind_speed_mps, double rotor_speed
   const double lambda = rotor_speed_rad_s * turbine_.rotor_radius_m / wind_speed_mps;
   const double cp = power_coefficient(turbine_.cp, lambda, pitch_rad);
   // P = ½ρπR²v³·Cp (actuator disc), T = P/ω
-  return half_rho_area_ * wind_speed_mps * wind_speed_mps * wind_speed_mps * cp /
-         rotor_speed_rad_s;
+  return half_rho_area_ * wind_speed_mps * wind_speed_mps * wind_speed_mps * cp / rotor_speed_rad_s;
 }
 
 double WindLoad::tracking_torque_nm(double wind_speed_mps, double* speed_rad_s) const {
@@ -91,8 +90,8 @@ WindLoadOutput WindLoad::steady_state(double wind_speed_mps) const {
       const double span = turbine_.rated_wind_mps - speed_limit_wind_mps_;
       const double fraction = span > 0.0 ? (wind_speed_mps - speed_limit_wind_mps_) / span : 1.0;
       out.rotor_speed_rad_s = rated_speed_rad_s_;
-      out.torque_nm = torque_at_speed_limit_nm_ +
-                      (rated_torque_nm_ - torque_at_speed_limit_nm_) * fraction;
+      out.torque_nm =
+          torque_at_speed_limit_nm_ + (rated_torque_nm_ - torque_at_speed_limit_nm_) * fraction;
       break;
     }
     case OperatingRegion::kRated:
@@ -140,13 +139,13 @@ WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_sp
     const bool own_density = inflow.air_density_kg_m3 > 0.0;  // false for NaN too
     const double density_scale =
         own_density ? inflow.air_density_kg_m3 / turbine_.air_density_kg_m3 : 1.0;
-    const double yaw_scale =
-        k.yaw_loss_exponent > 0.0 ? yaw_power_factor(inflow.yaw_error_rad, k.yaw_loss_exponent)
-                                  : 1.0;
-    out.torque_nm = std::min(density_scale * yaw_scale *
-                                 aerodynamic_torque_nm(free_wind_mps, rotor_speed_rad_s,
-                                                       has_pitch ? pitch_rad : 0.0),
-                             rated_torque_nm_);
+    const double yaw_scale = k.yaw_loss_exponent > 0.0
+                                 ? yaw_power_factor(inflow.yaw_error_rad, k.yaw_loss_exponent)
+                                 : 1.0;
+    out.torque_nm = std::min(
+        density_scale * yaw_scale *
+            aerodynamic_torque_nm(free_wind_mps, rotor_speed_rad_s, has_pitch ? pitch_rad : 0.0),
+        rated_torque_nm_);
   }
   out.power_coefficient = effective_cp(out.torque_nm, rotor_speed_rad_s, free_wind_mps);
   return out;

@@ -46,9 +46,14 @@ TEST(CpFit, RecoversTheAmplitudeAndLambdaScaleOfAKnownSurface) {
 }
 
 TEST(CpFit, ReplacingTheCpTableKeepsTheRestOfTheFile) {
-  const std::string text = "name = \"x\"\n[turbine]\nrated_power_w = 1.0\n\n[turbine.cp]\nc = [1]\n\n[dynamics]\nrayleigh_eta = 1.0\n";
-  const std::string out = app::wind::replace_cp_table(text, "[turbine.cp]\nlambda_scale = 2.0\n", "x.toml");
-  EXPECT_EQ(out, "name = \"x\"\n[turbine]\nrated_power_w = 1.0\n\n[turbine.cp]\nlambda_scale = 2.0\n\n[dynamics]\nrayleigh_eta = 1.0\n");
+  const std::string text =
+      "name = \"x\"\n[turbine]\nrated_power_w = 1.0\n\n[turbine.cp]\nc = "
+      "[1]\n\n[dynamics]\nrayleigh_eta = 1.0\n";
+  const std::string out =
+      app::wind::replace_cp_table(text, "[turbine.cp]\nlambda_scale = 2.0\n", "x.toml");
+  EXPECT_EQ(out,
+            "name = \"x\"\n[turbine]\nrated_power_w = 1.0\n\n[turbine.cp]\nlambda_scale = "
+            "2.0\n\n[dynamics]\nrayleigh_eta = 1.0\n");
 }
 
 TEST(CpFit, RecoversNoLoadLossNacelleOffsetAndYawExponentWithTheSurface) {
@@ -170,7 +175,8 @@ TEST(CpFit, ATableFitNeverPutsAKnotAboveTheBetzLimit) {
   for (double lambda = 6.0; lambda < 13.0; lambda += 0.1) {
     for (double v : {5.0, 6.0}) {
       const double w = lambda * v / t.rotor_radius_m;
-      rows.push_back({v, w, 0.0, false, load.with_rotor_speed(v, w, 0.0, false).torque_nm, false, {}});
+      rows.push_back(
+          {v, w, 0.0, false, load.with_rotor_speed(v, w, 0.0, false).torque_nm, false, {}});
     }
   }
   app::wind::FitOptions options;
@@ -184,7 +190,8 @@ TEST(CpFit, ATableFitNeverPutsAKnotAboveTheBetzLimit) {
 TEST(CpFit, CorrectionsTableIsReplacedOrAppended) {
   const std::string text = "name = \"x\"\n[turbine]\nrated_power_w = 1.0\n";
   const std::string table = "[turbine.corrections]\nno_load_loss_w = 5.0\n";
-  const std::string appended = app::wind::replace_or_append_table(text, "turbine.corrections", table);
+  const std::string appended =
+      app::wind::replace_or_append_table(text, "turbine.corrections", table);
   EXPECT_EQ(appended, text + "\n" + table);
   const std::string replaced = app::wind::replace_or_append_table(
       appended, "turbine.corrections", "[turbine.corrections]\nno_load_loss_w = 7.0\n");

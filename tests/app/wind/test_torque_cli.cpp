@@ -78,14 +78,16 @@ TEST_F(TorqueCli, NonNumericValueNamesFileRowAndColumn) {
   const std::string f = write("scada.csv", "t_s,wind_speed_mps\n0,6\n600,fast\n");
   const CliResult r = run_cli({"torque", f});
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_THAT(r.error, HasSubstr(f + ": row 2 (line 3), column 'wind_speed_mps': 'fast' is not a number"));
+  EXPECT_THAT(r.error,
+              HasSubstr(f + ": row 2 (line 3), column 'wind_speed_mps': 'fast' is not a number"));
 }
 
 TEST_F(TorqueCli, NonFiniteValueIsRejected) {
   const std::string f = write("scada.csv", "t_s,wind_speed_mps,power_kw\n0,6,inf\n");
   const CliResult r = run_cli({"torque", f, "--compare"});
   EXPECT_NE(r.exit_code, 0);
-  EXPECT_THAT(r.error, HasSubstr("row 1 (line 2), column 'power_kw': 'inf' is not a finite number"));
+  EXPECT_THAT(r.error,
+              HasSubstr("row 1 (line 2), column 'power_kw': 'inf' is not a finite number"));
 }
 
 TEST_F(TorqueCli, NegativeWindSpeedIsRejected) {
@@ -106,7 +108,8 @@ TEST_F(TorqueCli, ImplausibleRotorSpeedIsRejectedForThisTurbine) {
 
 TEST_F(TorqueCli, MalformedDrivetrainFileNamesTheKey) {
   const std::string scada = write("scada.csv", "t_s,wind_speed_mps\n0,6\n");
-  const std::string d = write("turbine.toml", "base = \"paper-2mw\"\n[turbine]\ncut_in_wind_mps = \"low\"\n");
+  const std::string d =
+      write("turbine.toml", "base = \"paper-2mw\"\n[turbine]\ncut_in_wind_mps = \"low\"\n");
   const CliResult r = run_cli({"torque", scada, "--drivetrain", d});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr(d + ":3:"));
@@ -145,21 +148,28 @@ TEST_F(TorqueCli, CompareAgainstMeasuredTorqueGivesTheHandCalculatedMape) {
 }
 
 TEST_F(TorqueCli, ImplausibleOrNonNumericTemperatureAndYawErrorNameFileRowAndColumn) {
-  const std::string header = "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c,yaw_error_deg\n";
-  CliResult r = run_cli({"torque", write("hot.csv", header + "0,6,9,300,12,1\n600,6,9,300,75,1\n")});
+  const std::string header =
+      "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c,yaw_error_deg\n";
+  CliResult r =
+      run_cli({"torque", write("hot.csv", header + "0,6,9,300,12,1\n600,6,9,300,75,1\n")});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_THAT(r.error, HasSubstr("hot.csv: row 2 (line 3), column 'ambient_temperature_c': 75 degC"));
+  EXPECT_THAT(r.error,
+              HasSubstr("hot.csv: row 2 (line 3), column 'ambient_temperature_c': 75 degC"));
   r = run_cli({"torque", write("text.csv", header + "0,6,9,300,mild,1\n")});
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_THAT(r.error, HasSubstr("text.csv: row 1 (line 2), column 'ambient_temperature_c': 'mild' is not a number"));
+  EXPECT_THAT(
+      r.error,
+      HasSubstr(
+          "text.csv: row 1 (line 2), column 'ambient_temperature_c': 'mild' is not a number"));
   r = run_cli({"torque", write("yaw.csv", header + "0,6,9,300,12,200\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("yaw.csv: row 1 (line 2), column 'yaw_error_deg': 200 deg"));
 }
 
 TEST_F(TorqueCli, WithoutATemperatureColumnTheDensityIsConstantAndTheOutputSaysSo) {
-  const CliResult r = run_cli({"torque", write("s.csv", "t_s,wind_speed_mps,rotor_speed_rpm,power_kw\n0,6.75,8.33,300\n"),
-                               "--compare", "--no-rows"});
+  const CliResult r = run_cli(
+      {"torque", write("s.csv", "t_s,wind_speed_mps,rotor_speed_rpm,power_kw\n0,6.75,8.33,300\n"),
+       "--compare", "--no-rows"});
   EXPECT_EQ(r.exit_code, 0) << r.error;
   EXPECT_THAT(r.out, HasSubstr("air density: constant 1.255 kg/m3"));
 }
@@ -171,12 +181,14 @@ TEST_F(TorqueCli, PowerReferenceComparesTheElectricalSideEstimateWithMeasuredPow
   //   T = 355 978 · 1.246632/1.255 = 353 604 N·m
   //   estimate P_el = 0.9 · 353 604 · 0.872316 − 20 000 = 257 609 W
   //   measured 280 kW → error = (257 609 − 280 000)/280 000 = −8.00 %
-  const std::string toml = write("t.toml",
-                                 "format = \"drivetwin-drivetrain/1\"\nbase = \"paper-2mw\"\nname = \"t\"\n"
-                                 "[turbine]\ndrivetrain_efficiency = 0.9\n"
-                                 "[turbine.corrections]\nno_load_loss_w = 20000.0\n");
-  const std::string f = write("s.csv", "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c\n"
-                                       "0,6.75,8.33,280,10\n");
+  const std::string toml =
+      write("t.toml",
+            "format = \"drivetwin-drivetrain/1\"\nbase = \"paper-2mw\"\nname = \"t\"\n"
+            "[turbine]\ndrivetrain_efficiency = 0.9\n"
+            "[turbine.corrections]\nno_load_loss_w = 20000.0\n");
+  const std::string f = write("s.csv",
+                              "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c\n"
+                              "0,6.75,8.33,280,10\n");
   // Act
   const CliResult r = run_cli({"torque", f, "--compare", "--drivetrain", toml});
   // Assert
@@ -188,10 +200,13 @@ TEST_F(TorqueCli, PowerReferenceComparesTheElectricalSideEstimateWithMeasuredPow
 
 TEST_F(TorqueCli, CpTableAboveTheBetzLimitOrABadCorrectionKeyNamesTheKey) {
   const std::string f = write("s.csv", "t_s,wind_speed_mps\n0,6\n");
-  const std::string head = "format = \"drivetwin-drivetrain/1\"\nbase = \"paper-2mw\"\nname = \"t\"\n";
-  CliResult r = run_cli({"torque", f, "--drivetrain",
-                         write("betz.toml", head + "[turbine.cp]\ntable_lambda_min = 4.0\ntable_lambda_max = 15.0\n"
-                                                   "table_cp = [0.1, 0.2, 0.3, 0.7, 0.4, 0.4, 0.4, 0.3, 0.3, 0.2, 0.2, 0.1]\n")});
+  const std::string head =
+      "format = \"drivetwin-drivetrain/1\"\nbase = \"paper-2mw\"\nname = \"t\"\n";
+  CliResult r = run_cli(
+      {"torque", f, "--drivetrain",
+       write("betz.toml",
+             head + "[turbine.cp]\ntable_lambda_min = 4.0\ntable_lambda_max = 15.0\n"
+                    "table_cp = [0.1, 0.2, 0.3, 0.7, 0.4, 0.4, 0.4, 0.3, 0.3, 0.2, 0.2, 0.1]\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("turbine.cp.table_cp[3]"));
   EXPECT_THAT(r.error, HasSubstr("Betz limit"));

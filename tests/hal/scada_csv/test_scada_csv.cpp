@@ -61,10 +61,10 @@ TEST_F(ScadaCsv, ReadsTheBundleFormatRowByRowWithOptionalColumnsAbsent) {
 
 TEST_F(ScadaCsv, ReadsKelmarshColumnsWithDegreeSignsAndDateTimes) {
   // Arrange: the Kelmarsh header (UTF-8 "°") with quoted fields and CRLF endings.
-  const std::string path = write(
-      "k.csv",
-      "Date and time,Wind speed (m/s),Rotor speed (RPM),Pitch angle (\u00b0),Power (kW)\r\n"
-      "2019-01-01 00:10:00,4.33,8.86,\"0.06\",189.5\r\n");
+  const std::string path =
+      write("k.csv",
+            "Date and time,Wind speed (m/s),Rotor speed (RPM),Pitch angle (\u00b0),Power (kW)\r\n"
+            "2019-01-01 00:10:00,4.33,8.86,\"0.06\",189.5\r\n");
   hal::ScadaCsvReader reader;
   ASSERT_TRUE(reader.open(path, hal::kelmarsh_scada_columns())) << reader.error();
   hal::ScadaRow row;
@@ -143,7 +143,8 @@ TEST_F(ScadaCsv, NonNumericValueNamesFileRowAndColumn) {
   hal::ScadaRow row;
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow);
   EXPECT_EQ(reader.next(row), ScadaReadResult::kError);
-  EXPECT_NE(reader.error().find(path + ": row 2 (line 3), column 'wind_speed_mps': 'six' is not a number"),
+  EXPECT_NE(reader.error().find(path +
+                                ": row 2 (line 3), column 'wind_speed_mps': 'six' is not a number"),
             std::string::npos)
       << reader.error();
 }

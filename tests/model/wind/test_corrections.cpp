@@ -38,8 +38,8 @@ TEST(AirDensity, ColderAirIsDenserInInverseProportionToAbsoluteTemperature) {
 }
 
 TEST(YawPowerFactor, IsCosineToTheExponentAndZeroBeyondNinetyDegrees) {
-  EXPECT_NEAR(yaw_power_factor(30.0 * kDeg, 2.0), 0.75, 1e-12);     // cos²30° = 3/4
-  EXPECT_NEAR(yaw_power_factor(-60.0 * kDeg, 3.0), 0.125, 1e-12);   // cos³60° = 1/8
+  EXPECT_NEAR(yaw_power_factor(30.0 * kDeg, 2.0), 0.75, 1e-12);    // cos²30° = 3/4
+  EXPECT_NEAR(yaw_power_factor(-60.0 * kDeg, 3.0), 0.125, 1e-12);  // cos³60° = 1/8
   EXPECT_DOUBLE_EQ(yaw_power_factor(0.0, 2.5), 1.0);
   EXPECT_DOUBLE_EQ(yaw_power_factor(20.0 * kDeg, 0.0), 1.0);
   EXPECT_DOUBLE_EQ(yaw_power_factor(120.0 * kDeg, 2.0), 0.0);
@@ -102,7 +102,8 @@ TEST(WindLoadCorrections, NacelleTransferFunctionFeedsTheFreeStreamWindToTheAero
   EXPECT_DOUBLE_EQ(corrected.with_rotor_speed(6.5, speed, 0.0, false).torque_nm,
                    plain.aerodynamic_torque_nm(6.85, speed, 0.0));
   // The region is what the controller sees: the measured wind.
-  EXPECT_EQ(corrected.with_rotor_speed(3.9, speed, 0.0, false).region, OperatingRegion::kBelowCutIn);
+  EXPECT_EQ(corrected.with_rotor_speed(3.9, speed, 0.0, false).region,
+            OperatingRegion::kBelowCutIn);
 }
 
 TEST(WindLoadCorrections, ElectricalPowerSubtractsTheNoLoadLoss) {
@@ -144,7 +145,8 @@ TEST(CpTable, NeverExceedsItsLargestKnotAndIsContinuouslyDifferentiable) {
   const double h = 1e-6;
   for (double knot : {6.0, 9.0, 12.0}) {
     const double left = (power_coefficient(s, knot, 0.0) - power_coefficient(s, knot - h, 0.0)) / h;
-    const double right = (power_coefficient(s, knot + h, 0.0) - power_coefficient(s, knot, 0.0)) / h;
+    const double right =
+        (power_coefficient(s, knot + h, 0.0) - power_coefficient(s, knot, 0.0)) / h;
     EXPECT_NEAR(left, right, 1e-4) << knot;
   }
 }
@@ -154,8 +156,8 @@ TEST(CpTable, PitchScalesTheTableByHeiersRelativePitchFactor) {
   model::CpSurface heier = s;
   heier.table_lambda_max = heier.table_lambda_min = 0.0;
   const double beta = 2.0 * kDeg;
-  const double expected =
-      power_coefficient(s, 9.0, 0.0) * power_coefficient(heier, 9.0, beta) / power_coefficient(heier, 9.0, 0.0);
+  const double expected = power_coefficient(s, 9.0, 0.0) * power_coefficient(heier, 9.0, beta) /
+                          power_coefficient(heier, 9.0, 0.0);
   EXPECT_NEAR(power_coefficient(s, 9.0, beta), expected, 1e-12);
   EXPECT_LT(power_coefficient(s, 9.0, beta), power_coefficient(s, 9.0, 0.0));
 }

@@ -121,7 +121,8 @@ TEST(WindLoad, MeasuredStandstillIsReportedStoppedWithNoTorque) {
 TEST(WindLoad, MeasuredSpeedInRegionThreeIsRatedTorqueWithoutPitchAndLessWhenFeathered) {
   const WindLoad load = paper_load();
   EXPECT_DOUBLE_EQ(load.with_rotor_speed(15.0, 14.8 * kRpm, 0.0, false).torque_nm, 1.23e6);
-  const double feathered = load.with_rotor_speed(15.0, 14.8 * kRpm, 20.0 * std::numbers::pi / 180.0, true).torque_nm;
+  const double feathered =
+      load.with_rotor_speed(15.0, 14.8 * kRpm, 20.0 * std::numbers::pi / 180.0, true).torque_nm;
   EXPECT_LT(feathered, 1.23e6);
   EXPECT_GT(feathered, 0.0);
 }

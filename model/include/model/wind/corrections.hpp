@@ -23,12 +23,12 @@
 
 namespace model::wind {
 
-inline constexpr double kSeaLevelPressurePa = 101325.0;     // [Pa] ISO 2533 p0
-inline constexpr double kSeaLevelTemperatureK = 288.15;     // [K] ISO 2533 T0
-inline constexpr double kTemperatureLapseKPerM = 0.0065;    // [K/m] ISO 2533 L (troposphere)
-inline constexpr double kStandardGravityMps2 = 9.80665;     // [m/s²] g
-inline constexpr double kDryAirGasConstant = 287.05287;     // [J/(kg·K)] R_d (ISO 2533)
-inline constexpr double kZeroCelsiusK = 273.15;             // [K]
+inline constexpr double kSeaLevelPressurePa = 101325.0;   // [Pa] ISO 2533 p0
+inline constexpr double kSeaLevelTemperatureK = 288.15;   // [K] ISO 2533 T0
+inline constexpr double kTemperatureLapseKPerM = 0.0065;  // [K/m] ISO 2533 L (troposphere)
+inline constexpr double kStandardGravityMps2 = 9.80665;   // [m/s²] g
+inline constexpr double kDryAirGasConstant = 287.05287;   // [J/(kg·K)] R_d (ISO 2533)
+inline constexpr double kZeroCelsiusK = 273.15;           // [K]
 
 /// Pressure of the ISO 2533 standard atmosphere at an altitude [Pa].
 /// @param altitude_m  above sea level [m], troposphere (< 11 km)

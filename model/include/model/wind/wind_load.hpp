@@ -99,14 +99,14 @@ class WindLoad {
   /// @param wind_speed_mps     [m/s]
   /// @param rotor_speed_rad_s  measured low-speed shaft speed [rad/s]
   /// @param pitch_rad          measured blade pitch [rad]; ignored unless has_pitch
-  WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
-                                  double pitch_rad, bool has_pitch) const;
+  WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s, double pitch_rad,
+                                  bool has_pitch) const;
 
   /// As above with a measured inflow (density, yaw error).
   /// @param wind_speed_mps  measured (nacelle) wind speed [m/s]; the aerodynamics use the
   ///                        free stream a·v + b (TurbineCorrections)
-  WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s,
-                                  double pitch_rad, bool has_pitch, const Inflow& inflow) const;
+  WindLoadOutput with_rotor_speed(double wind_speed_mps, double rotor_speed_rad_s, double pitch_rad,
+                                  bool has_pitch, const Inflow& inflow) const;
 
   /// Electrical power that a rotor torque at a speed delivers: η·T·ω − P_0 [W]
   /// (model/wind/corrections.hpp, drivetrain_efficiency and no_load_loss_w).
@@ -132,12 +132,12 @@ class WindLoad {
 
   Turbine turbine_;
   CpPeak peak_;
-  double rated_speed_rad_s_ = 0.0;     // [rad/s]
-  double min_speed_rad_s_ = 0.0;       // [rad/s]
-  double rated_torque_nm_ = 0.0;       // [N·m]
-  double speed_limit_wind_mps_ = 0.0;  // [m/s] v_sl
+  double rated_speed_rad_s_ = 0.0;         // [rad/s]
+  double min_speed_rad_s_ = 0.0;           // [rad/s]
+  double rated_torque_nm_ = 0.0;           // [N·m]
+  double speed_limit_wind_mps_ = 0.0;      // [m/s] v_sl
   double torque_at_speed_limit_nm_ = 0.0;  // [N·m] T(v_sl)
-  double half_rho_area_ = 0.0;         // [kg/m] ½ρπR²
+  double half_rho_area_ = 0.0;             // [kg/m] ½ρπR²
 };
 
 }  // namespace model::wind
