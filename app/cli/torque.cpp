@@ -1,7 +1,7 @@
 // `drivetwin torque <scada.csv>`: rotor input torque and operating region for
 // every SCADA row (wind load model, model/wind), optionally compared with the
-// measured torque or P/(η·ω) as MAPE per operating region (app/wind/torque_estimate.hpp
-// defines the reference and which rows count).
+// measured torque or, on the electrical side, with P/ω as MAPE per operating
+// region (app/wind/torque_estimate.hpp defines the reference and which rows count).
 #include <nlohmann/json.hpp>
 
 #include <cmath>
