@@ -41,7 +41,8 @@ inline constexpr double kDivergenceFactor = 10.0;
 
 struct DynamicsSpectrumSettings {
   double sample_rate_hz = 8192.0;  // [Hz] ROM output (and step) rate
-  double rom_cutoff_hz = 2500.0;   // [Hz] modes kept by the ROM
+  double rom_cutoff_hz = 2200.0;   // [Hz] modes kept by the ROM: the ROM's own cut-off (rom.hpp:
+                                   // 49 modes + 15 corrections fill kRomDofs; 2500 Hz needs 65)
   double settle_s = 0.25;          // [s] dropped at the start of each window
   double min_seconds = 2.0;        // [s] kept, at least
   double max_seconds = 16.0;       // [s] kept, at most

@@ -27,7 +27,8 @@ namespace app::fatigue {
 /// app/fatigue/dynamics_spectrum). BUMP IT whenever a change there can move a spectrum value;
 /// every cached spectrum then misses and is rebuilt.
 ///   5: K_Hβ/K_Fβ from ISO 6336-1 method C (load-dependent) instead of a constant 1.15.
-inline constexpr std::uint32_t kSpectrumCodeVersion = 5;
+///   6: dynamics spectrum ROM cut-off 2200 Hz (was 2500 Hz, which no longer fits kRomDofs).
+inline constexpr std::uint32_t kSpectrumCodeVersion = 6;
 
 /// The cache key of a spectrum (see the file comment). `code_version` is a parameter only so
 /// that tests can show a changed version misses.
