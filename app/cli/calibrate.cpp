@@ -414,7 +414,7 @@ void setup(CLI::App& sub) {
   sub.add_option("--evaluations", args->evaluations, "trust-region: model evaluations at most (default 60)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)");
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
-  sub.add_option("--seed", args->seed, "Random seed (default 1)");
+  sub.add_option("--seed", args->seed, "Random seed (default 1; trust region: 1 probes along the axes, others a random basis)");
   sub.add_option("--revolutions", args->revolutions, "hss revolutions per analysis block (default 64)");
   sub.add_option("--samples-per-rev", args->samples_per_rev, "Angle-domain samples per hss revolution (default 1024)");
   sub.add_option("--harmonics", args->harmonics, "Mesh harmonics compared, fundamental included (default 3)");
