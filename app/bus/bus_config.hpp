@@ -34,12 +34,12 @@ class BusConfigError : public std::runtime_error {
 enum class Backend { kNone, kLinux, kReplay, kSim };  // linux: modbus / socketcan / gpio
 
 struct ChannelInfo {
-  std::string name;   // e.g. "point1"
-  std::string unit;   // e.g. "m/s^2"
+  std::string name;  // e.g. "point1"
+  std::string unit;  // e.g. "m/s^2"
 };
 
 struct BusConfig {
-  std::filesystem::path file;   // the config file (relative paths resolve against its folder)
+  std::filesystem::path file;  // the config file (relative paths resolve against its folder)
 
   Backend scada = Backend::kNone;
   hal::ModbusClientConfig modbus_client;
@@ -49,7 +49,7 @@ struct BusConfig {
 
   Backend cms = Backend::kNone;
   hal::SocketCanConfig socketcan;
-  std::vector<ChannelInfo> cms_channels;   // by channel id (index); names and units for display
+  std::vector<ChannelInfo> cms_channels;  // by channel id (index); names and units for display
   hal::SimFault cms_fault = hal::SimFault::kNone;
 
   Backend keyphasor = Backend::kNone;
@@ -58,14 +58,14 @@ struct BusConfig {
   std::string keyphasor_shaft = "hss";
   hal::SimFault keyphasor_fault = hal::SimFault::kNone;
 
-  Backend outputs = Backend::kNone;      // linux (gpio) or sim (memory)
+  Backend outputs = Backend::kNone;  // linux (gpio) or sim (memory)
   hal::GpiodOutputsConfig gpio_outputs;
 
-  Backend results = Backend::kNone;      // linux (modbus server)
+  Backend results = Backend::kNone;  // linux (modbus server)
   hal::ModbusServerConfig modbus_server;
 
-  std::string bundle;                    // replay: recording bundle directory (resolved)
-  double replay_speed = 1.0;             // replay: 1 = real time, > 1 faster
+  std::string bundle;         // replay: recording bundle directory (resolved)
+  double replay_speed = 1.0;  // replay: 1 = real time, > 1 faster
 };
 
 /// Parses and validates a bus configuration file.

@@ -3,9 +3,9 @@
 
 #include <array>
 #include <iomanip>
-#include <sstream>
 #include <memory>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 #include <thread>
 
@@ -30,10 +30,13 @@ void check(hal::Status s, const std::string& what) {
 }  // namespace
 
 int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
-  const bool any_replay = c.scada == Backend::kReplay || c.cms == Backend::kReplay || c.keyphasor == Backend::kReplay;
+  const bool any_replay =
+      c.scada == Backend::kReplay || c.cms == Backend::kReplay || c.keyphasor == Backend::kReplay;
   const bool stepped = o.fast && (c.scada != Backend::kLinux && c.cms != Backend::kLinux &&
                                   c.keyphasor != Backend::kLinux);
-  if (o.fast && !stepped) throw BusConfigError("--fast works only when no bus is live hardware (modbus, socketcan, gpio)");
+  if (o.fast && !stepped)
+    throw BusConfigError(
+        "--fast works only when no bus is live hardware (modbus, socketcan, gpio)");
   hal::ReplayClock clock(stepped ? 0.0 : (any_replay ? c.replay_speed : 1.0));
 
   std::optional<hal::Recording> rec;
@@ -47,7 +50,9 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
   // ---- construct (no I/O) ----
   std::unique_ptr<hal::ScadaSource> scada;
   switch (c.scada) {
-    case Backend::kLinux: scada = std::make_unique<hal::ModbusScadaSource>(c.modbus_client, clock); break;
+    case Backend::kLinux:
+      scada = std::make_unique<hal::ModbusScadaSource>(c.modbus_client, clock);
+      break;
     case Backend::kReplay:
       if (!c.scada_csv.empty()) {
         std::string err;
@@ -55,7 +60,8 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
         if (!cols) throw BusConfigError(c.file.string() + ": scada.columns: " + err);
         scada = std::make_unique<hal::ReplayScadaSource>(c.scada_csv, *cols);
       } else {
-        if (rec->scada.empty()) throw BusConfigError(c.bundle + ": no scada.csv to replay (scada.backend = \"replay\")");
+        if (rec->scada.empty())
+          throw BusConfigError(c.bundle + ": no scada.csv to replay (scada.backend = \"replay\")");
         scada = std::make_unique<hal::ReplayScadaSource>(rec->scada);
       }
       break;
@@ -65,16 +71,21 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
       scada = std::move(s);
       break;
     }
-    case Backend::kNone: break;
+    case Backend::kNone:
+      break;
   }
   std::unique_ptr<hal::CmsStream> cms;
   std::array<std::string, hal::kCmsMaxChannels> ch_name{}, ch_unit{};
   for (std::size_t i = 0; i < hal::kCmsMaxChannels; ++i) {
-    ch_name[i] = i < c.cms_channels.size() && !c.cms_channels[i].name.empty() ? c.cms_channels[i].name : "ch" + std::to_string(i);
+    ch_name[i] = i < c.cms_channels.size() && !c.cms_channels[i].name.empty()
+                     ? c.cms_channels[i].name
+                     : "ch" + std::to_string(i);
     ch_unit[i] = i < c.cms_channels.size() ? c.cms_channels[i].unit : "";
   }
   switch (c.cms) {
-    case Backend::kLinux: cms = std::make_unique<hal::SocketCanCmsStream>(c.socketcan, clock); break;
+    case Backend::kLinux:
+      cms = std::make_unique<hal::SocketCanCmsStream>(c.socketcan, clock);
+      break;
     case Backend::kReplay: {
       auto r = std::make_unique<hal::ReplayCmsStream>(*rec, clock);
       check(r->configure(), c.bundle + ": cms replay");
@@ -93,34 +104,50 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
       cms = std::move(s);
       break;
     }
-    case Backend::kNone: break;
+    case Backend::kNone:
+      break;
   }
   std::unique_ptr<hal::Keyphasor> kp;
   switch (c.keyphasor) {
-    case Backend::kLinux: kp = std::make_unique<hal::GpiodKeyphasor>(c.gpio_keyphasor); break;
-    case Backend::kReplay: kp = std::make_unique<hal::ReplayKeyphasor>(*rec, clock); break;
+    case Backend::kLinux:
+      kp = std::make_unique<hal::GpiodKeyphasor>(c.gpio_keyphasor);
+      break;
+    case Backend::kReplay:
+      kp = std::make_unique<hal::ReplayKeyphasor>(*rec, clock);
+      break;
     case Backend::kSim: {
       auto s = std::make_unique<hal::SimKeyphasor>(hal::SimKeyphasorConfig{}, clock);
       s->inject(c.keyphasor_fault);
       kp = std::move(s);
       break;
     }
-    case Backend::kNone: break;
+    case Backend::kNone:
+      break;
   }
   std::unique_ptr<hal::DigitalOutputs> outputs;
-  if (c.outputs == Backend::kLinux) outputs = std::make_unique<hal::GpiodDigitalOutputs>(c.gpio_outputs);
+  if (c.outputs == Backend::kLinux)
+    outputs = std::make_unique<hal::GpiodDigitalOutputs>(c.gpio_outputs);
   if (c.outputs == Backend::kSim) outputs = std::make_unique<hal::MemoryDigitalOutputs>();
   std::unique_ptr<hal::ModbusResultsServer> results;
-  if (c.results == Backend::kLinux) results = std::make_unique<hal::ModbusResultsServer>(c.modbus_server);
+  if (c.results == Backend::kLinux)
+    results = std::make_unique<hal::ModbusResultsServer>(c.modbus_server);
 
   // ---- configure + activate ----
   const std::string f = c.file.string();
-  if (scada) check(scada->configure(), f + ": scada (" + (c.scada == Backend::kLinux ? c.modbus_client.host : std::string(to_string(c.scada))) + ")");
+  if (scada)
+    check(scada->configure(), f + ": scada (" +
+                                  (c.scada == Backend::kLinux ? c.modbus_client.host
+                                                              : std::string(to_string(c.scada))) +
+                                  ")");
   if (cms && cms->state() == hal::LifecycleState::kUnconfigured)
     check(cms->configure(), f + ": cms (interface " + c.socketcan.interface + ")");
-  if (kp) check(kp->configure(), f + ": keyphasor (" + c.gpio_keyphasor.chip.chip + " line " + std::to_string(c.gpio_keyphasor.line) + ")");
+  if (kp)
+    check(kp->configure(), f + ": keyphasor (" + c.gpio_keyphasor.chip.chip + " line " +
+                               std::to_string(c.gpio_keyphasor.line) + ")");
   if (outputs) check(outputs->configure(), f + ": outputs (" + c.gpio_outputs.chip.chip + ")");
-  if (results) check(results->configure(), f + ": results (" + c.modbus_server.bind_address + ":" + std::to_string(c.modbus_server.port) + ")");
+  if (results)
+    check(results->configure(), f + ": results (" + c.modbus_server.bind_address + ":" +
+                                    std::to_string(c.modbus_server.port) + ")");
   clock.start();
   if (scada) check(scada->activate(), "scada");
   if (cms) check(cms->activate(), "cms");
@@ -128,10 +155,12 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
   if (results) {
     check(results->activate(), "results");
     (void)results->publish(hal::TwinResults{});
-    out << "results: Modbus server on " << c.modbus_server.bind_address << ":" << results->bound_port()
-        << ", register map v" << hal::kResultsMapVersion << " (status word 0: twin not running)\n";
+    out << "results: Modbus server on " << c.modbus_server.bind_address << ":"
+        << results->bound_port() << ", register map v" << hal::kResultsMapVersion
+        << " (status word 0: twin not running)\n";
   }
-  if (outputs) out << "outputs: held in their safe states (watchdog low, alarm relay de-energised)\n";
+  if (outputs)
+    out << "outputs: held in their safe states (watchdog low, alarm relay de-energised)\n";
 
   // ---- listen ----
   hal::KeyphasorTracker::Config kc;
@@ -142,7 +171,8 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
   std::uint64_t kp_edges = 0;
   bool scada_seen = false;
   std::uint64_t cms_total = 0;
-  const hal::Timestamp end = std::chrono::duration_cast<hal::Timestamp>(std::chrono::duration<double>(o.seconds));
+  const hal::Timestamp end =
+      std::chrono::duration_cast<hal::Timestamp>(std::chrono::duration<double>(o.seconds));
   hal::Timestamp next_report = o.report_every;
   hal::Timestamp last_report{0};
   const auto wall_start = std::chrono::steady_clock::now();
@@ -177,13 +207,14 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
       hal::ScadaData d;
       const hal::Status s = scada->read(now, d);
       scada_seen |= d.update_count > 0;
-      out << "  scada: " << hal::to_string(s) << "  (updates " << d.update_count << ", errors " << d.error_count
-          << ", reconnects " << d.reconnect_count << ")\n";
+      out << "  scada: " << hal::to_string(s) << "  (updates " << d.update_count << ", errors "
+          << d.error_count << ", reconnects " << d.reconnect_count << ")\n";
       for (const auto& q : hal::kScadaQuantities) {
         const hal::Measurement& m = d[q.quantity];
         if (m.stamp.count() == 0 && !m.valid) continue;
-        out << "    " << std::string(q.key) << std::string(q.key.size() < 24 ? 24 - q.key.size() : 1, ' ')
-            << fixed(m.value, 3, 12) << " " << std::string(q.unit)
+        out << "    " << std::string(q.key)
+            << std::string(q.key.size() < 24 ? 24 - q.key.size() : 1, ' ') << fixed(m.value, 3, 12)
+            << " " << std::string(q.unit)
             << std::string(q.unit.size() < 6 ? 6 - q.unit.size() : 1, ' ') << "age "
             << fixed(std::chrono::duration<double>(now - m.stamp).count(), 2) << " s"
             << (m.valid ? "" : "  INVALID") << "\n";
@@ -200,11 +231,14 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
         if (!ch_unit[ch].empty()) out << " [" << ch_unit[ch] << "]";
       }
       if (!any) out << " none";
-      out << "\n    gaps " << st.gaps - last_stats.gaps << " (lost " << st.lost_blocks - last_stats.lost_blocks
-          << "), duplicates " << st.duplicates - last_stats.duplicates << ", late " << st.reordered - last_stats.reordered
-          << ", malformed " << st.malformed - last_stats.malformed << ", error frames "
-          << st.error_frames - last_stats.error_frames << ", bus-off " << st.bus_off - last_stats.bus_off
-          << ", overflows " << st.overflows - last_stats.overflows << "\n";
+      out << "\n    gaps " << st.gaps - last_stats.gaps << " (lost "
+          << st.lost_blocks - last_stats.lost_blocks << "), duplicates "
+          << st.duplicates - last_stats.duplicates << ", late "
+          << st.reordered - last_stats.reordered << ", malformed "
+          << st.malformed - last_stats.malformed << ", error frames "
+          << st.error_frames - last_stats.error_frames << ", bus-off "
+          << st.bus_off - last_stats.bus_off << ", overflows "
+          << st.overflows - last_stats.overflows << "\n";
       last_stats = st;
       per_channel.fill(0);
     }
@@ -212,7 +246,8 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
       const auto s = tracker.state(now);
       out << "  keyphasor: ";
       if (s.valid)
-        out << c.keyphasor_shaft << " " << fixed(s.speed_hz, 4) << " Hz = " << fixed(s.speed_hz * 60.0, 1) << " rpm";
+        out << c.keyphasor_shaft << " " << fixed(s.speed_hz, 4)
+            << " Hz = " << fixed(s.speed_hz * 60.0, 1) << " rpm";
       else
         out << "no valid speed";
       out << "  (edges " << kp_edges << ", glitches " << s.glitches << ", lost " << s.lost << ")\n";

@@ -16,10 +16,10 @@
 namespace app::bus {
 
 struct ProbeOptions {
-  double seconds = 10.0;                          // [s] how long to listen (recording time for replay)
-  std::chrono::milliseconds report_every{1000};   // print period
-  std::chrono::milliseconds tick{10};             // how often the buses are drained
-  bool fast = false;                              // replay/sim only: step time instead of waiting
+  double seconds = 10.0;  // [s] how long to listen (recording time for replay)
+  std::chrono::milliseconds report_every{1000};  // print period
+  std::chrono::milliseconds tick{10};            // how often the buses are drained
+  bool fast = false;                             // replay/sim only: step time instead of waiting
 };
 
 /// Runs the probe, printing to `out`.

@@ -21,13 +21,19 @@ void setup_bus(CLI::App& sub) {
   sub.require_subcommand(1);
   auto opts = std::make_shared<Options>();
   CLI::App* probe = sub.add_subcommand(
-      "probe", "Open the configured buses and print live what arrives: SCADA values with units and age, "
-               "CMS blocks/s with gaps and errors, keyphasor speed");
-  probe->add_option("--config", opts->config, "bus configuration file (TOML, drivetwin-bus/1; see hal/README.md)")
+      "probe",
+      "Open the configured buses and print live what arrives: SCADA values with units and age, "
+      "CMS blocks/s with gaps and errors, keyphasor speed");
+  probe
+      ->add_option("--config", opts->config,
+                   "bus configuration file (TOML, drivetwin-bus/1; see hal/README.md)")
       ->required();
-  probe->add_option("--seconds", opts->seconds, "how long to listen [s] (default 10)")->check(CLI::Range(0.01, 1e6));
-  probe->add_option("--every", opts->every_s, "print period [s] (default 1)")->check(CLI::Range(0.01, 3600.0));
-  probe->add_flag("--fast", opts->fast, "replay/sim buses only: step time as fast as possible instead of waiting");
+  probe->add_option("--seconds", opts->seconds, "how long to listen [s] (default 10)")
+      ->check(CLI::Range(0.01, 1e6));
+  probe->add_option("--every", opts->every_s, "print period [s] (default 1)")
+      ->check(CLI::Range(0.01, 3600.0));
+  probe->add_flag("--fast", opts->fast,
+                  "replay/sim buses only: step time as fast as possible instead of waiting");
   probe->callback([opts] {
     try {
       const app::bus::BusConfig config = app::bus::load_bus_config(opts->config);
@@ -42,7 +48,7 @@ void setup_bus(CLI::App& sub) {
   });
 }
 
-const bool kRegistered =
-    app::cli::register_command({"bus", "Turbine bus tools (bus probe: commissioning check of the wiring)", &setup_bus});
+const bool kRegistered = app::cli::register_command(
+    {"bus", "Turbine bus tools (bus probe: commissioning check of the wiring)", &setup_bus});
 
 }  // namespace

@@ -74,27 +74,30 @@ std::string describe(const hal::Recording& rec, const fs::path& dir, const std::
 }
 
 struct SpeedSource {
-  std::string name;             // "tacho", "scada", "mesh line"
-  std::vector<double> pulses;   // [s] when tacho
-  double hss_hz = 0.0;          // [Hz] otherwise
+  std::string name;            // "tacho", "scada", "mesh line"
+  std::vector<double> pulses;  // [s] when tacho
+  double hss_hz = 0.0;         // [Hz] otherwise
 };
 
-SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir, const model::Kinematics& k,
-                            const std::vector<double>& point1, dsp::FeatureExtractor& fx) {
+SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir,
+                            const model::Kinematics& k, const std::vector<double>& point1,
+                            dsp::FeatureExtractor& fx) {
   const double ratio = k.overall_ratio();
   // 1. A once-per-revolution tacho on the hss.
   for (std::size_t c = 0; c < rec.channels.size(); ++c) {
     const hal::BundleChannel& ch = rec.channels[c];
     if (ch.kind != "once_per_rev") continue;
     if (ch.location != "hss") {
-      std::fprintf(stderr, "calibrate: note: tacho '%s' is on '%s', not the hss; not used\n", ch.name.c_str(),
-                   ch.location.c_str());
+      std::fprintf(stderr, "calibrate: note: tacho '%s' is on '%s', not the hss; not used\n",
+                   ch.name.c_str(), ch.location.c_str());
       continue;
     }
-    const std::size_t n = fx.tracker().detect_pulses(rec.samples[c].data(), rec.samples[c].size(), rec.sample_rate_hz);
+    const std::size_t n = fx.tracker().detect_pulses(rec.samples[c].data(), rec.samples[c].size(),
+                                                     rec.sample_rate_hz);
     if (n < fx.config().revolutions + 1) {
       throw CommandError(describe(rec, dir, ch.name) + ": tacho gives " + std::to_string(n) +
-                         " pulses; the order resolution needs " + std::to_string(fx.config().revolutions + 1) +
+                         " pulses; the order resolution needs " +
+                         std::to_string(fx.config().revolutions + 1) +
                          " (a once-per-revolution pulse on the hss)");
     }
     SpeedSource s{"tacho", {}, 0.0};
@@ -117,8 +120,9 @@ SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir, cons
   const double mesh_order = k.mesh_hz(stage, 60.0) / (60.0 / 60.0 * ratio);
   dsp::SpectrumAnalyzer analyzer(65536);
   std::vector<double> work(analyzer.lines());
-  const auto f = dsp::estimate_shaft_hz_from_mesh(point1.data(), point1.size(), rec.sample_rate_hz, nominal_hz,
-                                                  mesh_order, 0.03, analyzer, work.data());
+  const auto f =
+      dsp::estimate_shaft_hz_from_mesh(point1.data(), point1.size(), rec.sample_rate_hz, nominal_hz,
+                                       mesh_order, 0.03, analyzer, work.data());
   if (f) return {"mesh line", {}, *f};
   return {"operating point", {}, nominal_hz};
 }
@@ -127,7 +131,10 @@ nlohmann::json fit_json(const mc::PointIndicators& ind) {
   nlohmann::json j;
   static const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    j[kNames[p]] = {{"f1", ind[p].f1}, {"f2", ind[p].f2}, {"f3", ind[p].f3}, {"tones", ind[p].tones},
+    j[kNames[p]] = {{"f1", ind[p].f1},
+                    {"f2", ind[p].f2},
+                    {"f3", ind[p].f3},
+                    {"tones", ind[p].tones},
                     {"valid", ind[p].valid}};
   }
   return j;
@@ -145,22 +152,26 @@ void print_fit(const char* title, const mc::PointIndicators& ind) {
   static const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
     std::printf("  %-6s  %9.4f%s  %9.4f%s  %9.4f%s  %5zu%s\n", kNames[p], ind[p].f1,
-                ind[p].f1 > mc::kF1Threshold ? "*" : " ", ind[p].f2, ind[p].f2 > mc::kF2Threshold ? "*" : " ",
-                ind[p].f3, ind[p].f3 > mc::kF3Threshold ? "*" : " ", ind[p].tones, ind[p].valid ? "" : "  (invalid)");
+                ind[p].f1 > mc::kF1Threshold ? "*" : " ", ind[p].f2,
+                ind[p].f2 > mc::kF2Threshold ? "*" : " ", ind[p].f3,
+                ind[p].f3 > mc::kF3Threshold ? "*" : " ", ind[p].tones,
+                ind[p].valid ? "" : "  (invalid)");
   }
 }
 
 void print_params(const char* title, const model::DynamicsParameters& p) {
-  std::printf("%s eta %.4g 1/s, zeta %.4g s, mesh scale %.3f %.3f %.3f, bearing scale %.3f %.3f %.3f\n", title,
-              p.rayleigh_eta, p.rayleigh_zeta, p.mesh_stiffness_scale[0], p.mesh_stiffness_scale[1],
-              p.mesh_stiffness_scale[2], p.bearing_stiffness_scale[0], p.bearing_stiffness_scale[1],
-              p.bearing_stiffness_scale[2]);
+  std::printf(
+      "%s eta %.4g 1/s, zeta %.4g s, mesh scale %.3f %.3f %.3f, bearing scale %.3f %.3f %.3f\n",
+      title, p.rayleigh_eta, p.rayleigh_zeta, p.mesh_stiffness_scale[0], p.mesh_stiffness_scale[1],
+      p.mesh_stiffness_scale[2], p.bearing_stiffness_scale[0], p.bearing_stiffness_scale[1],
+      p.bearing_stiffness_scale[2]);
 }
 
 // Share of the measured order-spectrum energy (0–5 kHz, both points) the
 // simulation does not explain: Σ(a_m − a_s)² / Σ a_m², clipped to [0, 1].
 double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
-                const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated, std::size_t last_line) {
+                const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated,
+                std::size_t last_line) {
   double miss = 0.0;
   double total = 0.0;
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
@@ -180,7 +191,8 @@ void run(const CalibrateArgs& args) {
   if (!read) throw CommandError(read.error.to_string());
   const hal::Recording& rec = *read.recording;
   std::string dt_name = args.drivetrain.empty() ? rec.drivetrain : args.drivetrain;
-  if (args.drivetrain.empty() && fs::exists(dir / rec.drivetrain)) dt_name = (dir / rec.drivetrain).string();
+  if (args.drivetrain.empty() && fs::exists(dir / rec.drivetrain))
+    dt_name = (dir / rec.drivetrain).string();
   const model::Drivetrain drivetrain = app::config::load_drivetrain(dt_name);
   const model::Kinematics kinematics(drivetrain);
 
@@ -189,14 +201,16 @@ void run(const CalibrateArgs& args) {
   std::array<std::string, mc::kMeasurementPoints> channel{};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
     if (p >= drivetrain.measurement_points.size()) {
-      throw CommandError("drivetrain '" + drivetrain.name + "': measurement_points: calibration needs 2, found " +
+      throw CommandError("drivetrain '" + drivetrain.name +
+                         "': measurement_points: calibration needs 2, found " +
                          std::to_string(drivetrain.measurement_points.size()));
     }
     channel[p] = drivetrain.measurement_points[p].channel;
     const auto idx = rec.channel_index(channel[p]);
     if (!idx) {
-      throw CommandError((dir / "recording.json").string() + ": channels: no channel named '" + channel[p] +
-                         "' (measurement point at " + drivetrain.measurement_points[p].location + ")");
+      throw CommandError((dir / "recording.json").string() + ": channels: no channel named '" +
+                         channel[p] + "' (measurement point at " +
+                         drivetrain.measurement_points[p].location + ")");
     }
     wave[p] = &rec.samples[*idx];
   }
@@ -214,7 +228,8 @@ void run(const CalibrateArgs& args) {
   } else if (args.method == "trust-region") {
     cc.method = mc::CalibrationMethod::kTrustRegion;
   } else {
-    throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" + args.method + "'");
+    throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" +
+                       args.method + "'");
   }
   cc.mogoa.population = args.population;
   cc.mogoa.max_iterations = args.iterations;
@@ -223,18 +238,20 @@ void run(const CalibrateArgs& args) {
   cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
   mc::LumpedSimulatorConfig sc;
   sc.harmonics = args.harmonics;
-  sc.max_duration_s = 4.0 * static_cast<double>(args.revolutions + 4) /
-                      (std::max(rec.operating_point.rotor_speed_rpm, 1e-3) / 60.0 * kinematics.overall_ratio());
+  sc.max_duration_s =
+      4.0 * static_cast<double>(args.revolutions + 4) /
+      (std::max(rec.operating_point.rotor_speed_rpm, 1e-3) / 60.0 * kinematics.overall_ratio());
   // Simulated waveform rate: ≥ 4× the highest mesh harmonic.
-  const double top_hz = kinematics.mesh_hz(kinematics.stage_count() - 1, rec.operating_point.rotor_speed_rpm) *
-                        static_cast<double>(args.harmonics);
+  const double top_hz =
+      kinematics.mesh_hz(kinematics.stage_count() - 1, rec.operating_point.rotor_speed_rpm) *
+      static_cast<double>(args.harmonics);
   sc.sample_rate_hz = std::max(4096.0, std::exp2(std::ceil(std::log2(4.0 * top_hz))));
   std::unique_ptr<mc::VibrationSimulator> simulator;
   if (args.simulator == "lumped") {
     simulator = std::make_unique<mc::LumpedSimulator>(drivetrain, sc);
   } else if (args.simulator == "rom") {
-    // The ROM at the recording's rate would cost most: ≥ 6× the top harmonic (dynamics_simulator.hpp),
-    // after 0.5 s of settling from the static deflection.
+    // The ROM at the recording's rate would cost most: ≥ 6× the top harmonic
+    // (dynamics_simulator.hpp), after 0.5 s of settling from the static deflection.
     simulator = std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom,
                                                         mc::rom_sample_rate_hz(top_hz), 0.5);
   } else {
@@ -242,71 +259,91 @@ void run(const CalibrateArgs& args) {
   }
   auto calibrator = std::make_unique<mc::Calibrator>(*simulator, drivetrain, fc, cc);
   if (calibrator->status() != dsp::DspStatus::kOk) {
-    throw CommandError("--revolutions/--samples-per-rev/--harmonics: " + std::string(dsp::to_string(calibrator->status())));
+    throw CommandError("--revolutions/--samples-per-rev/--harmonics: " +
+                       std::string(dsp::to_string(calibrator->status())));
   }
   dsp::FeatureExtractor fx(calibrator->feature_config());
 
   // Channel quality before anything is computed from it.
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    const dsp::DspStatus q = dsp::check_waveform(wave[p]->data(), wave[p]->size(), fx.config().flat_threshold);
-    if (q != dsp::DspStatus::kOk) throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(q));
+    const dsp::DspStatus q =
+        dsp::check_waveform(wave[p]->data(), wave[p]->size(), fx.config().flat_threshold);
+    if (q != dsp::DspStatus::kOk)
+      throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(q));
   }
   const SpeedSource speed = speed_reference(rec, dir, kinematics, *wave[0], fx);
-  const dsp::SpeedReference ref{speed.pulses.empty() ? nullptr : speed.pulses.data(), speed.pulses.size(), speed.hss_hz};
-  const double hss_hz = speed.pulses.size() >= 2
-                            ? static_cast<double>(speed.pulses.size() - 1) / (speed.pulses.back() - speed.pulses.front())
-                            : speed.hss_hz;
+  const dsp::SpeedReference ref{speed.pulses.empty() ? nullptr : speed.pulses.data(),
+                                speed.pulses.size(), speed.hss_hz};
+  const double hss_hz = speed.pulses.size() >= 2 ? static_cast<double>(speed.pulses.size() - 1) /
+                                                       (speed.pulses.back() - speed.pulses.front())
+                                                 : speed.hss_hz;
 
   std::array<dsp::PointFeatures, mc::kMeasurementPoints> measured{};
   std::array<std::vector<double>, mc::kMeasurementPoints> measured_spectrum;
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    const dsp::DspStatus s = fx.extract(wave[p]->data(), wave[p]->size(), rec.sample_rate_hz, ref, measured[p]);
+    const dsp::DspStatus s =
+        fx.extract(wave[p]->data(), wave[p]->size(), rec.sample_rate_hz, ref, measured[p]);
     if (s == dsp::DspStatus::kTooShort) {
       char text[160];
-      std::snprintf(text, sizeof text, ": recording of %.2f s is too short: %zu hss revolutions (order resolution 1/%zu) need %.2f s",
-                    static_cast<double>(wave[p]->size()) / rec.sample_rate_hz, fx.config().revolutions,
-                    fx.config().revolutions, fx.required_duration_s(hss_hz));
+      std::snprintf(text, sizeof text,
+                    ": recording of %.2f s is too short: %zu hss revolutions (order resolution "
+                    "1/%zu) need %.2f s",
+                    static_cast<double>(wave[p]->size()) / rec.sample_rate_hz,
+                    fx.config().revolutions, fx.config().revolutions,
+                    fx.required_duration_s(hss_hz));
       throw CommandError(describe(rec, dir, channel[p]) + text);
     }
-    if (s != dsp::DspStatus::kOk) throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(s));
-    measured_spectrum[p].assign(fx.order_spectrum(), fx.order_spectrum() + (fx.config().samples_per_rev * fx.config().revolutions / 2 + 1));
+    if (s != dsp::DspStatus::kOk)
+      throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(s));
+    measured_spectrum[p].assign(
+        fx.order_spectrum(),
+        fx.order_spectrum() + (fx.config().samples_per_rev * fx.config().revolutions / 2 + 1));
     if (measured[p].resolved_count() < mc::kMinTones) {
-      throw CommandError(describe(rec, dir, channel[p]) + ": only " + std::to_string(measured[p].resolved_count()) +
-                         " of " + std::to_string(measured[p].count) +
+      throw CommandError(describe(rec, dir, channel[p]) + ": only " +
+                         std::to_string(measured[p].resolved_count()) + " of " +
+                         std::to_string(measured[p].count) +
                          " mesh harmonics stand out of the noise; f2/f3 need at least " +
                          std::to_string(mc::kMinTones));
     }
   }
 
   mc::OperatingPoint op{rec.operating_point.rotor_speed_rpm, 0.0};
-  // Mean rotor speed from the speed reference; torque as recorded (else rated share by the cube law of speed).
+  // Mean rotor speed from the speed reference; torque as recorded (else rated share by the cube law
+  // of speed).
   op.rotor_speed_rpm = hss_hz / kinematics.overall_ratio() * 60.0;
   if (rec.operating_point.input_torque_nm) {
     op.input_torque_nm = *rec.operating_point.input_torque_nm;
   } else {
     const double r = op.rotor_speed_rpm / drivetrain.turbine.rated_rotor_speed_rpm;
     op.input_torque_nm = drivetrain.turbine.rated_torque_nm * std::min(1.0, r * r);
-    std::fprintf(stderr, "calibrate: note: no input_torque_nm in the bundle; using %.0f N·m (rated × (n/n_rated)²)\n",
+    std::fprintf(stderr,
+                 "calibrate: note: no input_torque_nm in the bundle; using %.0f N·m (rated × "
+                 "(n/n_rated)²)\n",
                  op.input_torque_nm);
   }
   calibrator->set_measurement(measured, op);
 
   const model::DynamicsParameters before = mc::with_nominal_damping(drivetrain.dynamics);
   if (before.rayleigh_eta != drivetrain.dynamics.rayleigh_eta) {
-    std::fprintf(stderr, "calibrate: note: drivetrain '%s' has no damping; starting from eta %.3g 1/s, zeta %.3g s\n",
+    std::fprintf(stderr,
+                 "calibrate: note: drivetrain '%s' has no damping; starting from eta %.3g 1/s, "
+                 "zeta %.3g s\n",
                  drivetrain.name.c_str(), before.rayleigh_eta, before.rayleigh_zeta);
   }
 
   // Spectra of a parameter set, for the residual.
-  const std::size_t last_line = static_cast<std::size_t>(kResidualBandHz / hss_hz * static_cast<double>(fx.config().revolutions));
+  const std::size_t last_line = static_cast<std::size_t>(
+      kResidualBandHz / hss_hz * static_cast<double>(fx.config().revolutions));
   auto simulated_spectra = [&](const model::DynamicsParameters& params) {
     std::array<std::vector<double>, mc::kMeasurementPoints> out;
     std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
     const double ref_hz = hss_hz;
-    if (!simulator->simulate(params, op, fx.required_duration_s(ref_hz) + 1.0 / ref_hz, w)) return out;
+    if (!simulator->simulate(params, op, fx.required_duration_s(ref_hz) + 1.0 / ref_hz, w))
+      return out;
     for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
       dsp::PointFeatures unused;
-      if (fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, ref_hz}, unused) == dsp::DspStatus::kOk) {
+      if (fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, ref_hz}, unused) ==
+          dsp::DspStatus::kOk) {
         out[p].assign(fx.order_spectrum(), fx.order_spectrum() + measured_spectrum[p].size());
       } else {
         out[p].assign(measured_spectrum[p].size(), 0.0);
@@ -316,14 +353,18 @@ void run(const CalibrateArgs& args) {
   };
 
   mc::PointIndicators fit_before{};
-  if (!calibrator->evaluate(before, fit_before)) throw CommandError("simulation failed at the starting parameters");
+  if (!calibrator->evaluate(before, fit_before))
+    throw CommandError("simulation failed at the starting parameters");
   const double residual_before = residual(measured_spectrum, simulated_spectra(before), last_line);
 
   if (!args.quiet) {
-    std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m\n", dir.string().c_str(),
-                drivetrain.name.c_str(), op.rotor_speed_rpm, speed.name.c_str(), op.input_torque_nm);
-    std::printf("simulator: %s\n", args.simulator == "rom" ? "dynamics ROM (model/dynamics, simulate_rom)"
-                                                            : "lumped stand-in (3 shafts, mesh transmission error; not the dynamics ROM)");
+    std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m\n",
+                dir.string().c_str(), drivetrain.name.c_str(), op.rotor_speed_rpm,
+                speed.name.c_str(), op.input_torque_nm);
+    std::printf("simulator: %s\n",
+                args.simulator == "rom"
+                    ? "dynamics ROM (model/dynamics, simulate_rom)"
+                    : "lumped stand-in (3 shafts, mesh transmission error; not the dynamics ROM)");
     print_params("parameters before:", before);
     print_fit("fit before:", fit_before);
     std::printf("residual before: %.3f\n", residual_before);
@@ -340,11 +381,13 @@ void run(const CalibrateArgs& args) {
   } else {
     if (!args.quiet) {
       if (cc.method == mc::CalibrationMethod::kTrustRegion) {
-        std::printf("calibrating: trust-region least squares on the features, at most %zu evaluations\n",
-                    args.evaluations);
+        std::printf(
+            "calibrating: trust-region least squares on the features, at most %zu evaluations\n",
+            args.evaluations);
       } else {
-        std::printf("calibrating: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n", args.method.c_str(),
-                    args.population, args.iterations, static_cast<unsigned long long>(args.seed));
+        std::printf("calibrating: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
+                    args.method.c_str(), args.population, args.iterations,
+                    static_cast<unsigned long long>(args.seed));
       }
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -356,7 +399,8 @@ void run(const CalibrateArgs& args) {
         std::printf("  evaluation %3zu  best worst-indicator/threshold %.3f  trust radius %.3g%s\n",
                     calibrator->evaluations(), calibrator->best_ratio(), calibrator->trust_radius(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
-      } else if (!args.quiet && (calibrator->iteration() % 5 == 0 || calibrator->iteration() <= 1)) {
+      } else if (!args.quiet &&
+                 (calibrator->iteration() % 5 == 0 || calibrator->iteration() <= 1)) {
         std::printf("  iteration %3zu  evaluations %5zu  best worst-indicator/threshold %.3f%s\n",
                     calibrator->iteration(), calibrator->evaluations(), calibrator->best_ratio(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
@@ -365,24 +409,29 @@ void run(const CalibrateArgs& args) {
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!calibrator->read_result(result)) throw CommandError("calibration published no result");
     if (!args.quiet) {
-      std::printf("done: %zu evaluations in %.1f s; first fitting evaluation: %zu\n", result.evaluations, seconds,
-                  result.evaluations_to_threshold);
+      std::printf("done: %zu evaluations in %.1f s; first fitting evaluation: %zu\n",
+                  result.evaluations, seconds, result.evaluations_to_threshold);
     }
   }
-  const double residual_after = residual(measured_spectrum, simulated_spectra(result.parameters), last_line);
+  const double residual_after =
+      residual(measured_spectrum, simulated_spectra(result.parameters), last_line);
   if (!args.quiet) {
     print_params("parameters calibrated:", result.parameters);
     print_fit("fit calibrated:", result.indicators);
     std::printf("residual calibrated: %.3f\n", residual_after);
-    std::printf("%s\n", result.fits ? "CALIBRATED: every indicator within its threshold at both points"
-                                     : "NOT CALIBRATED: some indicator remains above its threshold (marked *)");
+    std::printf("%s\n",
+                result.fits
+                    ? "CALIBRATED: every indicator within its threshold at both points"
+                    : "NOT CALIBRATED: some indicator remains above its threshold (marked *)");
   }
 
   if (!args.json.empty()) {
     nlohmann::json j;
     j["format"] = "drivetwin-calibration/1";
-    j["bundle"] = dir.filename().string().empty() ? dir.parent_path().filename().string() : dir.filename().string();
-    j["operating_point"] = {{"rotor_speed_rpm", op.rotor_speed_rpm}, {"input_torque_nm", op.input_torque_nm}};
+    j["bundle"] = dir.filename().string().empty() ? dir.parent_path().filename().string()
+                                                  : dir.filename().string();
+    j["operating_point"] = {{"rotor_speed_rpm", op.rotor_speed_rpm},
+                            {"input_torque_nm", op.input_torque_nm}};
     j["speed_source"] = speed.name;
     j["simulator"] = args.simulator == "rom" ? "dynamics-rom" : "lumped-stand-in";
     j["method"] = args.method;
@@ -406,24 +455,35 @@ void run(const CalibrateArgs& args) {
 
 void setup(CLI::App& sub) {
   auto args = std::make_shared<CalibrateArgs>();
-  sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")->required();
+  sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")
+      ->required();
   sub.add_option("--json", args->json, "Write the result as JSON to this file");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
   sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA");
-  sub.add_option("--simulator", args->simulator, "rom (default, the dynamics ROM) or lumped (stand-in)");
-  sub.add_option("--evaluations", args->evaluations, "trust-region: model evaluations at most (default 60)");
+  sub.add_option("--simulator", args->simulator,
+                 "rom (default, the dynamics ROM) or lumped (stand-in)");
+  sub.add_option("--evaluations", args->evaluations,
+                 "trust-region: model evaluations at most (default 60)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)");
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
-  sub.add_option("--seed", args->seed, "Random seed (default 1; trust region: 1 probes along the axes, others a random basis)");
-  sub.add_option("--revolutions", args->revolutions, "hss revolutions per analysis block (default 64)");
-  sub.add_option("--samples-per-rev", args->samples_per_rev, "Angle-domain samples per hss revolution (default 1024)");
-  sub.add_option("--harmonics", args->harmonics, "Mesh harmonics compared, fundamental included (default 3)");
-  sub.add_flag("--force", args->force, "Calibrate even when every indicator is within its threshold");
+  sub.add_option(
+      "--seed", args->seed,
+      "Random seed (default 1; trust region: 1 probes along the axes, others a random basis)");
+  sub.add_option("--revolutions", args->revolutions,
+                 "hss revolutions per analysis block (default 64)");
+  sub.add_option("--samples-per-rev", args->samples_per_rev,
+                 "Angle-domain samples per hss revolution (default 1024)");
+  sub.add_option("--harmonics", args->harmonics,
+                 "Mesh harmonics compared, fundamental included (default 3)");
+  sub.add_flag("--force", args->force,
+               "Calibrate even when every indicator is within its threshold");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"calibrate", "Similarity indicators f1/f2/f3 against a recording; MOGOA calibration when above threshold", &setup});
+    {"calibrate",
+     "Similarity indicators f1/f2/f3 against a recording; MOGOA calibration when above threshold",
+     &setup});
 
 }  // namespace

@@ -7,8 +7,8 @@
 // Load spectrum source: `--spectrum dynamics` runs the dynamics model's ROM per grid point
 // (app/fatigue/dynamics_spectrum.hpp); `--spectrum quasi-static` is the named FALLBACK
 // (mean mesh forces, model/fatigue/load_spectrum.hpp). Every output names the source.
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -85,14 +85,16 @@ std::string resolve_input(const std::string& file, std::string& temp_path) {
   if (!text) {
     std::string names;
     for (const auto& n : app::data::embedded_file_names()) names += (names.empty() ? "" : ", ") + n;
-    throw CommandError("'" + file + "': no embedded data file '" + name + "' (have: " + names + ")");
+    throw CommandError("'" + file + "': no embedded data file '" + name + "' (have: " + names +
+                       ")");
   }
   std::string tmpl = (fs::temp_directory_path() / "drivetwin-damage-XXXXXX").string();
   const int fd = mkstemp(tmpl.data());
   if (fd < 0) throw CommandError("cannot create a temporary file for " + file);
   const ssize_t written = ::write(fd, text->data(), text->size());
   ::close(fd);
-  if (written != static_cast<ssize_t>(text->size())) throw CommandError("cannot write a temporary copy of " + file);
+  if (written != static_cast<ssize_t>(text->size()))
+    throw CommandError("cannot write a temporary copy of " + file);
   temp_path = tmpl;
   return tmpl;
 }
@@ -111,7 +113,9 @@ double estimate_rows(const std::string& path) {
   return lines > 1 ? static_cast<double>(size) / (bytes / lines) : 0.0;
 }
 
-nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+nlohmann::json num(double v) {
+  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+}
 
 void run(const DamageArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -121,18 +125,24 @@ void run(const DamageArgs& args) {
   const auto columns = hal::parse_scada_columns(auto_columns ? "bundle" : args.columns, &error);
   if (!columns) throw CommandError("--columns: " + error);
   app::fatigue::TorqueFrom torque_from = app::fatigue::TorqueFrom::kAuto;
-  if (args.torque_from == "torque") torque_from = app::fatigue::TorqueFrom::kTorque;
-  else if (args.torque_from == "power") torque_from = app::fatigue::TorqueFrom::kPower;
-  else if (args.torque_from == "wind") torque_from = app::fatigue::TorqueFrom::kWind;
-  else if (args.torque_from == "wind-steady") torque_from = app::fatigue::TorqueFrom::kWindSteady;
+  if (args.torque_from == "torque")
+    torque_from = app::fatigue::TorqueFrom::kTorque;
+  else if (args.torque_from == "power")
+    torque_from = app::fatigue::TorqueFrom::kPower;
+  else if (args.torque_from == "wind")
+    torque_from = app::fatigue::TorqueFrom::kWind;
+  else if (args.torque_from == "wind-steady")
+    torque_from = app::fatigue::TorqueFrom::kWindSteady;
   else if (args.torque_from != "auto")
-    throw CommandError("--torque-from: '" + args.torque_from + "' is not one of auto, torque, power, wind, wind-steady");
+    throw CommandError("--torque-from: '" + args.torque_from +
+                       "' is not one of auto, torque, power, wind, wind-steady");
   mf::ChannelOptions options;
   options.k_a = args.k_a;
   options.rating.k_h_beta_override = args.k_h_beta;
   const auto lead = mf::parse_lead_modification(args.lead);
   if (!lead) {
-    throw CommandError("--lead: '" + args.lead + "' is not one of none, helix, helix-crowning, crowning, end-relief");
+    throw CommandError("--lead: '" + args.lead +
+                       "' is not one of none, helix, helix-crowning, crowning, end-relief");
   }
   options.rating.face_load.lead = *lead;
   options.rating.face_load.f_ma_factor = args.f_ma_factor;
@@ -146,43 +156,54 @@ void run(const DamageArgs& args) {
     throw CommandError("--sn: '" + args.sn + "' is not one of haibach, iso");
   }
   if (!(args.k_a >= 1.0)) throw CommandError("--k-a must be ≥ 1");
-  if (!(args.k_h_beta == 0.0 || args.k_h_beta >= 1.0)) throw CommandError("--k-h-beta must be ≥ 1 (or 0: method C)");
-  if (!(args.f_ma_factor >= 0.0 && args.f_ma_factor <= 1.0)) throw CommandError("--f-ma must be in [0, 1]");
-  if (!(args.pinion_offset >= 0.0 && args.pinion_offset < 0.5)) throw CommandError("--pinion-offset must be in [0, 0.5)");
+  if (!(args.k_h_beta == 0.0 || args.k_h_beta >= 1.0))
+    throw CommandError("--k-h-beta must be ≥ 1 (or 0: method C)");
+  if (!(args.f_ma_factor >= 0.0 && args.f_ma_factor <= 1.0))
+    throw CommandError("--f-ma must be in [0, 1]");
+  if (!(args.pinion_offset >= 0.0 && args.pinion_offset < 0.5))
+    throw CommandError("--pinion-offset must be in [0, 0.5)");
   if (args.spectrum != "quasi-static" && args.spectrum != "dynamics") {
     throw CommandError("--spectrum: '" + args.spectrum + "' is not one of dynamics, quasi-static");
   }
-  const mf::SpectrumSource source =
-      args.spectrum == "dynamics" ? mf::SpectrumSource::kDynamics : mf::SpectrumSource::kQuasiStatic;
+  const mf::SpectrumSource source = args.spectrum == "dynamics" ? mf::SpectrumSource::kDynamics
+                                                                : mf::SpectrumSource::kQuasiStatic;
 
   const mf::ChannelSet channels(drivetrain, options);
-  if (!channels.valid()) throw CommandError("drivetrain '" + drivetrain.name + "': " + channels.error());
+  if (!channels.valid())
+    throw CommandError("drivetrain '" + drivetrain.name + "': " + channels.error());
 
   mf::SpectrumGrid grid;
   grid.torque_max_nm = 1.5 * drivetrain.turbine.rated_torque_nm;
   grid.speed_min_rpm = 0.5;
   grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
   if (source == mf::SpectrumSource::kDynamics) grid = app::fatigue::dynamics_grid(drivetrain);
-  if (!(grid.torque_max_nm > 0.0)) throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
+  if (!(grid.torque_max_nm > 0.0))
+    throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
   const std::uint64_t key = app::fatigue::spectrum_key(drivetrain, channels, grid, source);
-  const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir() : fs::path(args.cache_dir);
+  const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir()
+                                                    : fs::path(args.cache_dir);
   const fs::path cache_file = app::fatigue::spectrum_cache_file(cache_dir, key);
   mf::LoadSpectrum spectrum;
   spectrum.grid = grid;
   spectrum.source = source;
-  bool cache_hit = !args.no_cache && app::fatigue::load_cached_spectrum(cache_file, key, channels.channel_count(), spectrum);
+  bool cache_hit = !args.no_cache && app::fatigue::load_cached_spectrum(
+                                         cache_file, key, channels.channel_count(), spectrum);
   if (!cache_hit) {
     std::string sim_error;
     const mf::LoadSimulator simulator =
         source == mf::SpectrumSource::kDynamics
-            ? app::fatigue::dynamics_simulator(drivetrain, channels, app::fatigue::DynamicsSpectrumSettings{}, &sim_error)
+            ? app::fatigue::dynamics_simulator(drivetrain, channels,
+                                               app::fatigue::DynamicsSpectrumSettings{}, &sim_error)
             : mf::quasi_static_simulator(channels);
     if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
-      std::fprintf(stderr, "building the load spectrum with the dynamics model (%u points, cached afterwards)...\n",
-                   grid.torque_points * grid.speed_points);
+      std::fprintf(
+          stderr,
+          "building the load spectrum with the dynamics model (%u points, cached afterwards)...\n",
+          grid.torque_points * grid.speed_points);
     }
     spectrum = mf::build_load_spectrum(channels, grid, source, simulator, &error);
-    if (spectrum.channel_count == 0) throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
+    if (spectrum.channel_count == 0)
+      throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);
   }
   spectrum.prepare();
@@ -201,7 +222,8 @@ void run(const DamageArgs& args) {
     if (r.open(path, *columns)) return;
     const std::string first_error = r.error();
     if (auto_columns && r.open(path, hal::kelmarsh_scada_columns())) return;
-    throw CommandError(first_error + (auto_columns ? " (nor the Kelmarsh export's columns; see --columns)" : ""));
+    throw CommandError(first_error +
+                       (auto_columns ? " (nor the Kelmarsh export's columns; see --columns)" : ""));
   };
   hal::ScadaCsvReader reader;
   open_reader(reader);
@@ -231,8 +253,8 @@ void run(const DamageArgs& args) {
     hopt.progress = [total_rows](std::size_t rows) {
       const double f = total_rows > 0 ? std::min(1.0, static_cast<double>(rows) / total_rows) : 0.0;
       const int width = 40, filled = static_cast<int>(f * width);
-      std::fprintf(stderr, "\r[%.*s%*s] %5.1f %% %zu rows", filled, "########################################",
-                   width - filled, "", 100.0 * f, rows);
+      std::fprintf(stderr, "\r[%.*s%*s] %5.1f %% %zu rows", filled,
+                   "########################################", width - filled, "", 100.0 * f, rows);
     };
   }
   app::fatigue::HistoryResult h;
@@ -258,77 +280,107 @@ void run(const DamageArgs& args) {
   }
 
   const char* src = mf::spectrum_source_name(spectrum.source);
-  std::printf("# drivetwin damage %s (drivetrain %s)\n", args.file.c_str(), drivetrain.name.c_str());
+  std::printf("# drivetwin damage %s (drivetrain %s)\n", args.file.c_str(),
+              drivetrain.name.c_str());
   if (source == mf::SpectrumSource::kDynamics) {
-    std::printf("# load spectrum: %s — ROM mesh forces and bearing reactions per (torque, speed) point "
-                "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, K_v = 1; %s %s\n",
-                src, drivetrain.dynamics.rayleigh_eta, drivetrain.dynamics.rayleigh_zeta, args.k_a,
-                cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
+    std::printf(
+        "# load spectrum: %s — ROM mesh forces and bearing reactions per (torque, speed) point "
+        "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, K_v = "
+        "1; %s %s\n",
+        src, drivetrain.dynamics.rayleigh_eta, drivetrain.dynamics.rayleigh_zeta, args.k_a,
+        cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
   } else {
-    std::printf("# load spectrum: %s — mean mesh force from torque, equal planet sharing, K_A = %.2f, "
-                "K_v = 1, no dynamic content; %s %s\n",
-                src, args.k_a, cache_hit ? "cache hit" : "built, cached as", cache_hit ? "" : cache_file.string().c_str());
+    std::printf(
+        "# load spectrum: %s — mean mesh force from torque, equal planet sharing, K_A = %.2f, "
+        "K_v = 1, no dynamic content; %s %s\n",
+        src, args.k_a, cache_hit ? "cache hit" : "built, cached as",
+        cache_hit ? "" : cache_file.string().c_str());
   }
-  std::printf("# rating: ISO 6336-2/-3:2006 method B, ISO 1328 class %d; S-N beyond knee: %s\n", args.accuracy_grade,
-              options.branch == mf::KneeBranch::kHaibach ? "Haibach, slope -1/(2m-1)" : "ISO life-factor line (0.85 at 1e10)");
-  const mf::LoadSample rated_loads = channels.quasi_static_loads(drivetrain.turbine.rated_torque_nm);
+  std::printf("# rating: ISO 6336-2/-3:2006 method B, ISO 1328 class %d; S-N beyond knee: %s\n",
+              args.accuracy_grade,
+              options.branch == mf::KneeBranch::kHaibach ? "Haibach, slope -1/(2m-1)"
+                                                         : "ISO life-factor line (0.85 at 1e10)");
+  const mf::LoadSample rated_loads =
+      channels.quasi_static_loads(drivetrain.turbine.rated_torque_nm);
   if (args.k_h_beta > 0.0) {
     std::printf("# K_Hβ = %.3f (--k-h-beta override, all meshes and loads)\n", args.k_h_beta);
   } else {
-    std::printf("# K_Hβ: ISO 6336-1 method C per load (lead modification %s, f_ma = %.2f·f_Hβ, pinion s/l = %.2f); "
-                "at rated torque:", args.lead.c_str(), args.f_ma_factor, args.pinion_offset);
+    std::printf(
+        "# K_Hβ: ISO 6336-1 method C per load (lead modification %s, f_ma = %.2f·f_Hβ, pinion s/l "
+        "= %.2f); "
+        "at rated torque:",
+        args.lead.c_str(), args.f_ma_factor, args.pinion_offset);
     for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
-      std::printf(" %s %.3f", channels.mesh_id(m).c_str(), channels.mesh(m).face_load(rated_loads.mesh_force_n[m]).k_h_beta);
+      std::printf(" %s %.3f", channels.mesh_id(m).c_str(),
+                  channels.mesh(m).face_load(rated_loads.mesh_force_n[m]).k_h_beta);
     }
     std::printf("\n");
   }
-  std::printf("# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu), no data %zu; "
-              "gaps %zu (%.1f h missing)\n",
-              h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time, h.rejected_speed,
-              h.rejected_wind, h.rows_no_data, h.gaps, h.gap_s / 3600.0);
-  std::printf("# period %.0f s; covered %.3f days (%.3f years); torque from: torque_nm %zu rows, P/(eta*omega) %zu, "
-              "wind model %zu\n",
-              h.period_s, days, h.covered_s / kYearS, h.torque_rows_measured, h.torque_rows_power, h.torque_rows_wind);
-  std::printf("%-9s %-16s %-8s %12s %12s %10s %10s %10s %10s\n", "component", "detail", "mode", "damage",
-              "per_day", "rul_y", "rul_short_y", "rul_low_y", "rul_high_y");
+  std::printf(
+      "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu), no "
+      "data %zu; "
+      "gaps %zu (%.1f h missing)\n",
+      h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time,
+      h.rejected_speed, h.rejected_wind, h.rows_no_data, h.gaps, h.gap_s / 3600.0);
+  std::printf(
+      "# period %.0f s; covered %.3f days (%.3f years); torque from: torque_nm %zu rows, "
+      "P/(eta*omega) %zu, "
+      "wind model %zu\n",
+      h.period_s, days, h.covered_s / kYearS, h.torque_rows_measured, h.torque_rows_power,
+      h.torque_rows_wind);
+  std::printf("%-9s %-16s %-8s %12s %12s %10s %10s %10s %10s\n", "component", "detail", "mode",
+              "damage", "per_day", "rul_y", "rul_short_y", "rul_low_y", "rul_high_y");
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
     const mf::Channel& ch = channels.channel(c);
     const mf::RulEstimate& e = h.rul[c];
     std::printf("%-9s %-16s %-8s %12.4e %12.4e %10.3g %10.3g %10.3g %10.3g\n", ch.component.c_str(),
-                ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode), h.damage[c],
-                days > 0 ? h.damage[c] / days : 0.0, e.rul_s / kYearS, e.rul_short_term_s / kYearS,
-                e.rul_low_s / kYearS, e.rul_high_s / kYearS);
+                ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode),
+                h.damage[c], days > 0 ? h.damage[c] / days : 0.0, e.rul_s / kYearS,
+                e.rul_short_term_s / kYearS, e.rul_low_s / kYearS, e.rul_high_s / kYearS);
   }
   const mf::Channel& bc = channels.channel(h.breakdown_channel);
-  std::printf("# %s %s damage by rotor torque (bins of 0.1 x rated): share of time, share of damage, damage per hour\n",
-              bc.component.c_str(), mf::failure_mode_name(bc.mode));
+  std::printf(
+      "# %s %s damage by rotor torque (bins of 0.1 x rated): share of time, share of damage, "
+      "damage per hour\n",
+      bc.component.c_str(), mf::failure_mode_name(bc.mode));
   const double dtot = h.damage[h.breakdown_channel];
   for (std::size_t b = 0; b < app::fatigue::kTorqueBins; ++b) {
     if (h.bin_time_s[b] <= 0.0) continue;
-    std::printf("#   %.1f-%s x rated: time %6.2f %%, damage %6.2f %%, %.3e /h\n", 0.1 * static_cast<double>(b),
-                b + 1 == app::fatigue::kTorqueBins ? "   " : std::to_string(0.1 * static_cast<double>(b + 1)).substr(0, 3).c_str(),
-                100.0 * h.bin_time_s[b] / h.covered_s, dtot > 0 ? 100.0 * h.bin_damage[b] / dtot : 0.0,
+    std::printf("#   %.1f-%s x rated: time %6.2f %%, damage %6.2f %%, %.3e /h\n",
+                0.1 * static_cast<double>(b),
+                b + 1 == app::fatigue::kTorqueBins
+                    ? "   "
+                    : std::to_string(0.1 * static_cast<double>(b + 1)).substr(0, 3).c_str(),
+                100.0 * h.bin_time_s[b] / h.covered_s,
+                dtot > 0 ? 100.0 * h.bin_damage[b] / dtot : 0.0,
                 h.bin_damage[b] / (h.bin_time_s[b] / 3600.0));
   }
-  std::printf("# time: spectrum %.3f s (%s); rows: wall %.3f s, cpu %.3f s = %.0f rows per cpu second\n",
-              spectrum_s, cache_hit ? "from cache" : "built", rows_s, rows_cpu_s,
-              static_cast<double>(h.rows) / std::max(rows_cpu_s, 1e-9));
+  std::printf(
+      "# time: spectrum %.3f s (%s); rows: wall %.3f s, cpu %.3f s = %.0f rows per cpu second\n",
+      spectrum_s, cache_hit ? "from cache" : "built", rows_s, rows_cpu_s,
+      static_cast<double>(h.rows) / std::max(rows_cpu_s, 1e-9));
   if (args.bench) {
-    std::printf("# bench: reading only (baseline, same file, same run): wall %.3f s, cpu %.3f s; "
-                "damage pass / reading only (cpu) = %.2f\n",
-                read_only_s, read_only_cpu_s, rows_cpu_s / std::max(read_only_cpu_s, 1e-9));
+    std::printf(
+        "# bench: reading only (baseline, same file, same run): wall %.3f s, cpu %.3f s; "
+        "damage pass / reading only (cpu) = %.2f\n",
+        read_only_s, read_only_cpu_s, rows_cpu_s / std::max(read_only_cpu_s, 1e-9));
   }
 
   app::fatigue::DayDistribution dist;
   const std::size_t dc = h.breakdown_channel;
   if (hopt.per_day) {
-    dist = app::fatigue::day_distribution(h.days, dc, 86400.0 - 0.5 * h.period_s, kPaperWindMps, kNearestDays);
-    const std::string name = channels.channel(dc).component + " " + mf::failure_mode_name(channels.channel(dc).mode);
-    std::printf("# per day: %s damage over %zu full UTC days (%zu partial days left out)\n", name.c_str(),
-                dist.full_days, dist.partial_days);
-    std::printf("#   min %.3e  Q1 %.3e  median %.3e  Q3 %.3e  max %.3e  mean %.3e  (paper, its one day: %.3e)\n",
-                dist.min, dist.q1, dist.median, dist.q3, dist.max, dist.mean, kPaperDayDamage);
-    std::printf("#   full days nearest the paper's operating point (daily mean wind %.2f m/s):\n", kPaperWindMps);
+    dist = app::fatigue::day_distribution(h.days, dc, 86400.0 - 0.5 * h.period_s, kPaperWindMps,
+                                          kNearestDays);
+    const std::string name =
+        channels.channel(dc).component + " " + mf::failure_mode_name(channels.channel(dc).mode);
+    std::printf("# per day: %s damage over %zu full UTC days (%zu partial days left out)\n",
+                name.c_str(), dist.full_days, dist.partial_days);
+    std::printf(
+        "#   min %.3e  Q1 %.3e  median %.3e  Q3 %.3e  max %.3e  mean %.3e  (paper, its one day: "
+        "%.3e)\n",
+        dist.min, dist.q1, dist.median, dist.q3, dist.max, dist.mean, kPaperDayDamage);
+    std::printf("#   full days nearest the paper's operating point (daily mean wind %.2f m/s):\n",
+                kPaperWindMps);
     for (std::size_t i : dist.nearest) {
       std::printf("#     %s  mean wind %5.2f m/s  damage %.3e\n", utc_date(h.days[i].day).c_str(),
                   h.days[i].mean_wind_mps(), h.days[i].damage[dc]);
@@ -338,7 +390,8 @@ void run(const DamageArgs& args) {
       out << "date,covered_s,mean_wind_mps";
       for (std::size_t c = 0; c < channels.channel_count(); ++c) {
         const mf::Channel& ch = channels.channel(c);
-        out << ',' << ch.component << (ch.detail.empty() ? "" : " " + ch.detail) << ' ' << mf::failure_mode_name(ch.mode);
+        out << ',' << ch.component << (ch.detail.empty() ? "" : " " + ch.detail) << ' '
+            << mf::failure_mode_name(ch.mode);
       }
       out << '\n';
       char buf[32];
@@ -360,18 +413,27 @@ void run(const DamageArgs& args) {
     j["file"] = args.file;
     j["drivetrain"] = drivetrain.name;
     j["spectrum"] = {{"source", src}, {"k_a", args.k_a}, {"cache", cache_hit ? "hit" : "built"}};
-    j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta) : nlohmann::json("iso6336-1-method-c")},
-                   {"lead_modification", args.lead}, {"f_ma_factor", args.f_ma_factor},
-                   {"pinion_offset_ratio", args.pinion_offset}, {"accuracy_grade", args.accuracy_grade},
+    j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta)
+                                                    : nlohmann::json("iso6336-1-method-c")},
+                   {"lead_modification", args.lead},
+                   {"f_ma_factor", args.f_ma_factor},
+                   {"pinion_offset_ratio", args.pinion_offset},
+                   {"accuracy_grade", args.accuracy_grade},
                    {"sn_beyond_knee", args.sn}};
     for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
       const mf::FaceLoad f = channels.mesh(m).face_load(rated_loads.mesh_force_n[m]);
       j["rating"]["k_h_beta_at_rated"][channels.mesh_id(m)] = f.k_h_beta;
     }
-    j["rows"] = {{"total", h.rows}, {"used", h.rows_used}, {"rejected", h.rows_rejected},
-                 {"no_data", h.rows_no_data}, {"gaps", h.gaps}, {"gap_s", h.gap_s},
-                 {"rejected_nonnumeric", h.rejected_nonnumeric}, {"rejected_time", h.rejected_time},
-                 {"rejected_speed", h.rejected_speed}, {"rejected_wind", h.rejected_wind}};
+    j["rows"] = {{"total", h.rows},
+                 {"used", h.rows_used},
+                 {"rejected", h.rows_rejected},
+                 {"no_data", h.rows_no_data},
+                 {"gaps", h.gaps},
+                 {"gap_s", h.gap_s},
+                 {"rejected_nonnumeric", h.rejected_nonnumeric},
+                 {"rejected_time", h.rejected_time},
+                 {"rejected_speed", h.rejected_speed},
+                 {"rejected_wind", h.rejected_wind}};
     j["period_s"] = h.period_s;
     j["covered_s"] = h.covered_s;
     j["first_t_s"] = h.first_t_s;
@@ -379,19 +441,28 @@ void run(const DamageArgs& args) {
     for (std::size_t c = 0; c < channels.channel_count(); ++c) {
       const mf::Channel& ch = channels.channel(c);
       const mf::RulEstimate& e = h.rul[c];
-      j["channels"].push_back({{"component", ch.component}, {"detail", ch.detail},
-                               {"mode", mf::failure_mode_name(ch.mode)}, {"damage", h.damage[c]},
+      j["channels"].push_back({{"component", ch.component},
+                               {"detail", ch.detail},
+                               {"mode", mf::failure_mode_name(ch.mode)},
+                               {"damage", h.damage[c]},
                                {"damage_per_day", days > 0 ? h.damage[c] / days : 0.0},
                                {"rul_years", num(e.rul_s / kYearS)},
                                {"rul_short_term_years", num(e.rul_short_term_s / kYearS)},
                                {"rul_low_years", num(e.rul_low_s / kYearS)},
                                {"rul_high_years", num(e.rul_high_s / kYearS)}});
     }
-    for (const auto& i : h.issues) j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
+    for (const auto& i : h.issues)
+      j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
     if (hopt.per_day) {
-      j["per_day"] = {{"channel", dc}, {"full_days", dist.full_days}, {"partial_days", dist.partial_days},
-                      {"min", dist.min}, {"q1", dist.q1}, {"median", dist.median}, {"q3", dist.q3},
-                      {"max", dist.max}, {"mean", dist.mean}};
+      j["per_day"] = {{"channel", dc},
+                      {"full_days", dist.full_days},
+                      {"partial_days", dist.partial_days},
+                      {"min", dist.min},
+                      {"q1", dist.q1},
+                      {"median", dist.median},
+                      {"q3", dist.q3},
+                      {"max", dist.max},
+                      {"mean", dist.mean}};
       for (std::size_t i : dist.nearest) {
         j["per_day"]["nearest_paper_wind"].push_back({{"date", utc_date(h.days[i].day)},
                                                       {"mean_wind_mps", h.days[i].mean_wind_mps()},
@@ -399,7 +470,8 @@ void run(const DamageArgs& args) {
       }
     }
     j["timing_s"] = {{"spectrum", spectrum_s}, {"rows_wall", rows_s}, {"rows_cpu", rows_cpu_s}};
-    j["torque_rows"] = {{"torque_nm", h.torque_rows_measured}, {"power", h.torque_rows_power},
+    j["torque_rows"] = {{"torque_nm", h.torque_rows_measured},
+                        {"power", h.torque_rows_power},
                         {"wind_model", h.torque_rows_wind}};
     const std::string text = j.dump(2) + "\n";
     if (args.json == "-") {
@@ -416,47 +488,61 @@ void run(const DamageArgs& args) {
 
 void setup(CLI::App& sub) {
   auto args = std::make_shared<DamageArgs>();
-  sub.add_option("scada", args->file,
-                 "SCADA CSV (bundle columns, or --columns), or builtin:NAME for an embedded data file")
+  sub.add_option(
+         "scada", args->file,
+         "SCADA CSV (bundle columns, or --columns), or builtin:NAME for an embedded data file")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--columns", args->columns,
-                 "Column mapping: auto (bundle, else kelmarsh), bundle, kelmarsh, or field=Column;...")
+  sub.add_option(
+         "--columns", args->columns,
+         "Column mapping: auto (bundle, else kelmarsh), bundle, kelmarsh, or field=Column;...")
       ->capture_default_str();
   sub.add_option("--torque-from", args->torque_from,
-                 "Rotor torque source: auto (torque_nm, else P/(eta*omega), else wind model), torque, power, "
+                 "Rotor torque source: auto (torque_nm, else P/(eta*omega), else wind model), "
+                 "torque, power, "
                  "wind, wind-steady (wind model with its own steady-state speed)")
       ->capture_default_str();
-  sub.add_flag("--bench", args->bench, "Also time a reading-only pass (baseline) and print the ratio");
+  sub.add_flag("--bench", args->bench,
+               "Also time a reading-only pass (baseline) and print the ratio");
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
   sub.add_option("--spectrum", args->spectrum,
-                 "Load spectrum source: quasi-static (the fallback: mean mesh forces) | dynamics (ROM per grid point)")
+                 "Load spectrum source: quasi-static (the fallback: mean mesh forces) | dynamics "
+                 "(ROM per grid point)")
       ->capture_default_str();
-  sub.add_option("--cache-dir", args->cache_dir, "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
+  sub.add_option("--cache-dir", args->cache_dir,
+                 "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
   sub.add_flag("--no-cache", args->no_cache, "Always rebuild the spectrum, write no cache");
   sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)");
   sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")->capture_default_str();
-  sub.add_option("--k-a", args->k_a, "Application factor K_A of the quasi-static spectrum")->capture_default_str();
-  sub.add_option("--k-h-beta", args->k_h_beta,
-                 "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
-  sub.add_option("--lead", args->lead,
-                 "Lead modification for K_Hbeta method C: none, helix, helix-crowning, crowning, end-relief")
+  sub.add_option("--k-a", args->k_a, "Application factor K_A of the quasi-static spectrum")
       ->capture_default_str();
-  sub.add_option("--f-ma", args->f_ma_factor, "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")
+  sub.add_option(
+      "--k-h-beta", args->k_h_beta,
+      "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
+  sub.add_option("--lead", args->lead,
+                 "Lead modification for K_Hbeta method C: none, helix, helix-crowning, crowning, "
+                 "end-relief")
+      ->capture_default_str();
+  sub.add_option("--f-ma", args->f_ma_factor,
+                 "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")
       ->capture_default_str();
   sub.add_option("--pinion-offset", args->pinion_offset,
                  "Parallel-stage pinion offset s/l from mid-span (K_Hbeta method C)")
       ->capture_default_str();
-  sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")->capture_default_str();
+  sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")
+      ->capture_default_str();
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
   sub.add_flag("--per-day", args->per_day,
-               "Distribution of the most damaged gear-contact channel's damage per full UTC day, and the days "
+               "Distribution of the most damaged gear-contact channel's damage per full UTC day, "
+               "and the days "
                "nearest the paper's operating point");
-  sub.add_option("--per-day-csv", args->per_day_csv, "Write every day's damage per channel to this CSV (implies --per-day)");
+  sub.add_option("--per-day-csv", args->per_day_csv,
+                 "Write every day's damage per channel to this CSV (implies --per-day)");
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"damage", "Fatigue damage and remaining life per gear and bearing from SCADA history", &setup});
+    {"damage", "Fatigue damage and remaining life per gear and bearing from SCADA history",
+     &setup});
 
 }  // namespace

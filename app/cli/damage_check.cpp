@@ -54,7 +54,8 @@ void run(const CheckArgs& a) {
   std::fprintf(stderr, "damage-check: building the dynamics load spectrum (%u points)...\n",
                grid.torque_points * grid.speed_points);
   const mf::LoadSpectrum spectrum = mf::build_load_spectrum(
-      channels, grid, mf::SpectrumSource::kDynamics, app::fatigue::dynamics_simulator(d, channels, ds, &sim_error), &error);
+      channels, grid, mf::SpectrumSource::kDynamics,
+      app::fatigue::dynamics_simulator(d, channels, ds, &sim_error), &error);
   if (spectrum.channel_count == 0) throw CommandError(error + ": " + sim_error);
   hal::ScadaCsvReader reader;
   if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
@@ -62,21 +63,26 @@ void run(const CheckArgs& a) {
   ho.period_s = a.period_s;
   ho.max_rows = a.rows;
   ho.torque_from = app::fatigue::TorqueFrom::kTorque;
-  const app::fatigue::HistoryResult h = app::fatigue::run_history(reader, d, channels, spectrum, ho);
-  if (h.rows_used != a.rows) throw CommandError(a.file + ": only " + std::to_string(h.rows_used) + " of the first " +
-                                                std::to_string(a.rows) + " rows are usable (need t_s, rotor_speed_rpm, torque_nm)");
+  const app::fatigue::HistoryResult h =
+      app::fatigue::run_history(reader, d, channels, spectrum, ho);
+  if (h.rows_used != a.rows)
+    throw CommandError(a.file + ": only " + std::to_string(h.rows_used) + " of the first " +
+                       std::to_string(a.rows) +
+                       " rows are usable (need t_s, rotor_speed_rpm, torque_nm)");
 
   // Online: the ROM stepped continuously.
   const auto model_full = model::dynamics::build_full_model(d, {}, &error);
   if (!model_full) throw CommandError("dynamics model: " + error);
-  const auto data = model::dynamics::build_rom(*model_full, 1.0 / a.sample_rate_hz, a.cutoff_hz, &error);
+  const auto data =
+      model::dynamics::build_rom(*model_full, 1.0 / a.sample_rate_hz, a.cutoff_hz, &error);
   if (!data) throw CommandError("dynamics model: " + error);
   model::dynamics::SimulationOutputs ids;
   model::dynamics::SimulationSettings tiny;
   tiny.seconds = 1.0 / a.sample_rate_hz;
   tiny.sample_rate_hz = a.sample_rate_hz;
   tiny.rom_cutoff_hz = a.cutoff_hz;
-  if (!model::dynamics::simulate_rom(d, {10.0, 1e5}, tiny, ids, &error)) throw CommandError("dynamics model: " + error);
+  if (!model::dynamics::simulate_rom(d, {10.0, 1e5}, tiny, ids, &error))
+    throw CommandError("dynamics model: " + error);
   const app::fatigue::RomLoadConverter conv(d, channels, ids.mesh_ids, ids.bearing_ids);
   if (!conv.valid()) throw CommandError(conv.error());
   mf::AccumulatorConfig cfg;
@@ -91,46 +97,58 @@ void run(const CheckArgs& a) {
   const auto steps = static_cast<long long>(std::llround(a.period_s * a.sample_rate_hz));
   for (std::size_t k = 0; k < a.rows; ++k) {
     if (rows.next(row) != hal::ScadaReadResult::kRow) throw CommandError(rows.error());
-    const double rpm = row.get(hal::ScadaField::kRotorSpeed), torque = std::abs(row.get(hal::ScadaField::kTorque));
+    const double rpm = row.get(hal::ScadaField::kRotorSpeed),
+                 torque = std::abs(row.get(hal::ScadaField::kTorque));
     const model::dynamics::RomInputs in{rpm, torque};
     if (k == 0) rom->reset(in);
     for (long long i = 0; i < steps; ++i) {
       rom->step(in, o);
-      conv.convert(o.mesh_force_n.data(), o.bearing_force_x_n.data(), o.bearing_force_y_n.data(), torque, loads);
+      conv.convert(o.mesh_force_n.data(), o.bearing_force_x_n.data(), o.bearing_force_y_n.data(),
+                   torque, loads);
       online.step(loads, rpm, 1);
     }
     std::fprintf(stderr, "damage-check: online row %zu of %zu done\n", k + 1, a.rows);
   }
 
-  std::printf("# damage-check %s: %zu rows of %.0f s, ROM at %.0f Hz (cut-off %.0f Hz), drivetrain %s "
-              "(Rayleigh eta = %g 1/s, zeta = %g s)\n",
-              a.file.c_str(), a.rows, a.period_s, a.sample_rate_hz, a.cutoff_hz, d.name.c_str(),
-              d.dynamics.rayleigh_eta, d.dynamics.rayleigh_zeta);
-  std::printf("%-9s %-16s %-8s %12s %12s %9s\n", "component", "detail", "mode", "online", "history", "diff_pct");
+  std::printf(
+      "# damage-check %s: %zu rows of %.0f s, ROM at %.0f Hz (cut-off %.0f Hz), drivetrain %s "
+      "(Rayleigh eta = %g 1/s, zeta = %g s)\n",
+      a.file.c_str(), a.rows, a.period_s, a.sample_rate_hz, a.cutoff_hz, d.name.c_str(),
+      d.dynamics.rayleigh_eta, d.dynamics.rayleigh_zeta);
+  std::printf("%-9s %-16s %-8s %12s %12s %9s\n", "component", "detail", "mode", "online", "history",
+              "diff_pct");
   double worst = 0.0;
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
     const mf::Channel& ch = channels.channel(c);
     const double on = online.damage(c), hi = h.damage[c];
     const double pct = on > 0 ? 100.0 * (hi - on) / on : 0.0;
     if (on > 1e-12) worst = std::max(worst, std::abs(pct));
-    std::printf("%-9s %-16s %-8s %12.4e %12.4e %9.2f\n", ch.component.c_str(), ch.detail.empty() ? "-" : ch.detail.c_str(),
-                mf::failure_mode_name(ch.mode), on, hi, pct);
+    std::printf("%-9s %-16s %-8s %12.4e %12.4e %9.2f\n", ch.component.c_str(),
+                ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode), on, hi,
+                pct);
   }
-  std::printf("# largest |history − online| / online over channels with online damage > 1e-12: %.2f %%\n", worst);
+  std::printf(
+      "# largest |history − online| / online over channels with online damage > 1e-12: %.2f %%\n",
+      worst);
 }
 
 void setup(CLI::App& sub) {
   auto args = std::make_shared<CheckArgs>();
-  sub.add_option("scada", args->file, "SCADA CSV with t_s, rotor_speed_rpm, torque_nm (bundle columns)")->required();
+  sub.add_option("scada", args->file,
+                 "SCADA CSV with t_s, rotor_speed_rpm, torque_nm (bundle columns)")
+      ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--rows", args->rows, "Rows to compare")->capture_default_str();
   sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
-  sub.add_option("--sample-rate", args->sample_rate_hz, "ROM sample rate [Hz]")->capture_default_str();
+  sub.add_option("--sample-rate", args->sample_rate_hz, "ROM sample rate [Hz]")
+      ->capture_default_str();
   sub.add_option("--cutoff", args->cutoff_hz, "ROM mode cut-off [Hz]")->capture_default_str();
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"damage-check", "Online accumulator (ROM stepped per sample) vs history mode over the same SCADA rows", &setup});
+    {"damage-check",
+     "Online accumulator (ROM stepped per sample) vs history mode over the same SCADA rows",
+     &setup});
 
 }  // namespace

@@ -34,15 +34,16 @@ struct SimulateArgs {
   bool full = false;
 };
 
-constexpr double kTachoHighV = 5.0;       // [V] pulse level
-constexpr double kTachoPulseRev = 0.02;   // [rev] pulse width as a fraction of one hss revolution
+constexpr double kTachoHighV = 5.0;      // [V] pulse level
+constexpr double kTachoPulseRev = 0.02;  // [rev] pulse width as a fraction of one hss revolution
 
 void write_loads_csv(const fs::path& file, const model::dynamics::SimulationOutputs& o) {
   std::ofstream f(file);
   if (!f) throw CommandError(file.string() + ": cannot open for writing");
   f << "t_s";
   for (const auto& id : o.mesh_ids) f << ',' << id << "_n";
-  for (const auto& id : o.bearing_ids) f << ',' << id << "_x_n," << id << "_y_n," << id << "_radial_n";
+  for (const auto& id : o.bearing_ids)
+    f << ',' << id << "_x_n," << id << "_y_n," << id << "_radial_n";
   f << '\n';
   char buf[64];
   const std::size_t n = o.hss_revolutions.size();
@@ -71,9 +72,12 @@ void run(const SimulateArgs& a) {
   } catch (const std::exception& e) {
     throw CommandError(std::string("--drivetrain: ") + e.what());
   }
-  if (!(a.rpm > 0.0) || !std::isfinite(a.rpm)) throw CommandError("--rpm: expected a finite value > 0 [rpm]");
-  if (a.torque_nm < 0.0 || !std::isfinite(a.torque_nm)) throw CommandError("--torque: expected a finite value ≥ 0 [N·m]");
-  if (!(a.seconds > 0.0) || !(a.seconds <= 3600.0)) throw CommandError("--seconds: expected a value in (0, 3600] [s]");
+  if (!(a.rpm > 0.0) || !std::isfinite(a.rpm))
+    throw CommandError("--rpm: expected a finite value > 0 [rpm]");
+  if (a.torque_nm < 0.0 || !std::isfinite(a.torque_nm))
+    throw CommandError("--torque: expected a finite value ≥ 0 [N·m]");
+  if (!(a.seconds > 0.0) || !(a.seconds <= 3600.0))
+    throw CommandError("--seconds: expected a value in (0, 3600] [s]");
   if (!(a.sample_rate_hz > 0.0) || !std::isfinite(a.sample_rate_hz)) {
     throw CommandError("--rate: expected a finite value > 0 [Hz]");
   }
@@ -92,7 +96,8 @@ void run(const SimulateArgs& a) {
                        std::to_string(range.max_rotor_speed_rpm) + " rpm, 120 % of rated)");
   }
   if (range.max_input_torque_nm > 0.0 && a.torque_nm > range.max_input_torque_nm) {
-    throw CommandError("--torque: " + std::to_string(a.torque_nm) + " N·m is above the turbine's range (≤ " +
+    throw CommandError("--torque: " + std::to_string(a.torque_nm) +
+                       " N·m is above the turbine's range (≤ " +
                        std::to_string(range.max_input_torque_nm) + " N·m, 150 % of rated)");
   }
 
@@ -102,7 +107,8 @@ void run(const SimulateArgs& a) {
   if (!ok) throw CommandError(error);
 
   hal::Recording rec;
-  const bool builtin = a.drivetrain.find('/') == std::string::npos && a.drivetrain.find('.') == std::string::npos;
+  const bool builtin =
+      a.drivetrain.find('/') == std::string::npos && a.drivetrain.find('.') == std::string::npos;
   rec.drivetrain = builtin ? a.drivetrain : "drivetrain.toml";
   rec.sample_rate_hz = a.sample_rate_hz;
   rec.samples_file = "cms.wav";
@@ -120,8 +126,9 @@ void run(const SimulateArgs& a) {
   rec.samples.push_back(std::move(tacho));
   rec.operating_point.rotor_speed_rpm = a.rpm;
   rec.operating_point.input_torque_nm = a.torque_nm;
-  rec.notes = std::string("drivetwin simulate: ") + (a.full ? "full-order model (Newmark)" : "reduced-order model") +
-              ", " + std::to_string(a.seconds) + " s from static equilibrium";
+  rec.notes = std::string("drivetwin simulate: ") +
+              (a.full ? "full-order model (Newmark)" : "reduced-order model") + ", " +
+              std::to_string(a.seconds) + " s from static equilibrium";
   const fs::path dir(a.out);
   if (const auto err = hal::write_bundle(dir, rec, range)) throw CommandError(err->to_string());
   if (!builtin) {
@@ -130,8 +137,11 @@ void run(const SimulateArgs& a) {
     if (!f) throw CommandError((dir / "drivetrain.toml").string() + ": write failed");
   }
   write_loads_csv(dir / "loads.csv", out);
-  std::printf("wrote %s (recording.json, cms.wav: point1, point2, tacho; loads.csv) — %zu samples at %.0f Hz, %s\n",
-              dir.string().c_str(), out.hss_revolutions.size(), a.sample_rate_hz, a.full ? "full model" : "ROM");
+  std::printf(
+      "wrote %s (recording.json, cms.wav: point1, point2, tacho; loads.csv) — %zu samples at %.0f "
+      "Hz, %s\n",
+      dir.string().c_str(), out.hss_revolutions.size(), a.sample_rate_hz,
+      a.full ? "full model" : "ROM");
 }
 
 void setup(CLI::App& sub) {
@@ -140,13 +150,16 @@ void setup(CLI::App& sub) {
   sub.add_option("--rpm", args->rpm, "Rotor speed [rpm]")->required();
   sub.add_option("--torque", args->torque_nm, "Rotor (gearbox input) torque [N·m]")->required();
   sub.add_option("--seconds", args->seconds, "Simulated time [s] (default 2)");
-  sub.add_option("--rate", args->sample_rate_hz, "Sample rate [Hz] (default 25600; the ROM steps at this rate)");
+  sub.add_option("--rate", args->sample_rate_hz,
+                 "Sample rate [Hz] (default 25600; the ROM steps at this rate)");
   sub.add_option("--out", args->out, "Output bundle directory")->required();
-  sub.add_flag("--full", args->full, "Use the full-order reference model (slow) instead of the ROM");
+  sub.add_flag("--full", args->full,
+               "Use the full-order reference model (slow) instead of the ROM");
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"simulate", "Simulate the gearbox dynamics at one operating point into a recording bundle", &setup});
+    {"simulate", "Simulate the gearbox dynamics at one operating point into a recording bundle",
+     &setup});
 
 }  // namespace

@@ -66,8 +66,10 @@ class Normal {
 };
 
 void run(const SynthArgs& a) {
-  if (!(a.years > 0.0) || !(a.period_s > 0.0)) throw CommandError("--years and --period must be > 0");
-  if (!(a.weibull_k > 0.0) || !(a.weibull_c > 0.0)) throw CommandError("--weibull-k and --weibull-c must be > 0");
+  if (!(a.years > 0.0) || !(a.period_s > 0.0))
+    throw CommandError("--years and --period must be > 0");
+  if (!(a.weibull_k > 0.0) || !(a.weibull_c > 0.0))
+    throw CommandError("--weibull-k and --weibull-c must be > 0");
   if (!(a.lag1 >= 0.0 && a.lag1 < 1.0)) throw CommandError("--lag1 must be in [0, 1)");
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
   const model::wind::WindLoad wind(d.turbine);
@@ -82,15 +84,17 @@ void run(const SynthArgs& a) {
   for (long long i = 0; i < rows; ++i) {
     if (i > 0) z = a.lag1 * z + innov * normal.next();
     const double u = 0.5 * std::erfc(-z / std::sqrt(2.0));
-    const double v = a.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / a.weibull_k);
+    const double v =
+        a.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / a.weibull_k);
     const model::wind::WindLoadOutput o = wind.steady_state(v);
     const double rpm = o.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
     const double p_kw = o.torque_nm * o.rotor_speed_rad_s * eta / 1e3;
-    std::fprintf(f, "%.0f,%.3f,%.4f,%.3f,%.1f\n", a.start_s + static_cast<double>(i) * a.period_s, v, rpm, p_kw,
-                 o.torque_nm);
+    std::fprintf(f, "%.0f,%.3f,%.4f,%.3f,%.1f\n", a.start_s + static_cast<double>(i) * a.period_s,
+                 v, rpm, p_kw, o.torque_nm);
   }
   if (std::fclose(f) != 0) throw CommandError("--out: write error on '" + a.out + "'");
-  std::printf("wrote %lld rows (%.2f years of %.0f s) to %s\n", rows, a.years, a.period_s, a.out.c_str());
+  std::printf("wrote %lld rows (%.2f years of %.0f s) to %s\n", rows, a.years, a.period_s,
+              a.out.c_str());
 }
 
 void setup(CLI::App& sub) {
@@ -99,15 +103,18 @@ void setup(CLI::App& sub) {
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--years", args->years, "Length [years of 365.25 days]")->capture_default_str();
   sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
-  sub.add_option("--weibull-k", args->weibull_k, "Weibull shape k of the 10-min wind")->capture_default_str();
+  sub.add_option("--weibull-k", args->weibull_k, "Weibull shape k of the 10-min wind")
+      ->capture_default_str();
   sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")->capture_default_str();
-  sub.add_option("--lag1", args->lag1, "Lag-1 autocorrelation of the Gaussian copula")->capture_default_str();
+  sub.add_option("--lag1", args->lag1, "Lag-1 autocorrelation of the Gaussian copula")
+      ->capture_default_str();
   sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
   sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")->capture_default_str();
   sub.callback([args] { run(*args); });
 }
 
 const bool kRegistered = app::cli::register_command(
-    {"synth-scada", "Deterministic synthetic SCADA history (Weibull + AR(1) wind, steady-state turbine)", &setup});
+    {"synth-scada",
+     "Deterministic synthetic SCADA history (Weibull + AR(1) wind, steady-state turbine)", &setup});
 
 }  // namespace

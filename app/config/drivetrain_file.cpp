@@ -39,10 +39,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLeastOne };
 
 template <class T>
-using Member = std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
-                            std::array<double, 3> T::*, std::array<double, 6> T::*,
-                            std::array<double, model::kCpTableKnots> T::*,
-                            StageType T::*, BearingType T::*>;
+using Member =
+    std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
+                 std::array<double, 3> T::*, std::array<double, 6> T::*,
+                 std::array<double, model::kCpTableKnots> T::*, StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
 /// units to stored units (stored = file · scale) and the allowed range.
@@ -158,15 +158,21 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
 const char* enum_name(StageType t) { return t == StageType::kPlanetary ? "planetary" : "parallel"; }
 const char* enum_name(BearingType t) { return t == BearingType::kBall ? "ball" : "roller"; }
 bool enum_parse(std::string_view s, StageType& out) {
-  if (s == "planetary") out = StageType::kPlanetary;
-  else if (s == "parallel") out = StageType::kParallel;
-  else return false;
+  if (s == "planetary")
+    out = StageType::kPlanetary;
+  else if (s == "parallel")
+    out = StageType::kParallel;
+  else
+    return false;
   return true;
 }
 bool enum_parse(std::string_view s, BearingType& out) {
-  if (s == "ball") out = BearingType::kBall;
-  else if (s == "roller") out = BearingType::kRoller;
-  else return false;
+  if (s == "ball")
+    out = BearingType::kBall;
+  else if (s == "roller")
+    out = BearingType::kRoller;
+  else
+    return false;
   return true;
 }
 const char* enum_choices(StageType) { return "\"planetary\" or \"parallel\""; }
@@ -213,8 +219,8 @@ class Reader {
   void read(const toml::table& table, T& object, const std::vector<Key<T>>& keys,
             const std::string& path, const std::set<std::string>& sub_tables = {}) const {
     for (const auto& [name, node] : table) {
-      const std::string key = path.empty() ? std::string(name.str())
-                                           : path + "." + std::string(name.str());
+      const std::string key =
+          path.empty() ? std::string(name.str()) : path + "." + std::string(name.str());
       if (sub_tables.count(std::string(name.str())) != 0) continue;
       const Key<T>* found = nullptr;
       for (const auto& k : keys) {
@@ -226,7 +232,8 @@ class Reader {
   }
 
   template <class T>
-  void read_value(const toml::node& node, T& object, const Key<T>& k, const std::string& key) const {
+  void read_value(const toml::node& node, T& object, const Key<T>& k,
+                  const std::string& key) const {
     std::visit(
         [&](auto member) {
           using Field = std::remove_reference_t<decltype(object.*member)>;
@@ -239,9 +246,12 @@ class Reader {
                                      : k.range == Range::kAny      ? std::numeric_limits<int>::min()
                                                                    : 0;
             if (!v || *v < min || *v > std::numeric_limits<int>::max()) {
-              fail(&node, key, std::string("expected an integer") +
-                                   (min == 1 ? " >= 1" : min == 0 ? " >= 0" : "") + ", got " +
-                                   describe(node));
+              fail(&node, key,
+                   std::string("expected an integer") +
+                       (min == 1   ? " >= 1"
+                        : min == 0 ? " >= 0"
+                                   : "") +
+                       ", got " + describe(node));
             }
             field = static_cast<int>(*v);
           } else if constexpr (std::is_same_v<Field, std::string>) {
@@ -250,7 +260,8 @@ class Reader {
             field = *v;
           } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
             const toml::array* array = node.as_array();
-            if (array == nullptr) fail(&node, key, "expected an array of strings, got " + describe(node));
+            if (array == nullptr)
+              fail(&node, key, "expected an array of strings, got " + describe(node));
             field.clear();
             for (std::size_t i = 0; i < array->size(); ++i) {
               const auto v = (*array)[i].value_exact<std::string>();
@@ -265,17 +276,19 @@ class Reader {
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
-              fail(&node, key, "expected an array of " + std::to_string(field.size()) +
-                                   " numbers, got " + describe(node));
+              fail(&node, key,
+                   "expected an array of " + std::to_string(field.size()) + " numbers, got " +
+                       describe(node));
             }
             for (std::size_t i = 0; i < field.size(); ++i) {
-              field[i] = number((*array)[i], key + "[" + std::to_string(i) + "]", k.range) * k.scale;
+              field[i] =
+                  number((*array)[i], key + "[" + std::to_string(i) + "]", k.range) * k.scale;
             }
           } else {  // enums
             const auto v = node.value_exact<std::string>();
             if (!v || !enum_parse(*v, field)) {
-              fail(&node, key, std::string("expected ") + enum_choices(field) + ", got " +
-                                   describe(node));
+              fail(&node, key,
+                   std::string("expected ") + enum_choices(field) + ", got " + describe(node));
             }
           }
         },
@@ -294,7 +307,8 @@ class Reader {
       if (table == nullptr) fail(&(*array)[i], item_path, "expected a table");
       const auto id = (*table)[id_key].value_exact<std::string>();
       if (!id || id->empty()) {
-        fail(&(*array)[i], item_path + "." + id_key, "expected a non-empty string (every entry needs one)");
+        fail(&(*array)[i], item_path + "." + id_key,
+             "expected a non-empty string (every entry needs one)");
       }
       T* target = nullptr;
       for (auto& item : items) {
@@ -311,21 +325,31 @@ class Reader {
  private:
   static bool in_range(double v, Range range) {
     switch (range) {
-      case Range::kAny: return true;
-      case Range::kPositive: return v > 0.0;
-      case Range::kNonNegative: return v >= 0.0;
-      case Range::kFraction: return v > 0.0 && v <= 1.0;
-      case Range::kAtLeastOne: return v >= 1.0;
+      case Range::kAny:
+        return true;
+      case Range::kPositive:
+        return v > 0.0;
+      case Range::kNonNegative:
+        return v >= 0.0;
+      case Range::kFraction:
+        return v > 0.0 && v <= 1.0;
+      case Range::kAtLeastOne:
+        return v >= 1.0;
     }
     return true;
   }
   static std::string range_text(Range range) {
     switch (range) {
-      case Range::kAny: return "";
-      case Range::kPositive: return " > 0";
-      case Range::kNonNegative: return " >= 0";
-      case Range::kFraction: return " in (0, 1]";
-      case Range::kAtLeastOne: return " >= 1";
+      case Range::kAny:
+        return "";
+      case Range::kPositive:
+        return " > 0";
+      case Range::kNonNegative:
+        return " >= 0";
+      case Range::kFraction:
+        return " in (0, 1]";
+      case Range::kAtLeastOne:
+        return " >= 1";
     }
     return "";
   }
@@ -355,8 +379,9 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
 
   if (const toml::node* format = root.get("format")) {
     if (format->value_exact<std::string>() != std::string(kDrivetrainFormat)) {
-      reader.fail(format, "format", std::string("expected \"") + kDrivetrainFormat + "\", got " +
-                                        reader.describe(*format));
+      reader.fail(
+          format, "format",
+          std::string("expected \"") + kDrivetrainFormat + "\", got " + reader.describe(*format));
     }
   }
   Drivetrain d;
@@ -367,7 +392,8 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     if (!found) {
       std::string names;
       for (const auto& n : builtin_drivetrain_names()) names += " " + n;
-      reader.fail(base, "base", "unknown built-in drivetrain \"" + *name + "\" (known:" + names + ")");
+      reader.fail(base, "base",
+                  "unknown built-in drivetrain \"" + *name + "\" (known:" + names + ")");
     }
     d = std::move(*found);
   }
@@ -379,9 +405,10 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     reader.fail(nullptr, "name", "missing (a description without `base` needs a name)");
   }
 
-  static const std::set<std::string> kTopLevel{"format",     "name",   "base",     "turbine",
-                                               "materials",  "shafts", "gears",    "stages",
-                                               "bearings",   "measurement_points", "dynamics"};
+  static const std::set<std::string> kTopLevel{
+      "format",  "name",  "base",   "turbine",  "materials",
+      "shafts",  "gears", "stages", "bearings", "measurement_points",
+      "dynamics"};
   for (const auto& [key, node] : root) {
     if (kTopLevel.count(std::string(key.str())) == 0) {
       reader.fail(&node, std::string(key.str()),
@@ -449,7 +476,8 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     }
   }
   auto check_ref = [&](const std::string& key, const std::string& id, bool ok, const char* what) {
-    if (!id.empty() && !ok) reader.fail(nullptr, key, "\"" + id + "\" is not the id of any " + what);
+    if (!id.empty() && !ok)
+      reader.fail(nullptr, key, "\"" + id + "\" is not the id of any " + what);
   };
   for (std::size_t i = 0; i < d.gears.size(); ++i) {
     check_ref("gears[" + std::to_string(i) + "].material", d.gears[i].material,
@@ -514,7 +542,8 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
             out << quote(field);
           } else if constexpr (std::is_same_v<Field, std::vector<std::string>>) {
             out << '[';
-            for (std::size_t i = 0; i < field.size(); ++i) out << (i ? ", " : "") << quote(field[i]);
+            for (std::size_t i = 0; i < field.size(); ++i)
+              out << (i ? ", " : "") << quote(field[i]);
             out << ']';
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
@@ -565,9 +594,8 @@ model::Drivetrain load_drivetrain(const std::string& name_or_path) {
   if (!std::filesystem::is_regular_file(name_or_path, ec)) {
     std::string names;
     for (const auto& n : builtin_drivetrain_names()) names += " " + n;
-    throw DrivetrainFileError("drivetrain '" + name_or_path +
-                              "': neither a built-in (" + names.substr(1) +
-                              ") nor a readable file");
+    throw DrivetrainFileError("drivetrain '" + name_or_path + "': neither a built-in (" +
+                              names.substr(1) + ") nor a readable file");
   }
   std::ifstream in(name_or_path, std::ios::binary);
   std::stringstream text;
@@ -599,9 +627,10 @@ std::string to_toml(const model::Drivetrain& d) {
 
 CLI::Option* add_drivetrain_option(CLI::App& sub, std::string& value) {
   value = kDefaultDrivetrain;
-  return sub.add_option("--drivetrain", value,
-                        "Drivetrain description: a built-in name (paper-2mw, kelmarsh-mm92) or a "
-                        "TOML file (app/config/README.md)")
+  return sub
+      .add_option("--drivetrain", value,
+                  "Drivetrain description: a built-in name (paper-2mw, kelmarsh-mm92) or a "
+                  "TOML file (app/config/README.md)")
       ->capture_default_str();
 }
 

@@ -38,7 +38,8 @@ double cpu_seconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC
 double mesh_force_n(const model::GearStage& st, int teeth, double torque_nm, int paths) {
   const double at = std::atan(std::tan(st.pressure_angle_rad) / std::cos(st.helix_angle_rad));
   const double bb = std::atan(std::tan(st.helix_angle_rad) * std::cos(at));
-  const double rb = teeth * st.normal_module_m / (2.0 * std::cos(st.helix_angle_rad)) * std::cos(at);
+  const double rb =
+      teeth * st.normal_module_m / (2.0 * std::cos(st.helix_angle_rad)) * std::cos(at);
   return torque_nm / (paths * rb * std::cos(bb));
 }
 
@@ -56,10 +57,12 @@ std::vector<Line> strongest_lines(const std::vector<double>& x, double fs, std::
   std::vector<Line> peaks;
   for (std::size_t k = static_cast<std::size_t>(20.0 / df); k + 1 < spec.size(); ++k) {
     if (spec[k] > spec[k - 1] && spec[k] >= spec[k + 1]) {
-      peaks.push_back({static_cast<double>(k) * df, fft.tone_amplitude(spec.data(), static_cast<double>(k), 2)});
+      peaks.push_back({static_cast<double>(k) * df,
+                       fft.tone_amplitude(spec.data(), static_cast<double>(k), 2)});
     }
   }
-  std::sort(peaks.begin(), peaks.end(), [](const Line& a, const Line& b) { return a.amplitude > b.amplitude; });
+  std::sort(peaks.begin(), peaks.end(),
+            [](const Line& a, const Line& b) { return a.amplitude > b.amplitude; });
   if (peaks.size() > count) peaks.resize(count);
   return peaks;
 }
@@ -67,12 +70,14 @@ std::vector<Line> strongest_lines(const std::vector<double>& x, double fs, std::
 // A line is named after the mesh harmonic it sits on (within two lines). Beyond the
 // 10th harmonic the combs are dense (the planetary mesh's spacing is 13.7 Hz at this
 // speed), so such a match is only "near" — there it may as well be a housing mode.
-std::string name_line(double hz, const std::vector<std::pair<std::string, double>>& meshes, double df) {
+std::string name_line(double hz, const std::vector<std::pair<std::string, double>>& meshes,
+                      double df) {
   for (const bool low_order : {true, false}) {
     for (const auto& [name, f] : meshes) {
       const double k = std::round(hz / f);
       if (k < 1.0 || (low_order && k > 10.0) || std::abs(hz - k * f) > 2.0 * df) continue;
-      return std::string(low_order ? "" : "near ") + name + " mesh ×" + std::to_string(static_cast<int>(k));
+      return std::string(low_order ? "" : "near ") + name + " mesh ×" +
+             std::to_string(static_cast<int>(k));
     }
   }
   return "no mesh harmonic";
@@ -84,10 +89,11 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
   const model::wind::WindLoad wind(d->turbine);
   const double omega = kPaperRotorRpm * 2.0 * kPi / 60.0;
   const model::wind::WindLoadOutput load = wind.with_rotor_speed(kPaperWindMps, omega, 0.0, false);
-  std::fprintf(ctx.out,
-               "paper-2mw at the paper's operating point: wind %.2f m/s, rotor %.2f rpm → input torque "
-               "%.0f kN·m (wind load model; paper: 361.7)\n",
-               kPaperWindMps, kPaperRotorRpm, load.torque_nm / 1e3);
+  std::fprintf(
+      ctx.out,
+      "paper-2mw at the paper's operating point: wind %.2f m/s, rotor %.2f rpm → input torque "
+      "%.0f kN·m (wind load model; paper: 361.7)\n",
+      kPaperWindMps, kPaperRotorRpm, load.torque_nm / 1e3);
 
   const model::dynamics::OperatingPoint op{kPaperRotorRpm, load.torque_nm};
   model::dynamics::SimulationSettings settings;
@@ -99,10 +105,11 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
     throw app::cli::CommandError("demo: gearbox: " + error);
   }
   const double cpu = cpu_seconds() - t0;
-  std::fprintf(ctx.out,
-               "reduced-order model: %.1f s simulated at %.0f Hz in %.2f s CPU, model build included "
-               "(%.0f× real time)\n",
-               kSimSeconds, settings.sample_rate_hz, cpu, cpu > 0.0 ? kSimSeconds / cpu : 0.0);
+  std::fprintf(
+      ctx.out,
+      "reduced-order model: %.1f s simulated at %.0f Hz in %.2f s CPU, model build included "
+      "(%.0f× real time)\n",
+      kSimSeconds, settings.sample_rate_hz, cpu, cpu > 0.0 ? kSimSeconds / cpu : 0.0);
 
   // Hand statics: stage torques from the tooth counts (ring fixed, carrier in, sun out).
   const model::GearStage* pl = d->stage("planetary");
@@ -118,7 +125,8 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
   const double t_ims = t_sun * z_im_pinion / z_im_wheel;
   const int planets = pl->planets;
 
-  std::fprintf(ctx.out, "mesh force, last 1.28 s   mean [kN]  statics [kN]  RMS of fluctuation [kN]\n");
+  std::fprintf(ctx.out,
+               "mesh force, last 1.28 s   mean [kN]  statics [kN]  RMS of fluctuation [kN]\n");
   for (std::size_t m = 0; m < out.mesh_ids.size(); ++m) {
     const auto& f = out.mesh_force_n[m];
     const auto first = f.end() - static_cast<std::ptrdiff_t>(kFft);
@@ -127,10 +135,15 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
     for (auto it = first; it != f.end(); ++it) var += (*it - mean) * (*it - mean);
     const std::string& id = out.mesh_ids[m];
     double expected = 0.0;
-    if (id.rfind("sun_planet", 0) == 0) expected = mesh_force_n(*pl, zs, t_sun, planets);
-    else if (id.rfind("ring_planet", 0) == 0) expected = mesh_force_n(*pl, zr, load.torque_nm - t_sun, planets);
-    else if (id == "intermediate") expected = mesh_force_n(*im, z_im_pinion, t_ims, 1);
-    else if (id == "high_speed") expected = mesh_force_n(*hs, z_hs_pinion, t_ims * z_hs_pinion / d->gear(hs->gears[0])->teeth, 1);
+    if (id.rfind("sun_planet", 0) == 0)
+      expected = mesh_force_n(*pl, zs, t_sun, planets);
+    else if (id.rfind("ring_planet", 0) == 0)
+      expected = mesh_force_n(*pl, zr, load.torque_nm - t_sun, planets);
+    else if (id == "intermediate")
+      expected = mesh_force_n(*im, z_im_pinion, t_ims, 1);
+    else if (id == "high_speed")
+      expected =
+          mesh_force_n(*hs, z_hs_pinion, t_ims * z_hs_pinion / d->gear(hs->gears[0])->teeth, 1);
     std::fprintf(ctx.out, "  %-14s %10.1f %13.1f %18.2f\n", id.c_str(), mean / 1e3, expected / 1e3,
                  std::sqrt(var / kFft) / 1e3);
   }
@@ -140,16 +153,19 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
       {"high-speed", kin.mesh_hz(2, kPaperRotorRpm)},
       {"intermediate", kin.mesh_hz(1, kPaperRotorRpm)},
       {"planetary", kin.mesh_hz(0, kPaperRotorRpm)}};
-  std::fprintf(ctx.out, "mesh frequencies: high-speed %.2f Hz, intermediate %.2f Hz, planetary %.3f Hz\n",
+  std::fprintf(ctx.out,
+               "mesh frequencies: high-speed %.2f Hz, intermediate %.2f Hz, planetary %.3f Hz\n",
                meshes[0].second, meshes[1].second, meshes[2].second);
   const double df = settings.sample_rate_hz / static_cast<double>(kFft);
   for (std::size_t s = 0; s < out.sensor_channels.size(); ++s) {
     const auto& a = out.acceleration_m_s2[s];
     const double rms = model::dsp::rms(a.data() + (a.size() - kFft), kFft);
-    std::fprintf(ctx.out, "%s (%s seat): RMS %.3g m/s², strongest lines:", out.sensor_channels[s].c_str(),
+    std::fprintf(ctx.out,
+                 "%s (%s seat): RMS %.3g m/s², strongest lines:", out.sensor_channels[s].c_str(),
                  d->measurement_points[s].location.c_str(), rms);
     for (const Line& l : strongest_lines(a, settings.sample_rate_hz, 4)) {
-      std::fprintf(ctx.out, "  %.1f Hz %.3g m/s² (%s);", l.hz, l.amplitude, name_line(l.hz, meshes, df).c_str());
+      std::fprintf(ctx.out, "  %.1f Hz %.3g m/s² (%s);", l.hz, l.amplitude,
+                   name_line(l.hz, meshes, df).c_str());
     }
     std::fprintf(ctx.out, "\n");
   }

@@ -18,7 +18,8 @@ using hal::ScadaField;
 
 HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& drivetrain,
                           const model::fatigue::ChannelSet& channels,
-                          const model::fatigue::LoadSpectrum& spectrum, const HistoryOptions& options) {
+                          const model::fatigue::LoadSpectrum& spectrum,
+                          const HistoryOptions& options) {
   HistoryResult r;
   const std::size_t nc = channels.channel_count();
   r.damage.assign(nc, 0.0);
@@ -33,18 +34,23 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
 
   const model::wind::WindLoad wind(drivetrain.turbine);
   const double rated_rpm = drivetrain.turbine.rated_rotor_speed_rpm;
-  const double rated_torque = drivetrain.turbine.rated_torque_nm > 0 ? drivetrain.turbine.rated_torque_nm : 1.0;
-  const double eta = drivetrain.turbine.drivetrain_efficiency > 0 ? drivetrain.turbine.drivetrain_efficiency : 1.0;
+  const double rated_torque =
+      drivetrain.turbine.rated_torque_nm > 0 ? drivetrain.turbine.rated_torque_nm : 1.0;
+  const double eta =
+      drivetrain.turbine.drivetrain_efficiency > 0 ? drivetrain.turbine.drivetrain_efficiency : 1.0;
   double prev_t = std::numeric_limits<double>::quiet_NaN();
 
   auto issue = [&](std::size_t row, std::string field, std::string message) {
-    if (r.issues.size() < kMaxIssues) r.issues.push_back({row, std::move(field), std::move(message)});
+    if (r.issues.size() < kMaxIssues)
+      r.issues.push_back({row, std::move(field), std::move(message)});
   };
   auto where = [&](const hal::ScadaRow& row, ScadaField f) {
-    return reader.path() + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
-           "), column '" + reader.column_name(f) + "' (" + hal::scada_field_name(f) + ")";
+    return reader.path() + ": row " + std::to_string(row.row) + " (line " +
+           std::to_string(row.line) + "), column '" + reader.column_name(f) + "' (" +
+           hal::scada_field_name(f) + ")";
   };
-  auto reject = [&](const hal::ScadaRow& row, ScadaField f, const std::string& what, std::size_t& counter) {
+  auto reject = [&](const hal::ScadaRow& row, ScadaField f, const std::string& what,
+                    std::size_t& counter) {
     ++r.rows_rejected;
     ++counter;
     issue(row.row, hal::scada_field_name(f), where(row, f) + ": " + what + "; row skipped");
@@ -102,7 +108,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     if ((any || from == TorqueFrom::kTorque) && row.has(ScadaField::kTorque)) {
       torque = std::abs(row.get(ScadaField::kTorque));
       ++r.torque_rows_measured;
-    } else if ((any || from == TorqueFrom::kPower) && row.has(ScadaField::kPower) && has_speed && rpm > 0.1) {
+    } else if ((any || from == TorqueFrom::kPower) && row.has(ScadaField::kPower) && has_speed &&
+               rpm > 0.1) {
       const double omega = rpm * 2.0 * kPi / 60.0;
       torque = std::max(0.0, row.get(ScadaField::kPower)) * 1e3 / (eta * omega);
       ++r.torque_rows_power;
@@ -112,7 +119,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       if (has_speed) {
         const bool has_pitch = row.has(ScadaField::kPitch);
         out = wind.with_rotor_speed(v, rpm * 2.0 * kPi / 60.0,
-                                    has_pitch ? row.get(ScadaField::kPitch) * kPi / 180.0 : 0.0, has_pitch);
+                                    has_pitch ? row.get(ScadaField::kPitch) * kPi / 180.0 : 0.0,
+                                    has_pitch);
       } else {
         out = wind.steady_state(v);
         rpm = out.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
@@ -149,7 +157,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     }
     const double revs = rpm / 60.0 * r.period_s;
     spectrum.damage_per_rev_at(torque, rpm, d.data());
-    const auto bin = std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
+    const auto bin =
+        std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
     r.bin_time_s[bin] += r.period_s;
     for (std::size_t c = 0; c < nc; ++c) {
       const double inc = d[c] * revs;
@@ -181,7 +190,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
         if (end_quote != std::string::npos) field = msg.substr(at + 8, end_quote - at - 8);
       }
       issue(r.rows, field, msg + "; row skipped");
-      if (reader.error().find("read error") != std::string::npos) throw std::runtime_error(reader.error());
+      if (reader.error().find("read error") != std::string::npos)
+        throw std::runtime_error(reader.error());
     }
   };
   while (probe.size() < kPeriodProbeRows && (end = !read(row)) == false) probe.push_back(row);
@@ -195,9 +205,10 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       }
     }
     if (!std::isfinite(best)) {
-      throw std::runtime_error(reader.path() +
-                               ": cannot detect the SCADA period from the first rows (need two rows "
-                               "with increasing t_s); pass --period");
+      throw std::runtime_error(
+          reader.path() +
+          ": cannot detect the SCADA period from the first rows (need two rows "
+          "with increasing t_s); pass --period");
     }
     r.period_s = best;
   }
@@ -221,8 +232,9 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   return r;
 }
 
-DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel, double full_day_s,
-                                 double wind_ref_mps, std::size_t nearest_count) {
+DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
+                                 double full_day_s, double wind_ref_mps,
+                                 std::size_t nearest_count) {
   DayDistribution out;
   std::vector<double> v;
   std::vector<std::size_t> full;
@@ -252,7 +264,8 @@ DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t
   for (double x : v) sum += x;
   out.mean = sum / static_cast<double>(v.size());
   std::stable_sort(full.begin(), full.end(), [&](std::size_t a, std::size_t b) {
-    return std::abs(days[a].mean_wind_mps() - wind_ref_mps) < std::abs(days[b].mean_wind_mps() - wind_ref_mps);
+    return std::abs(days[a].mean_wind_mps() - wind_ref_mps) <
+           std::abs(days[b].mean_wind_mps() - wind_ref_mps);
   });
   full.resize(std::min(full.size(), nearest_count));
   out.nearest = full;

@@ -39,15 +39,15 @@
 namespace app::fatigue {
 
 inline constexpr std::size_t kMaxIssues = 50;
-inline constexpr double kGapFactor = 1.5;          // [-] × period
-inline constexpr double kSpeedOffsetRpm = 1.0;     // [rpm] negative speeds down to −1 read as 0
-inline constexpr double kMaxSpeedFactor = 1.5;     // [-] × rated rotor speed
-inline constexpr std::size_t kTorqueBins = 12;     // damage by torque, 0.1·rated wide, last open
+inline constexpr double kGapFactor = 1.5;       // [-] × period
+inline constexpr double kSpeedOffsetRpm = 1.0;  // [rpm] negative speeds down to −1 read as 0
+inline constexpr double kMaxSpeedFactor = 1.5;  // [-] × rated rotor speed
+inline constexpr std::size_t kTorqueBins = 12;  // damage by torque, 0.1·rated wide, last open
 
 struct HistoryIssue {
-  std::size_t row = 0;    // data row (1 = first after the header)
-  std::string field;      // column, e.g. "t_s"
-  std::string message;    // full text with file, row and column
+  std::size_t row = 0;  // data row (1 = first after the header)
+  std::string field;    // column, e.g. "t_s"
+  std::string message;  // full text with file, row and column
 };
 
 /// Where a row's rotor torque comes from. kAuto: the order in the file comment. The
@@ -67,29 +67,32 @@ struct HistoryOptions {
 
 /// One UTC day of the history (rows with t_s in [day·86 400, (day+1)·86 400)).
 struct DayRecord {
-  long long day = 0;             // [d] floor(t_s / 86 400): days since the epoch of t_s
-  double covered_s = 0.0;        // [s] used rows × period
-  double wind_sum_mps = 0.0;     // [m/s] sum of the used rows' wind speed
-  std::size_t wind_rows = 0;     // [-] used rows with a wind speed
-  std::vector<double> damage;    // [-] per channel, that day's damage
-  double mean_wind_mps() const { return wind_rows ? wind_sum_mps / static_cast<double>(wind_rows) : 0.0; }
+  long long day = 0;           // [d] floor(t_s / 86 400): days since the epoch of t_s
+  double covered_s = 0.0;      // [s] used rows × period
+  double wind_sum_mps = 0.0;   // [m/s] sum of the used rows' wind speed
+  std::size_t wind_rows = 0;   // [-] used rows with a wind speed
+  std::vector<double> damage;  // [-] per channel, that day's damage
+  double mean_wind_mps() const {
+    return wind_rows ? wind_sum_mps / static_cast<double>(wind_rows) : 0.0;
+  }
 };
 
 struct HistoryResult {
   std::size_t rows = 0, rows_used = 0, rows_rejected = 0, rows_no_data = 0;
   std::size_t gaps = 0;
-  double gap_s = 0.0;            // [s] time missing in gaps
-  double period_s = 0.0;         // [s]
-  double covered_s = 0.0;        // [s] rows_used × period
+  double gap_s = 0.0;      // [s] time missing in gaps
+  double period_s = 0.0;   // [s]
+  double covered_s = 0.0;  // [s] rows_used × period
   double first_t_s = 0.0, last_t_s = 0.0;
   std::size_t torque_rows_measured = 0, torque_rows_power = 0, torque_rows_wind = 0;
-  std::vector<double> damage;                 // per channel [-]
+  std::vector<double> damage;                    // per channel [-]
   std::vector<model::fatigue::RulEstimate> rul;  // per channel
-  // Breakdown by rotor torque bin (0.1·rated wide) of the gear-contact channel with the largest damage:
+  // Breakdown by rotor torque bin (0.1·rated wide) of the gear-contact channel with the largest
+  // damage:
   std::size_t breakdown_channel = 0;
   std::vector<double> bin_time_s, bin_damage;  // kTorqueBins each
-  std::vector<HistoryIssue> issues;             // first kMaxIssues
-  std::vector<DayRecord> days;                  // per UTC day with data, when HistoryOptions::per_day
+  std::vector<HistoryIssue> issues;            // first kMaxIssues
+  std::vector<DayRecord> days;  // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
 };
 
@@ -99,15 +102,17 @@ struct HistoryResult {
 struct DayDistribution {
   std::size_t full_days = 0, partial_days = 0;
   double min = 0.0, q1 = 0.0, median = 0.0, q3 = 0.0, max = 0.0, mean = 0.0;  // [-] damage per day
-  std::vector<std::size_t> nearest;  // indices into the days vector: full days by |mean wind − wind_ref|, closest first
+  std::vector<std::size_t>
+      nearest;  // indices into the days vector: full days by |mean wind − wind_ref|, closest first
 };
-DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel, double full_day_s,
-                                 double wind_ref_mps, std::size_t nearest_count);
+DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
+                                 double full_day_s, double wind_ref_mps, std::size_t nearest_count);
 
 /// Processes every row of an opened reader. Throws std::runtime_error only for failures
 /// that stop the whole file (I/O error, no usable rows to detect the period).
 HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& drivetrain,
                           const model::fatigue::ChannelSet& channels,
-                          const model::fatigue::LoadSpectrum& spectrum, const HistoryOptions& options);
+                          const model::fatigue::LoadSpectrum& spectrum,
+                          const HistoryOptions& options);
 
 }  // namespace app::fatigue

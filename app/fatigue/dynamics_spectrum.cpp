@@ -13,13 +13,14 @@ namespace app::fatigue {
 
 namespace mf = model::fatigue;
 
-RomLoadConverter::RomLoadConverter(const model::Drivetrain& drivetrain, const mf::ChannelSet& channels,
+RomLoadConverter::RomLoadConverter(const model::Drivetrain& drivetrain,
+                                   const mf::ChannelSet& channels,
                                    const std::vector<std::string>& rom_mesh_ids,
                                    const std::vector<std::string>& rom_bearing_ids)
     : drivetrain_(&drivetrain), channels_(&channels) {
   if (rom_mesh_ids.size() != channels.mesh_count()) {
-    error_ = "dynamics model gives " + std::to_string(rom_mesh_ids.size()) + " meshes, the fatigue channels expect " +
-             std::to_string(channels.mesh_count());
+    error_ = "dynamics model gives " + std::to_string(rom_mesh_ids.size()) +
+             " meshes, the fatigue channels expect " + std::to_string(channels.mesh_count());
     return;
   }
   // Bearing slots: ROM index by id, or planet bearing k (−(k+1)).
@@ -54,7 +55,8 @@ double RomLoadConverter::divergence_limit_n(std::size_t mesh, double torque_nm) 
 void RomLoadConverter::convert(const double* mesh_force_n, const double* fx, const double* fy,
                                double mean_torque_nm, mf::LoadSample& l) const {
   const mf::ChannelSet& cs = *channels_;
-  for (std::size_t m = 0; m < cs.mesh_count(); ++m) l.mesh_force_n[m] = std::max(0.0, mesh_force_n[m]) * to_ft_[m];
+  for (std::size_t m = 0; m < cs.mesh_count(); ++m)
+    l.mesh_force_n[m] = std::max(0.0, mesh_force_n[m]) * to_ft_[m];
   const mf::LoadSample mean = cs.quasi_static_loads(mean_torque_nm);
   for (std::size_t b = 0; b < cs.bearing_count(); ++b) {
     if (source_[b] >= 0) {
@@ -71,7 +73,8 @@ void RomLoadConverter::convert(const double* mesh_force_n, const double* fx, con
 mf::SpectrumGrid dynamics_grid(const model::Drivetrain& d) {
   constexpr std::uint32_t kBelowRated = 12;
   mf::SpectrumGrid g;
-  const double rated_rpm = d.turbine.rated_rotor_speed_rpm > 0 ? d.turbine.rated_rotor_speed_rpm : 15.0;
+  const double rated_rpm =
+      d.turbine.rated_rotor_speed_rpm > 0 ? d.turbine.rated_rotor_speed_rpm : 15.0;
   const double step = rated_rpm / kBelowRated;
   g.speed_min_rpm = step;
   g.speed_max_rpm = rated_rpm + 2.0 * step;
@@ -81,9 +84,12 @@ mf::SpectrumGrid dynamics_grid(const model::Drivetrain& d) {
   return g;
 }
 
-mf::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain, const mf::ChannelSet& channels,
-                                     const DynamicsSpectrumSettings& settings, std::string* last_error) {
-  return [&drivetrain, &channels, settings, last_error](double torque_nm, double rotor_rpm, mf::LoadSeries& out) {
+mf::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain,
+                                     const mf::ChannelSet& channels,
+                                     const DynamicsSpectrumSettings& settings,
+                                     std::string* last_error) {
+  return [&drivetrain, &channels, settings, last_error](double torque_nm, double rotor_rpm,
+                                                        mf::LoadSeries& out) {
     auto fail = [last_error](std::string what) {
       if (last_error) *last_error = std::move(what);
       return false;
@@ -92,7 +98,8 @@ mf::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain, const 
     double mesh_hz = 0.0;
     for (const model::GearStage& st : drivetrain.stages) {
       if (st.type != model::StageType::kPlanetary || st.gears.size() != 3) continue;
-      if (const model::Gear* ring = drivetrain.gear(st.gears[2])) mesh_hz = ring->teeth * rotor_rpm / 60.0;
+      if (const model::Gear* ring = drivetrain.gear(st.gears[2]))
+        mesh_hz = ring->teeth * rotor_rpm / 60.0;
     }
     double keep_s = std::max(settings.min_seconds, 60.0 / rotor_rpm);
     if (mesh_hz > 0.0) keep_s = std::max(keep_s, 10.0 / mesh_hz);
@@ -117,9 +124,10 @@ mf::LoadSimulator dynamics_simulator(const model::Drivetrain& drivetrain, const 
       for (std::size_t i = skip; i < n; ++i) {
         const double f = sim.mesh_force_n[m][i];
         if (!std::isfinite(f) || std::abs(f) > limit) {
-          return fail("dynamics model diverged at rotor torque " + std::to_string(torque_nm) + " N·m, speed " +
-                      std::to_string(rotor_rpm) + " rpm: mesh " + sim.mesh_ids[m] + " force " + std::to_string(f) +
-                      " N exceeds " + std::to_string(kDivergenceFactor) +
+          return fail("dynamics model diverged at rotor torque " + std::to_string(torque_nm) +
+                      " N·m, speed " + std::to_string(rotor_rpm) + " rpm: mesh " + sim.mesh_ids[m] +
+                      " force " + std::to_string(f) + " N exceeds " +
+                      std::to_string(kDivergenceFactor) +
                       " × its quasi-static value (check the Rayleigh damping of the description)");
         }
       }

@@ -53,13 +53,14 @@ struct DynamicsSpectrumSettings {
 class RomLoadConverter {
  public:
   RomLoadConverter(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
-                   const std::vector<std::string>& rom_mesh_ids, const std::vector<std::string>& rom_bearing_ids);
+                   const std::vector<std::string>& rom_mesh_ids,
+                   const std::vector<std::string>& rom_bearing_ids);
   bool valid() const { return error_.empty(); }
   const std::string& error() const { return error_; }
   /// @param mesh_force_n ROM line-of-action forces [N]; fx, fy ROM bearing forces [N];
   /// @param mean_torque_nm the point's rotor torque (for the quasi-static axial thrust).
-  void convert(const double* mesh_force_n, const double* fx, const double* fy, double mean_torque_nm,
-               model::fatigue::LoadSample& out) const;
+  void convert(const double* mesh_force_n, const double* fx, const double* fy,
+               double mean_torque_nm, model::fatigue::LoadSample& out) const;
   /// Peak |F_bn| allowed at this torque before the simulation counts as diverged [N].
   double divergence_limit_n(std::size_t mesh, double torque_nm) const;
 

@@ -25,8 +25,9 @@ std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
 
 }  // namespace
 
-std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs, const mf::SpectrumGrid& g,
-                           mf::SpectrumSource source, std::uint32_t code_version) {
+std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
+                           const mf::SpectrumGrid& g, mf::SpectrumSource source,
+                           std::uint32_t code_version) {
   const mf::ChannelOptions& o = cs.options();
   std::uint64_t h = kFnvOffset;
   const std::string tag = "drivetwin-spectrum";
@@ -36,21 +37,36 @@ std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
   for (std::size_t c = 0; c < cs.channel_count(); ++c) {
     const mf::Channel& ch = cs.channel(c);
     for (std::size_t k = 0; k < ch.source_count; ++k) {
-      const double v[] = {cs.stress(c, k, rated), ch.sources[k].cycles_per_rotor_rev, ch.curve.m, ch.curve.c,
-                          ch.curve.n_ref, ch.curve.knee_cycles};
+      const double v[] = {cs.stress(c, k, rated),
+                          ch.sources[k].cycles_per_rotor_rev,
+                          ch.curve.m,
+                          ch.curve.c,
+                          ch.curve.n_ref,
+                          ch.curve.knee_cycles};
       h = fnv1a(h, v, sizeof v);
     }
   }
   const std::string toml = app::config::to_toml(d);
   h = fnv1a(h, toml.data(), toml.size());
-  const double nums[] = {o.k_a, o.rating.k_h_beta_override, o.rating.face_load.f_ma_factor,
-                         o.rating.face_load.pinion_offset_ratio, o.rating.c_gamma_n_mm_um,
-                         o.rating.rack.addendum, o.rating.rack.dedendum, o.rating.rack.root_radius,
-                         g.torque_max_nm, g.speed_min_rpm, g.speed_max_rpm};
+  const double nums[] = {o.k_a,
+                         o.rating.k_h_beta_override,
+                         o.rating.face_load.f_ma_factor,
+                         o.rating.face_load.pinion_offset_ratio,
+                         o.rating.c_gamma_n_mm_um,
+                         o.rating.rack.addendum,
+                         o.rating.rack.dedendum,
+                         o.rating.rack.root_radius,
+                         g.torque_max_nm,
+                         g.speed_min_rpm,
+                         g.speed_max_rpm};
   h = fnv1a(h, nums, sizeof nums);
-  const int ints[] = {o.rating.accuracy_grade, static_cast<int>(o.branch), static_cast<int>(g.torque_points),
-                      static_cast<int>(g.speed_points), static_cast<int>(source),
-                      static_cast<int>(o.rating.face_load.lead), o.rating.face_load.case_hardened ? 1 : 0};
+  const int ints[] = {o.rating.accuracy_grade,
+                      static_cast<int>(o.branch),
+                      static_cast<int>(g.torque_points),
+                      static_cast<int>(g.speed_points),
+                      static_cast<int>(source),
+                      static_cast<int>(o.rating.face_load.lead),
+                      o.rating.face_load.case_hardened ? 1 : 0};
   return fnv1a(h, ints, sizeof ints);
 }
 
@@ -66,7 +82,8 @@ fs::path default_spectrum_cache_dir() {
   return fs::temp_directory_path() / "drivetwin-cache";
 }
 
-bool load_cached_spectrum(const fs::path& path, std::uint64_t key, std::size_t channels, mf::LoadSpectrum& s) {
+bool load_cached_spectrum(const fs::path& path, std::uint64_t key, std::size_t channels,
+                          mf::LoadSpectrum& s) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
   char magic[8];
@@ -75,7 +92,8 @@ bool load_cached_spectrum(const fs::path& path, std::uint64_t key, std::size_t c
   in.read(reinterpret_cast<char*>(&k), sizeof k);
   in.read(reinterpret_cast<char*>(&n), sizeof n);
   if (!in || std::memcmp(magic, kSpectrumMagic, 8) != 0 || k != key) return false;
-  const std::size_t expect = static_cast<std::size_t>(s.grid.torque_points) * s.grid.speed_points * channels;
+  const std::size_t expect =
+      static_cast<std::size_t>(s.grid.torque_points) * s.grid.speed_points * channels;
   if (n != expect) return false;
   std::vector<double> v(n);
   in.read(reinterpret_cast<char*>(v.data()), static_cast<std::streamsize>(n * sizeof(double)));
@@ -98,7 +116,8 @@ bool store_cached_spectrum(const fs::path& path, std::uint64_t key, const mf::Lo
     out.write(kSpectrumMagic, 8);
     out.write(reinterpret_cast<const char*>(&key), sizeof key);
     out.write(reinterpret_cast<const char*>(&n), sizeof n);
-    out.write(reinterpret_cast<const char*>(s.damage_per_rev.data()), static_cast<std::streamsize>(n * sizeof(double)));
+    out.write(reinterpret_cast<const char*>(s.damage_per_rev.data()),
+              static_cast<std::streamsize>(n * sizeof(double)));
     out.write(reinterpret_cast<const char*>(&check), sizeof check);
     if (!out) return false;
   }

@@ -32,8 +32,10 @@ inline constexpr std::uint32_t kSpectrumCodeVersion = 6;
 
 /// The cache key of a spectrum (see the file comment). `code_version` is a parameter only so
 /// that tests can show a changed version misses.
-std::uint64_t spectrum_key(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
-                           const model::fatigue::SpectrumGrid& grid, model::fatigue::SpectrumSource source,
+std::uint64_t spectrum_key(const model::Drivetrain& drivetrain,
+                           const model::fatigue::ChannelSet& channels,
+                           const model::fatigue::SpectrumGrid& grid,
+                           model::fatigue::SpectrumSource source,
                            std::uint32_t code_version = kSpectrumCodeVersion);
 
 /// The cache file of `key` in `dir`: spectrum-<16 hex digits>.bin.
@@ -44,8 +46,8 @@ std::filesystem::path default_spectrum_cache_dir();
 
 /// Loads `path` into `spectrum` (whose grid must be set) when it holds `key` and
 /// `channels` values per grid point with a good checksum; false (spectrum untouched) else.
-bool load_cached_spectrum(const std::filesystem::path& path, std::uint64_t key, std::size_t channels,
-                          model::fatigue::LoadSpectrum& spectrum);
+bool load_cached_spectrum(const std::filesystem::path& path, std::uint64_t key,
+                          std::size_t channels, model::fatigue::LoadSpectrum& spectrum);
 
 /// Writes the cache file; a cache that cannot be written is not an error (false, and the
 /// next run rebuilds).

@@ -44,7 +44,8 @@ T get(const unsigned char* p) {
 std::string errno_text() { return std::strerror(errno); }
 
 // Writes all of `bytes` to `file` and fsyncs it.
-bool write_synced(const fs::path& file, const std::vector<unsigned char>& bytes, std::string* error) {
+bool write_synced(const fs::path& file, const std::vector<unsigned char>& bytes,
+                  std::string* error) {
   const int fd = ::open(file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) {
     *error = "'" + file.string() + "': cannot create: " + errno_text();
@@ -92,7 +93,8 @@ AccumulatorStore::AccumulatorStore(fs::path path) : path_(std::move(path)) {}
 std::string AccumulatorStore::check_file(const fs::path& file, AccumulatorState* state) {
   std::ifstream in(file, std::ios::binary);
   if (!in) return "cannot open: " + errno_text();
-  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                         std::istreambuf_iterator<char>());
   if (bytes.size() < kHeaderBytes) {
     return "truncated: " + std::to_string(bytes.size()) + " bytes, shorter than the " +
            std::to_string(kHeaderBytes) + "-byte header";
@@ -108,8 +110,8 @@ std::string AccumulatorStore::check_file(const fs::path& file, AccumulatorState*
            std::to_string(kAccumulatorFileVersion);
   }
   if (state_version != model::fatigue::kAccumulatorStateVersion) {
-    return "accumulator state version " + std::to_string(state_version) + ", this build has version " +
-           std::to_string(model::fatigue::kAccumulatorStateVersion);
+    return "accumulator state version " + std::to_string(state_version) +
+           ", this build has version " + std::to_string(model::fatigue::kAccumulatorStateVersion);
   }
   if (size != sizeof(AccumulatorState)) {
     return "payload of " + std::to_string(size) + " bytes, this build's state has " +
@@ -125,7 +127,8 @@ std::string AccumulatorStore::check_file(const fs::path& file, AccumulatorState*
   const std::uint32_t computed = crc32(bytes.data(), body);
   if (stored != computed) {
     char buf[96];
-    std::snprintf(buf, sizeof buf, "CRC-32 mismatch (stored %08x, computed %08x): the file is damaged",
+    std::snprintf(buf, sizeof buf,
+                  "CRC-32 mismatch (stored %08x, computed %08x): the file is damaged",
                   static_cast<unsigned>(stored), static_cast<unsigned>(computed));
     return buf;
   }
@@ -199,13 +202,14 @@ LoadResult AccumulatorStore::load(AccumulatorState& state) const {
   if (bak_problem.empty()) {
     state = *tmp;
     r.status = LoadStatus::kLoadedBackup;
-    r.message = "accumulator state '" + path_.string() + "': " + main_problem + "; using the last good copy '" +
-                bak.string() + "' (damage since it was replaced is lost)";
+    r.message = "accumulator state '" + path_.string() + "': " + main_problem +
+                "; using the last good copy '" + bak.string() +
+                "' (damage since it was replaced is lost)";
     return r;
   }
   r.status = LoadStatus::kCorrupt;
-  r.message = "accumulator state '" + path_.string() + "': " + main_problem + "; last good copy '" + bak.string() +
-              "': " + bak_problem + "; no state loaded";
+  r.message = "accumulator state '" + path_.string() + "': " + main_problem + "; last good copy '" +
+              bak.string() + "': " + bak_problem + "; no state loaded";
   return r;
 }
 

@@ -11,7 +11,8 @@
 //          12  u32      AccumulatorState::version (the model's state layout)
 //          16  u64      payload size in bytes (= sizeof(AccumulatorState))
 //          24  payload  the AccumulatorState, bytewise
-//   24 + size  u32      CRC-32 (ISO-HDLC, as zlib's crc32; Boost.CRC crc_32_type) of every byte before it
+//   24 + size  u32      CRC-32 (ISO-HDLC, as zlib's crc32; Boost.CRC crc_32_type) of every byte
+//   before it
 //
 // save(): write <path>.tmp, fsync it, read it back and verify it, keep the current file as
 // the last good copy <path>.bak (only if it verifies: a corrupt file never replaces a good
@@ -37,10 +38,10 @@ inline constexpr std::uint32_t kAccumulatorFileVersion = 1;
 inline constexpr char kAccumulatorMagic[8] = {'D', 'T', 'A', 'C', 'C', 'U', 'M', '\0'};
 
 enum class LoadStatus : std::uint8_t {
-  kLoaded,          // <path> was good
-  kLoadedBackup,    // <path> was bad or missing, <path>.bak was good (see message)
-  kNoState,         // neither file exists: a first start (the message says so)
-  kCorrupt,         // a file exists but no copy is good: nothing loaded
+  kLoaded,        // <path> was good
+  kLoadedBackup,  // <path> was bad or missing, <path>.bak was good (see message)
+  kNoState,       // neither file exists: a first start (the message says so)
+  kCorrupt,       // a file exists but no copy is good: nothing loaded
 };
 
 struct LoadResult {
@@ -62,7 +63,8 @@ class AccumulatorStore {
   LoadResult load(model::fatigue::AccumulatorState& state) const;
 
   /// Checks one file; empty string when good, else what is wrong (without the path).
-  static std::string check_file(const std::filesystem::path& file, model::fatigue::AccumulatorState* state);
+  static std::string check_file(const std::filesystem::path& file,
+                                model::fatigue::AccumulatorState* state);
 
   const std::filesystem::path& path() const { return path_; }
   std::filesystem::path backup_path() const { return path_.string() + ".bak"; }

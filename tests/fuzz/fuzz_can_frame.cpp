@@ -36,14 +36,16 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t n = std::min<std::size_t>(f.len, size - pos);
     std::memcpy(f.data.data(), data + pos, n);
     pos += n;
-    const auto classic = (flags & 64u) ? hal::CmsSampleFormat::kInt24 : hal::CmsSampleFormat::kInt16;
+    const auto classic =
+        (flags & 64u) ? hal::CmsSampleFormat::kInt24 : hal::CmsSampleFormat::kInt16;
 
     hal::CmsFrame decoded;
     if (hal::decode_cms_frame(f, kBase, classic, decoded) == hal::CmsDecodeError::kNone) {
       hal::CanFrame again;
       const bool ok = f.fd ? hal::encode_cms_fd_frame(decoded, kBase, again)
                            : hal::encode_cms_classic_frame(decoded, kBase, again);
-      if (!ok || again.len != f.len || std::memcmp(again.data.data(), f.data.data(), f.len) != 0) std::abort();
+      if (!ok || again.len != f.len || std::memcmp(again.data.data(), f.data.data(), f.len) != 0)
+        std::abort();
     }
     {
       frames += f.error ? 0 : 1;
@@ -53,11 +55,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       if (s == hal::Status::kOk || s == hal::Status::kGap) {
         ++delivered;
         ingest.count_delivered();
-        if (b.count == 0 || b.count > hal::kCmsMaxSamplesPerBlock || b.channel >= hal::kCmsMaxChannels) std::abort();
+        if (b.count == 0 || b.count > hal::kCmsMaxSamplesPerBlock ||
+            b.channel >= hal::kCmsMaxChannels)
+          std::abort();
       }
     }
   }
   const hal::CmsStreamStats st = ingest.stats();
-  if (st.blocks != delivered || st.blocks + st.malformed + st.duplicates + st.reordered != frames) std::abort();
+  if (st.blocks != delivered || st.blocks + st.malformed + st.duplicates + st.reordered != frames)
+    std::abort();
   return 0;
 }

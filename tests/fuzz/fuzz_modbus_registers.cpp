@@ -46,7 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     std::uint16_t back[2] = {0, 0};
     if (s.type != hal::RegisterType::kFloat32) {
       if (!hal::encode_register(s, *v, back, 2)) std::abort();
-      if (back[0] != regs[0] || (hal::register_count(s.type) == 2 && back[1] != regs[1])) std::abort();
+      if (back[0] != regs[0] || (hal::register_count(s.type) == 2 && back[1] != regs[1]))
+        std::abort();
     }
   }
   s.scale = b.f64();
@@ -72,7 +73,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       int covering = 0;
       for (std::size_t k = 0; k < n; ++k)
         if (blocks[k].function == e.function && e.address >= blocks[k].start &&
-            e.address + hal::register_count(e.type) <= std::size_t{blocks[k].start} + blocks[k].count)
+            e.address + hal::register_count(e.type) <=
+                std::size_t{blocks[k].start} + blocks[k].count)
           ++covering;
       if (covering != 1) std::abort();
     }
@@ -85,7 +87,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::memcpy(&r.rotor_torque_nm, data, std::min(size, sizeof(float)));
   r.sequence = b.u16();
   hal::ResultsImage img{};
-  hal::encode_results(r, (b.u8() & 1) ? hal::WordOrder::kLowWordFirst : hal::WordOrder::kHighWordFirst, img);
+  hal::encode_results(
+      r, (b.u8() & 1) ? hal::WordOrder::kLowWordFirst : hal::WordOrder::kHighWordFirst, img);
   if (img[hal::results_reg::kMapVersion] != hal::kResultsMapVersion) std::abort();
   return 0;
 }

@@ -7,6 +7,7 @@
 // Thread context: single-threaded test code; blocking calls are bounded by poll()
 // timeouts so a broken rig fails instead of hanging.
 
+#include <fcntl.h>
 #include <gpiod.h>
 #include <gtest/gtest.h>
 #include <linux/can.h>
@@ -15,7 +16,6 @@
 #include <poll.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
-#include <fcntl.h>
 #include <unistd.h>
 
 #include <array>
@@ -37,11 +37,11 @@ std::string rig_env(const char* name) {
   return v != nullptr ? std::string(v) : std::string();
 }
 
-#define SKIP_OUTSIDE_RIG()                                                   \
-  do {                                                                       \
-    if (rig_env("DRIVETWIN_RIG") != "1") {                                   \
-      GTEST_SKIP() << "not inside the emulated rig (DRIVETWIN_RIG unset)";   \
-    }                                                                        \
+#define SKIP_OUTSIDE_RIG()                                                 \
+  do {                                                                     \
+    if (rig_env("DRIVETWIN_RIG") != "1") {                                 \
+      GTEST_SKIP() << "not inside the emulated rig (DRIVETWIN_RIG unset)"; \
+    }                                                                      \
   } while (0)
 
 // A raw CAN socket bound to one interface, closed on scope exit.
@@ -147,7 +147,8 @@ TEST(RigCan, AnFdFrameSentOnVcan0ArrivesBitExactAtASecondSocket) {
   out.can_id = 0x1F334455U | CAN_EFF_FLAG;
   out.len = CANFD_MAX_DLEN;
   out.flags = CANFD_BRS;
-  for (std::size_t i = 0; i < CANFD_MAX_DLEN; ++i) out.data[i] = static_cast<std::uint8_t>(3 * i + 1);
+  for (std::size_t i = 0; i < CANFD_MAX_DLEN; ++i)
+    out.data[i] = static_cast<std::uint8_t>(3 * i + 1);
 
   // Act
   const ssize_t sent = ::write(sender.fd(), &out, CANFD_MTU);
@@ -254,7 +255,8 @@ TEST(RigGpio, EveryPullToggleGivesOneEdgeStampedBetweenTheWriteAndItsRead) {
   // v1 uAPI) lies between the write that caused it and the read that fetched it,
   // and no spurious event follows.
   for (int i = 0; i < kToggles; ++i) {
-    EXPECT_EQ(type[i], i % 2 == 0 ? GPIOD_LINE_EVENT_RISING_EDGE : GPIOD_LINE_EVENT_FALLING_EDGE) << i;
+    EXPECT_EQ(type[i], i % 2 == 0 ? GPIOD_LINE_EVENT_RISING_EDGE : GPIOD_LINE_EVENT_FALLING_EDGE)
+        << i;
     EXPECT_GE(edge_ns[i], before_ns[i]) << i;
     EXPECT_LE(edge_ns[i], after_ns[i]) << i;
   }

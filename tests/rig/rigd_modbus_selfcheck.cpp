@@ -28,7 +28,8 @@ int main() {
   const char* port_env = std::getenv("DRIVETWIN_RIG_MODBUS_PORT");
   const int port = port_env != nullptr ? std::atoi(port_env) : 0;
   if (port <= 0 || port > 65535) {
-    std::fprintf(stderr, "rigd_modbus_selfcheck: DRIVETWIN_RIG_MODBUS_PORT='%s' is not a TCP port\n",
+    std::fprintf(stderr,
+                 "rigd_modbus_selfcheck: DRIVETWIN_RIG_MODBUS_PORT='%s' is not a TCP port\n",
                  port_env != nullptr ? port_env : "");
     return 2;
   }
@@ -41,14 +42,16 @@ int main() {
   for (std::size_t i = 0; i < kTable.size(); ++i) map->tab_registers[i] = kTable[i];
   const int listener = modbus_tcp_listen(ctx, 1);
   if (listener < 0) {
-    std::fprintf(stderr, "rigd_modbus_selfcheck: listen on port %d: %s\n", port, modbus_strerror(errno));
+    std::fprintf(stderr, "rigd_modbus_selfcheck: listen on port %d: %s\n", port,
+                 modbus_strerror(errno));
     return 2;
   }
   std::string values;
   for (std::size_t i = 0; i < kTable.size(); ++i) {
     values += (i == 0 ? "" : ",") + std::to_string(kTable[i]);
   }
-  std::printf("RIG-READY modbus rigd_modbus_selfcheck port=%d ref=1 values=%s\n", port, values.c_str());
+  std::printf("RIG-READY modbus rigd_modbus_selfcheck port=%d ref=1 values=%s\n", port,
+              values.c_str());
   std::fflush(stdout);
 
   int listen_fd = listener;

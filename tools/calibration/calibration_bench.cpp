@@ -57,10 +57,13 @@ struct Setup {
   std::size_t population = 20;
   std::size_t iterations = 9;
   std::size_t seeds = 10;
-  std::size_t samples_per_rev = 256;  // Nyquist order 128 > 3 × the hss mesh order (26): every compared tone
-  std::size_t revolutions = 32;       // order resolution 1/32: the closest tones (planetary mesh, order 0.96,
-                                      // and DC) are > 2 Hann main lobes apart
-  bool lumped = false;                // the stand-in for truth and calibration (the old problem)
+  // Nyquist order 128 > 3 × the hss mesh order (26): every compared tone.
+  std::size_t samples_per_rev = 256;
+  // Order resolution 1/32: the closest tones (planetary mesh, order 0.96, and DC) are
+  // > 2 Hann main lobes apart.
+  std::size_t revolutions = 32;
+  // The stand-in for truth and calibration (the old problem).
+  bool lumped = false;
   double tr_radius = mc::TrustRegionConfig{}.initial_radius;
 };
 
@@ -80,16 +83,19 @@ struct Recording {
   std::array<dsp::PointFeatures, mc::kMeasurementPoints> measured{};
 };
 
-std::unique_ptr<mc::VibrationSimulator> calibration_simulator(const model::Drivetrain& d, const Setup& s,
+std::unique_ptr<mc::VibrationSimulator> calibration_simulator(const model::Drivetrain& d,
+                                                              const Setup& s,
                                                               const mc::OperatingPoint& op) {
   if (s.lumped) {
     mc::LumpedSimulatorConfig sim;
-    sim.sample_rate_hz = 4096.0;  // > 2 × the 3rd high-speed mesh harmonic (1116 Hz) at the paper point
+    sim.sample_rate_hz =
+        4096.0;  // > 2 × the 3rd high-speed mesh harmonic (1116 Hz) at the paper point
     return std::make_unique<mc::LumpedSimulator>(d, sim);
   }
   const model::Kinematics k(d);
   const double top_hz = 3.0 * k.mesh_hz(k.stage_count() - 1, op.rotor_speed_rpm);
-  return std::make_unique<mc::DynamicsSimulator>(d, mc::DynamicsModel::kRom, mc::rom_sample_rate_hz(top_hz), 0.5);
+  return std::make_unique<mc::DynamicsSimulator>(d, mc::DynamicsModel::kRom,
+                                                 mc::rom_sample_rate_hz(top_hz), 0.5);
 }
 
 // The "measurement": the full-order model (or the stand-in) at 25.6 kHz with
@@ -113,7 +119,8 @@ Recording make_recording(const model::Drivetrain& d, const Setup& s, const mc::O
     recorder = std::make_unique<mc::DynamicsSimulator>(d, mc::DynamicsModel::kFull, 25600.0, 0.5);
   }
   std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
-  if (!recorder->simulate(truth, op, duration_s, w)) throw std::runtime_error("recording simulation failed");
+  if (!recorder->simulate(truth, op, duration_s, w))
+    throw std::runtime_error("recording simulation failed");
   Recording rec{op, {}};
   dsp::FeatureExtractor fx(config_only.feature_config());
   std::mt19937_64 rng(7);
@@ -122,11 +129,12 @@ Recording make_recording(const model::Drivetrain& d, const Setup& s, const mc::O
     if (!s.lumped) {  // the stand-in adds its own noise
       double ss = 0.0;
       for (double v : x) ss += v * v;
-      std::normal_distribution<double> gauss(0.0, 0.05 * std::sqrt(ss / static_cast<double>(x.size())));
+      std::normal_distribution<double> gauss(0.0,
+                                             0.05 * std::sqrt(ss / static_cast<double>(x.size())));
       for (double& v : x) v += gauss(rng);
     }
-    if (fx.extract(x.data(), x.size(), w[p].sample_rate_hz, {nullptr, 0, hss_hz}, rec.measured[p]) !=
-        dsp::DspStatus::kOk) {
+    if (fx.extract(x.data(), x.size(), w[p].sample_rate_hz, {nullptr, 0, hss_hz},
+                   rec.measured[p]) != dsp::DspStatus::kOk) {
       throw std::runtime_error("feature extraction of the recording failed");
     }
   }
@@ -138,7 +146,8 @@ constexpr std::array<double, 3> kThreshold = {mc::kF1Threshold, mc::kF2Threshold
 // One calibration problem (one recording) and its evaluation bookkeeping.
 class Bench {
  public:
-  Bench(const model::Drivetrain& d, const Setup& s, const Recording& rec, const mc::CalibratorConfig& cc)
+  Bench(const model::Drivetrain& d, const Setup& s, const Recording& rec,
+        const mc::CalibratorConfig& cc)
       : drivetrain_(d) {
     simulator_ = calibration_simulator(d, s, rec.op);
     dsp::FeatureConfig fc;
@@ -166,7 +175,9 @@ class Bench {
     return f;
   }
 
-  model::DynamicsParameters nominal() const { return mc::with_nominal_damping(drivetrain_.dynamics); }
+  model::DynamicsParameters nominal() const {
+    return mc::with_nominal_damping(drivetrain_.dynamics);
+  }
 
   std::size_t evaluations = 0;
   std::size_t first_fit = 0;
@@ -222,8 +233,9 @@ struct Previous {
   bool has_jacobian = false;
 };
 
-RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& rec, mc::CalibrationMethod method,
-                   std::uint64_t seed, const std::optional<Previous>& previous) {
+RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& rec,
+                   mc::CalibrationMethod method, std::uint64_t seed,
+                   const std::optional<Previous>& previous) {
   mc::CalibratorConfig cc;
   cc.method = method;
   cc.mogoa.population = s.population;
@@ -241,7 +253,8 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
             previous && previous->has_jacobian ? &previous->jacobian : nullptr);
   while (cal.step() == mc::StepStatus::kRunning) {
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // The final set is the Pareto archive.
   std::vector<std::vector<double>> front;
   for (std::size_t a = 0; a < cal.archive_count(); ++a) {
@@ -255,7 +268,8 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
 }
 
 // A cold trust-region calibration (not counted): the warm scenarios' previous calibration.
-Previous calibrate_previous(const model::Drivetrain& d, const Setup& s, const Recording& rec, std::uint64_t seed) {
+Previous calibrate_previous(const model::Drivetrain& d, const Setup& s, const Recording& rec,
+                            std::uint64_t seed) {
   mc::CalibratorConfig cc;
   cc.method = mc::CalibrationMethod::kTrustRegion;
   cc.trust_region.seed = 1000 + seed;
@@ -270,14 +284,15 @@ Previous calibrate_previous(const model::Drivetrain& d, const Setup& s, const Re
   return p;
 }
 
-RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording& rec, bool moead, std::uint64_t seed,
-                    const std::optional<Previous>& previous) {
+RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording& rec, bool moead,
+                    std::uint64_t seed, const std::optional<Previous>& previous) {
   mc::CalibratorConfig cc;
   Bench bench(d, s, rec, cc);
   const auto t0 = std::chrono::steady_clock::now();
   pagmo::problem prob{Udp{&bench}};
   pagmo::population pop(prob, 0u, static_cast<unsigned>(seed));
-  pagmo::detail::random_engine_type rng(static_cast<pagmo::detail::random_engine_type::result_type>(seed));
+  pagmo::detail::random_engine_type rng(
+      static_cast<pagmo::detail::random_engine_type::result_type>(seed));
   std::size_t filled = 0;
   if (previous) {
     std::vector<double> x(mc::kCalibrationVariables);
@@ -286,13 +301,16 @@ RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording&
     ++filled;
   }
   while (filled++ < s.population) pop.push_back(pagmo::random_decision_vector(prob, rng));
-  pagmo::algorithm algo = moead ? pagmo::algorithm{pagmo::moead(static_cast<unsigned>(s.iterations), "low discrepancy",
-                                                                "tchebycheff", static_cast<unsigned>(std::min<std::size_t>(10, s.population - 1)), 1.0, 0.5, 20., 0.9, 2u, true,
-                                                                static_cast<unsigned>(seed))}
-                                : pagmo::algorithm{pagmo::nsga2(static_cast<unsigned>(s.iterations), 0.95, 10., 0.01,
-                                                                50., static_cast<unsigned>(seed))};
+  pagmo::algorithm algo =
+      moead ? pagmo::algorithm{pagmo::moead(
+                  static_cast<unsigned>(s.iterations), "low discrepancy", "tchebycheff",
+                  static_cast<unsigned>(std::min<std::size_t>(10, s.population - 1)), 1.0, 0.5, 20.,
+                  0.9, 2u, true, static_cast<unsigned>(seed))}
+            : pagmo::algorithm{pagmo::nsga2(static_cast<unsigned>(s.iterations), 0.95, 10., 0.01,
+                                            50., static_cast<unsigned>(seed))};
   pop = algo.evolve(pop);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto fronts = std::get<0>(pagmo::fast_non_dominated_sorting(pop.get_f()));
   std::vector<std::vector<double>> front;
   for (auto i : fronts.front()) front.push_back(pop.get_f()[i]);
@@ -310,31 +328,46 @@ T median(std::vector<T> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App cli{"Calibration: ours (trust region, MOGOA) vs pagmo2 NSGA-II and MOEA/D, same problem and budget"};
+  CLI::App cli{
+      "Calibration: ours (trust region, MOGOA) vs pagmo2 NSGA-II and MOEA/D, same problem and "
+      "budget"};
   Setup s;
   std::string scenario = "all";
-  cli.add_option("--population", s.population, "Population of every population method (default 20; NSGA-II needs a multiple of 4)");
-  cli.add_option("--iterations", s.iterations, "Iterations / generations (default 9: budget 20 x 10 = 200)");
+  cli.add_option(
+      "--population", s.population,
+      "Population of every population method (default 20; NSGA-II needs a multiple of 4)");
+  cli.add_option("--iterations", s.iterations,
+                 "Iterations / generations (default 9: budget 20 x 10 = 200)");
   cli.add_option("--seeds", s.seeds, "Seeds per method (default 10)");
   cli.add_option("--scenario", scenario, "cold, warm-rated, warm-drift or all");
   cli.add_option("--revolutions", s.revolutions, "hss revolutions per analysis block (default 32)");
-  cli.add_option("--samples-per-rev", s.samples_per_rev, "Angle-domain samples per revolution (default 256)");
-  cli.add_flag("--lumped", s.lumped, "The lumped stand-in for truth and calibration (the old problem)");
+  cli.add_option("--samples-per-rev", s.samples_per_rev,
+                 "Angle-domain samples per revolution (default 256)");
+  cli.add_flag("--lumped", s.lumped,
+               "The lumped stand-in for truth and calibration (the old problem)");
   std::string only;
-  cli.add_option("--only", only, "Run only the method whose name contains this text (e.g. 'trust', 'NSGA')");
-  cli.add_option("--tr-radius", s.tr_radius, "Trust region: initial radius (default: TrustRegionConfig's)");
+  cli.add_option("--only", only,
+                 "Run only the method whose name contains this text (e.g. 'trust', 'NSGA')");
+  cli.add_option("--tr-radius", s.tr_radius,
+                 "Trust region: initial radius (default: TrustRegionConfig's)");
   CLI11_PARSE(cli, argc, argv);
   const model::Drivetrain d = model::paper_2mw();
   const std::size_t budget = s.population * (s.iterations + 1);
   const model::DynamicsParameters nominal = mc::with_nominal_damping(d.dynamics);
   const mc::OperatingPoint paper{8.33, 361747.0};
   const mc::OperatingPoint rated{14.8, 1.23e6};
-  std::printf("problem: Table 3 drift at the paper operating point (8.33 rpm, 361747 N·m), 6 objectives;\n"
-              "  measurement: %s, 25.6 kHz, 5 %% white noise; calibrated model: %s\n",
-              s.lumped ? "lumped stand-in" : "full-order dynamics model", s.lumped ? "lumped stand-in" : "dynamics ROM");
-  std::printf("budget: %zu evaluations per run (population %zu, %zu iterations; trust region: the same count), "
-              "median over %zu seeds\n", budget, s.population, s.iterations, s.seeds);
-  std::printf("analysis: %zu revolutions x %zu samples/rev, 3 harmonics per mesh\n", s.revolutions, s.samples_per_rev);
+  std::printf(
+      "problem: Table 3 drift at the paper operating point (8.33 rpm, 361747 N·m), 6 objectives;\n"
+      "  measurement: %s, 25.6 kHz, 5 %% white noise; calibrated model: %s\n",
+      s.lumped ? "lumped stand-in" : "full-order dynamics model",
+      s.lumped ? "lumped stand-in" : "dynamics ROM");
+  std::printf(
+      "budget: %zu evaluations per run (population %zu, %zu iterations; trust region: the same "
+      "count), "
+      "median over %zu seeds\n",
+      budget, s.population, s.iterations, s.seeds);
+  std::printf("analysis: %zu revolutions x %zu samples/rev, 3 harmonics per mesh\n", s.revolutions,
+              s.samples_per_rev);
   std::fflush(stdout);
   const Recording paper_rec = make_recording(d, s, paper, drifted(nominal, 1.0));
 
@@ -343,10 +376,13 @@ int main(int argc, char** argv) {
     std::optional<Recording> previous_rec;
     if (sc == "warm-rated") previous_rec = make_recording(d, s, rated, drifted(nominal, 1.0));
     if (sc == "warm-drift") previous_rec = make_recording(d, s, paper, drifted(nominal, 0.5));
-    std::printf("\nscenario: %s\n", sc == "cold" ? "cold (nominal parameters only)"
-                                    : sc == "warm-rated" ? "warm-rated (previous calibration of the same drift at rated speed)"
-                                                         : "warm-drift (previous calibration at the paper point, half the drift)");
-    std::printf("%-22s %20s %10s %12s %10s\n", "method", "evals to threshold", "reached", "hypervolume", "wall [s]");
+    std::printf("\nscenario: %s\n",
+                sc == "cold" ? "cold (nominal parameters only)"
+                : sc == "warm-rated"
+                    ? "warm-rated (previous calibration of the same drift at rated speed)"
+                    : "warm-drift (previous calibration at the paper point, half the drift)");
+    std::printf("%-22s %20s %10s %12s %10s\n", "method", "evals to threshold", "reached",
+                "hypervolume", "wall [s]");
     struct Method {
       const char* name;
       int kind;  // 0 published MOGOA, 1 improved MOGOA, 2 trust region, 3 NSGA-II, 4 MOEA/D
@@ -354,22 +390,24 @@ int main(int argc, char** argv) {
     // Previous calibrations per seed (shared by every method of the scenario, not counted).
     std::vector<std::optional<Previous>> previous(s.seeds + 1);
     if (previous_rec) {
-      for (std::uint64_t seed = 1; seed <= s.seeds; ++seed) previous[seed] = calibrate_previous(d, s, *previous_rec, seed);
+      for (std::uint64_t seed = 1; seed <= s.seeds; ++seed)
+        previous[seed] = calibrate_previous(d, s, *previous_rec, seed);
     }
-    for (const Method m : {Method{"trust region (ours)", 2}, Method{"MOGOA (published)", 0},
-                           Method{"MOGOA (improved)", 1}, Method{"pagmo NSGA-II", 3}, Method{"pagmo MOEA/D", 4}}) {
+    for (const Method m :
+         {Method{"trust region (ours)", 2}, Method{"MOGOA (published)", 0},
+          Method{"MOGOA (improved)", 1}, Method{"pagmo NSGA-II", 3}, Method{"pagmo MOEA/D", 4}}) {
       if (!only.empty() && std::string(m.name).find(only) == std::string::npos) continue;
       std::vector<std::size_t> hits;
       std::vector<double> hvs, secs;
       std::size_t reached = 0;
       for (std::uint64_t seed = 1; seed <= s.seeds; ++seed) {
-        const RunResult r =
-            m.kind <= 2 ? run_ours(d, s, paper_rec,
-                                   m.kind == 0   ? mc::CalibrationMethod::kPublishedMogoa
-                                   : m.kind == 1 ? mc::CalibrationMethod::kImprovedMogoa
-                                                 : mc::CalibrationMethod::kTrustRegion,
-                                   seed, previous[seed])
-                        : run_pagmo(d, s, paper_rec, m.kind == 4, seed, previous[seed]);
+        const RunResult r = m.kind <= 2
+                                ? run_ours(d, s, paper_rec,
+                                           m.kind == 0   ? mc::CalibrationMethod::kPublishedMogoa
+                                           : m.kind == 1 ? mc::CalibrationMethod::kImprovedMogoa
+                                                         : mc::CalibrationMethod::kTrustRegion,
+                                           seed, previous[seed])
+                                : run_pagmo(d, s, paper_rec, m.kind == 4, seed, previous[seed]);
         hits.push_back(r.to_threshold);
         hvs.push_back(r.hv);
         secs.push_back(r.seconds);
@@ -382,8 +420,8 @@ int main(int argc, char** argv) {
       } else {
         std::snprintf(hit_text, sizeof hit_text, "%zu", med);
       }
-      std::printf("%-22s %20s %7zu/%zu %12.4g %10.2f   (each: ", m.name, hit_text, reached, s.seeds, median(hvs),
-                  median(secs));
+      std::printf("%-22s %20s %7zu/%zu %12.4g %10.2f   (each: ", m.name, hit_text, reached, s.seeds,
+                  median(hvs), median(secs));
       for (std::size_t h : hits) std::printf("%zu ", h);
       std::printf(")\n");
       std::fflush(stdout);

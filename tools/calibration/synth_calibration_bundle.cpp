@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   cli.add_option("--out", out, "Bundle directory to write")->required();
   cli.add_option("--rpm", rpm, "Rotor speed [rpm]");
   cli.add_option("--torque", torque, "Rotor torque [N·m]");
-  cli.add_option("--damping-factor", damping_factor, "Rayleigh eta and zeta × this, relative to nominal");
+  cli.add_option("--damping-factor", damping_factor,
+                 "Rayleigh eta and zeta × this, relative to nominal");
   cli.add_option("--mesh-scale", mesh_scale, "Mesh stiffness scale of every stage");
   cli.add_option("--bearing-scale", bearing_scale, "Bearing stiffness scale of every shaft");
   cli.add_option("--noise", noise, "White noise RMS as a fraction of each point's RMS");
@@ -46,10 +47,14 @@ int main(int argc, char** argv) {
   cli.add_option("--fs", fs_hz, "Sample rate [Hz]");
   cli.add_flag("--tacho", tacho, "Add a once-per-revolution tacho channel on the hss");
   cli.add_option("--seed", seed, "Noise seed");
-  cli.add_option("--model", model_name, "full (default: full-order Newmark model), rom, or lumped (stand-in)")
+  cli.add_option("--model", model_name,
+                 "full (default: full-order Newmark model), rom, or lumped (stand-in)")
       ->check(CLI::IsMember({"full", "rom", "lumped"}));
-  cli.add_option("--settle", settle_s, "full/rom: seconds simulated and discarded before the recording [s]");
-  cli.add_option("--fault", fault, "flat:<channel> (constant), clip:<channel> (saturate at 60 % of the peak), drop:<channel>");
+  cli.add_option("--settle", settle_s,
+                 "full/rom: seconds simulated and discarded before the recording [s]");
+  cli.add_option(
+      "--fault", fault,
+      "flat:<channel> (constant), clip:<channel> (saturate at 60 % of the peak), drop:<channel>");
   CLI11_PARSE(cli, argc, argv);
 
   const model::Drivetrain drivetrain = model::paper_2mw();
@@ -71,20 +76,24 @@ int main(int argc, char** argv) {
     sim = std::make_unique<mc::LumpedSimulator>(drivetrain, sc);
   } else {
     auto d = std::make_unique<mc::DynamicsSimulator>(
-        drivetrain, model_name == "full" ? mc::DynamicsModel::kFull : mc::DynamicsModel::kRom, fs_hz, settle_s);
+        drivetrain, model_name == "full" ? mc::DynamicsModel::kFull : mc::DynamicsModel::kRom,
+        fs_hz, settle_s);
     dynamics = d.get();
     sim = std::move(d);
   }
   std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
   if (!sim->simulate(truth, {rpm, torque}, duration_s, w)) {
-    std::fprintf(stderr, "synth_calibration_bundle: simulation failed (rpm %g, duration %g s)%s%s\n", rpm, duration_s,
-                 dynamics ? ": " : "", dynamics ? dynamics->error().c_str() : "");
+    std::fprintf(stderr,
+                 "synth_calibration_bundle: simulation failed (rpm %g, duration %g s)%s%s\n", rpm,
+                 duration_s, dynamics ? ": " : "", dynamics ? dynamics->error().c_str() : "");
     return 1;
   }
   std::array<std::vector<double>, mc::kMeasurementPoints> wave;
-  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) wave[p].assign(w[p].samples, w[p].samples + w[p].count);
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p)
+    wave[p].assign(w[p].samples, w[p].samples + w[p].count);
   if (dynamics && noise > 0.0) {
-    // White Gaussian noise, RMS = noise × the channel's RMS (mean removed); the stand-in adds its own.
+    // White Gaussian noise, RMS = noise × the channel's RMS (mean removed); the stand-in adds its
+    // own.
     std::mt19937_64 rng(seed);
     for (auto& x : wave) {
       double mean = 0.0;
@@ -92,7 +101,8 @@ int main(int argc, char** argv) {
       mean /= static_cast<double>(x.size());
       double ss = 0.0;
       for (double v : x) ss += (v - mean) * (v - mean);
-      std::normal_distribution<double> gauss(0.0, noise * std::sqrt(ss / static_cast<double>(x.size())));
+      std::normal_distribution<double> gauss(0.0,
+                                             noise * std::sqrt(ss / static_cast<double>(x.size())));
       for (double& v : x) v += gauss(rng);
     }
   }
@@ -108,7 +118,8 @@ int main(int argc, char** argv) {
     std::vector<double> t(w[0].count);
     for (std::size_t i = 0; i < t.size(); ++i) {
       // The dynamics models report their hss angle; the stand-in's starts at 0.
-      const double rev = dynamics ? dynamics->hss_revolutions()[i] : hss_hz * static_cast<double>(i) / fs_hz;
+      const double rev =
+          dynamics ? dynamics->hss_revolutions()[i] : hss_hz * static_cast<double>(i) / fs_hz;
       t[i] = rev - std::floor(rev) < 0.05 ? 5.0 : 0.0;  // 5 V pulse over 5 % of a revolution
     }
     rec.channels.push_back({"tacho", "hss", "", "once_per_rev", "V"});
@@ -120,8 +131,10 @@ int main(int argc, char** argv) {
     const std::string name = colon == std::string::npos ? "" : fault.substr(colon + 1);
     const auto idx = rec.channel_index(name);
     if (!idx || (kind != "flat" && kind != "clip" && kind != "drop")) {
-      std::fprintf(stderr, "synth_calibration_bundle: --fault: expected flat|clip|drop:<channel>, got '%s'\n",
-                   fault.c_str());
+      std::fprintf(
+          stderr,
+          "synth_calibration_bundle: --fault: expected flat|clip|drop:<channel>, got '%s'\n",
+          fault.c_str());
       return 1;
     }
     std::vector<double>& x = rec.samples[*idx];
@@ -139,17 +152,21 @@ int main(int argc, char** argv) {
   rec.operating_point.rotor_speed_rpm = rpm;
   rec.operating_point.input_torque_nm = torque;
   char notes[256];
-  std::snprintf(notes, sizeof notes,
-                "synthetic (%s model): damping x%g (eta %g 1/s, zeta %g s), mesh stiffness x%g, bearing "
-                "stiffness x%g, noise %g of RMS, seed %llu",
-                model_name == "lumped" ? "lumped stand-in" : model_name == "full" ? "full-order dynamics" : "dynamics ROM",
-                damping_factor, truth.rayleigh_eta, truth.rayleigh_zeta, mesh_scale, bearing_scale, noise,
-                static_cast<unsigned long long>(seed));
+  std::snprintf(
+      notes, sizeof notes,
+      "synthetic (%s model): damping x%g (eta %g 1/s, zeta %g s), mesh stiffness x%g, bearing "
+      "stiffness x%g, noise %g of RMS, seed %llu",
+      model_name == "lumped" ? "lumped stand-in"
+      : model_name == "full" ? "full-order dynamics"
+                             : "dynamics ROM",
+      damping_factor, truth.rayleigh_eta, truth.rayleigh_zeta, mesh_scale, bearing_scale, noise,
+      static_cast<unsigned long long>(seed));
   rec.notes = notes;
   if (const auto err = hal::write_bundle(out, rec)) {
     std::fprintf(stderr, "synth_calibration_bundle: %s\n", err->to_string().c_str());
     return 1;
   }
-  std::printf("wrote %s: %zu samples at %g Hz, %s\n", out.c_str(), rec.sample_count(), fs_hz, notes);
+  std::printf("wrote %s: %zu samples at %g Hz, %s\n", out.c_str(), rec.sample_count(), fs_hz,
+              notes);
   return 0;
 }

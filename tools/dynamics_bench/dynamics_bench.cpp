@@ -66,7 +66,8 @@ int main(int argc, char** argv) {
   }
   RomBuildReport report;
   const double b0 = thread_cpu_s();
-  const std::unique_ptr<RomData> data = build_rom(*m, 1.0 / kRate, kRomDefaultCutoffHz, &error, &report);
+  const std::unique_ptr<RomData> data =
+      build_rom(*m, 1.0 / kRate, kRomDefaultCutoffHz, &error, &report);
   const double build_cpu = thread_cpu_s() - b0;
   if (!data) {
     std::fprintf(stderr, "dynamics_bench: %s\n", error.c_str());
@@ -85,7 +86,8 @@ int main(int argc, char** argv) {
   const double rom_wall = wall_s() - rw0, rom_cpu = thread_cpu_s() - rc0;
   const double rom_sim = static_cast<double>(rom_steps) / kRate;
   if (rom_only) {
-    std::printf("rom_steps %ld simulated_s %.6f checksum %.6e kernel %s\n", rom_steps, rom_sim, sink, rom_step_isa());
+    std::printf("rom_steps %ld simulated_s %.6f checksum %.6e kernel %s\n", rom_steps, rom_sim,
+                sink, rom_step_isa());
     return 0;
   }
 
@@ -100,19 +102,27 @@ int main(int argc, char** argv) {
   const double full_wall = wall_s() - fw0, full_cpu = thread_cpu_s() - fc0;
   const double full_sim = static_cast<double>(full_steps) / (2 * kRate);
 
-  std::printf("drivetwin dynamics benchmark (paper-2mw, rated 14.8 rpm / 1.23e6 N·m, outputs at %.0f Hz)\n", kRate);
-  std::printf("ROM: %d modes <= %.0f Hz + %d static corrections = %d DOF (capacity %d), built in %.1f ms CPU\n",
-              report.eigenmodes, data->cutoff_hz, report.correction_vectors,
-              report.eigenmodes + report.correction_vectors, kRomDofs, 1e3 * build_cpu);
+  std::printf(
+      "drivetwin dynamics benchmark (paper-2mw, rated 14.8 rpm / 1.23e6 N·m, outputs at %.0f Hz)\n",
+      kRate);
+  std::printf(
+      "ROM: %d modes <= %.0f Hz + %d static corrections = %d DOF (capacity %d), built in %.1f ms "
+      "CPU\n",
+      report.eigenmodes, data->cutoff_hz, report.correction_vectors,
+      report.eigenmodes + report.correction_vectors, kRomDofs, 1e3 * build_cpu);
   std::printf("ROM step kernel: %s\n", rom_step_isa());
-  std::printf("ROM  real-time factor: %8.1f x (CPU time)  %8.1f x (wall)   [%.2f s simulated]\n", rom_sim / rom_cpu,
-              rom_sim / rom_wall, rom_sim);
-  std::printf("full real-time factor: %8.3f x (CPU time)  %8.3f x (wall)   [%.2f s simulated, %d DOF, 2 steps/sample]\n",
-              full_sim / full_cpu, full_sim / full_wall, full_sim, m->dofs());
-  std::printf("ROM / full speed ratio: %8.1f x (CPU time)  %8.1f x (wall)\n", (rom_sim / rom_cpu) / (full_sim / full_cpu),
+  std::printf("ROM  real-time factor: %8.1f x (CPU time)  %8.1f x (wall)   [%.2f s simulated]\n",
+              rom_sim / rom_cpu, rom_sim / rom_wall, rom_sim);
+  std::printf(
+      "full real-time factor: %8.3f x (CPU time)  %8.3f x (wall)   [%.2f s simulated, %d DOF, 2 "
+      "steps/sample]\n",
+      full_sim / full_cpu, full_sim / full_wall, full_sim, m->dofs());
+  std::printf("ROM / full speed ratio: %8.1f x (CPU time)  %8.1f x (wall)\n",
+              (rom_sim / rom_cpu) / (full_sim / full_cpu),
               (rom_sim / rom_wall) / (full_sim / full_wall));
   std::printf("ROM bytes: data %zu + state %zu = %zu (%.1f KiB)\n", sizeof(RomData), sizeof(Rom),
-              sizeof(RomData) + sizeof(Rom), static_cast<double>(sizeof(RomData) + sizeof(Rom)) / 1024.0);
+              sizeof(RomData) + sizeof(Rom),
+              static_cast<double>(sizeof(RomData) + sizeof(Rom)) / 1024.0);
   std::printf("(checksum %.6e)\n", sink);
   return 0;
 }

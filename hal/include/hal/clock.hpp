@@ -30,7 +30,8 @@ class Clock {
 class MonotonicClock final : public Clock {
  public:
   Timestamp now() const override {
-    return std::chrono::duration_cast<Timestamp>(std::chrono::steady_clock::now().time_since_epoch());
+    return std::chrono::duration_cast<Timestamp>(
+        std::chrono::steady_clock::now().time_since_epoch());
   }
 };
 

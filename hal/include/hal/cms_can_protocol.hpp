@@ -3,8 +3,8 @@
 // how the condition-monitoring front end puts accelerometer samples on the bus.
 // Documented for integrators in hal/README.md ("CMS over CAN"); summary:
 //
-//   CAN id (11-bit)  = base_id + channel            channel 0..15, base_id configured (default 0x180)
-//   CAN FD payload (up to 64 bytes, header 8 bytes, little-endian):
+//   CAN id (11-bit)  = base_id + channel            channel 0..15, base_id configured (default
+//   0x180) CAN FD payload (up to 64 bytes, header 8 bytes, little-endian):
 //     byte 0   bits 7..4 protocol version (1)   bits 3..0 channel (must equal id - base_id)
 //     byte 1   bits 7..6 sample format (0 = int16, 1 = int24)   bits 5..0 sample count n >= 1
 //     byte 2-3 sequence number, uint16, per channel, +1 per frame, wraps
@@ -39,13 +39,13 @@ namespace hal {
 
 /// A CAN or CAN FD frame as the hal sees it (no <linux/can.h> in hal's headers).
 struct CanFrame {
-  std::uint32_t id = 0;            // 11- or 29-bit identifier (flags stripped)
-  bool extended = false;           // 29-bit identifier
-  bool fd = false;                 // CAN FD frame
-  bool error = false;              // error frame (id holds the error class bits)
-  std::uint8_t len = 0;            // [bytes] payload length 0..64
+  std::uint32_t id = 0;   // 11- or 29-bit identifier (flags stripped)
+  bool extended = false;  // 29-bit identifier
+  bool fd = false;        // CAN FD frame
+  bool error = false;     // error frame (id holds the error class bits)
+  std::uint8_t len = 0;   // [bytes] payload length 0..64
   std::array<std::uint8_t, 64> data{};
-  Timestamp stamp{0};              // [ns] receive time (kernel time stamp when available)
+  Timestamp stamp{0};  // [ns] receive time (kernel time stamp when available)
 };
 
 inline constexpr std::uint8_t kCmsProtocolVersion = 1;
@@ -53,9 +53,13 @@ inline constexpr std::size_t kCmsFdHeaderBytes = 8;
 
 enum class CmsSampleFormat : std::uint8_t { kInt16 = 0, kInt24 = 1 };
 
-constexpr std::size_t bytes_per_sample(CmsSampleFormat f) { return f == CmsSampleFormat::kInt16 ? 2 : 3; }
+constexpr std::size_t bytes_per_sample(CmsSampleFormat f) {
+  return f == CmsSampleFormat::kInt16 ? 2 : 3;
+}
 /// Most samples in a CAN FD frame of 64 bytes.
-constexpr std::size_t max_fd_samples(CmsSampleFormat f) { return (64 - kCmsFdHeaderBytes) / bytes_per_sample(f); }
+constexpr std::size_t max_fd_samples(CmsSampleFormat f) {
+  return (64 - kCmsFdHeaderBytes) / bytes_per_sample(f);
+}
 /// Samples in a classic 8-byte frame.
 constexpr std::size_t classic_samples(CmsSampleFormat f) { return 6 / bytes_per_sample(f); }
 /// Smallest valid CAN FD data length >= n (0..8, 12, 16, 20, 24, 32, 48, 64).
@@ -72,21 +76,21 @@ struct CmsFrame {
   std::uint8_t channel = 0;
   CmsSampleFormat format = CmsSampleFormat::kInt16;
   std::uint16_t sequence = 0;
-  std::optional<std::uint32_t> t0_us;    // FD: front-end time of sample 0 [µs]; classic: none
+  std::optional<std::uint32_t> t0_us;  // FD: front-end time of sample 0 [µs]; classic: none
   std::uint8_t count = 0;
-  std::array<std::int32_t, kCmsMaxSamplesPerBlock> raw{};   // [LSB]
+  std::array<std::int32_t, kCmsMaxSamplesPerBlock> raw{};  // [LSB]
 };
 
 enum class CmsDecodeError : std::uint8_t {
   kNone = 0,
-  kNotCmsId,        // id outside base_id .. base_id+15, or extended id
-  kErrorFrame,      // an error frame: use classify_error_frame
-  kBadLength,       // payload too short / longer than the samples plus padding allow
-  kBadVersion,      // unknown protocol version
-  kChannelMismatch, // byte-0 channel differs from the CAN id
-  kBadFormat,       // reserved sample format
-  kBadCount,        // zero samples or more than fit
-  kNonZeroPadding,  // bytes after the samples are not zero (garbage)
+  kNotCmsId,         // id outside base_id .. base_id+15, or extended id
+  kErrorFrame,       // an error frame: use classify_error_frame
+  kBadLength,        // payload too short / longer than the samples plus padding allow
+  kBadVersion,       // unknown protocol version
+  kChannelMismatch,  // byte-0 channel differs from the CAN id
+  kBadFormat,        // reserved sample format
+  kBadCount,         // zero samples or more than fit
+  kNonZeroPadding,   // bytes after the samples are not zero (garbage)
 };
 const char* to_string(CmsDecodeError e);
 
@@ -103,7 +107,8 @@ const char* to_string(CmsDecodeError e);
 /// @return false if the block does not fit (count 0 or too many, raw out of range).
 [[nodiscard]] bool encode_cms_fd_frame(const CmsFrame& block, std::uint32_t base_id, CanFrame& out);
 /// Encodes a classic 8-byte frame (count must equal classic_samples(format)).
-[[nodiscard]] bool encode_cms_classic_frame(const CmsFrame& block, std::uint32_t base_id, CanFrame& out);
+[[nodiscard]] bool encode_cms_classic_frame(const CmsFrame& block, std::uint32_t base_id,
+                                            CanFrame& out);
 
 /// Per-channel sequence bookkeeping.
 class SequenceTracker {
@@ -111,7 +116,7 @@ class SequenceTracker {
   enum class Verdict : std::uint8_t { kFirst, kInOrder, kGap, kDuplicate, kReordered };
   struct Result {
     Verdict verdict = Verdict::kFirst;
-    std::uint16_t lost = 0;   // blocks missing (kGap)
+    std::uint16_t lost = 0;  // blocks missing (kGap)
   };
   /// Classifies `sequence` against the last accepted one and accepts it unless
   /// it is a duplicate or reordered.
@@ -138,7 +143,7 @@ class TimestampUnwrapper {
 /// What an error frame says (Linux SocketCAN error classes).
 struct CanErrorInfo {
   bool bus_off = false;
-  bool restarted = false;        // controller restarted after bus-off
+  bool restarted = false;  // controller restarted after bus-off
   bool error_passive = false;
   bool warning = false;
   bool protocol_error = false;
@@ -149,7 +154,8 @@ struct CanErrorInfo {
 };
 /// @param error_class  the error frame's id bits (CAN_ERR_* class mask)
 /// @param data         its 8 data bytes
-CanErrorInfo classify_error_frame(std::uint32_t error_class, const std::array<std::uint8_t, 64>& data);
+CanErrorInfo classify_error_frame(std::uint32_t error_class,
+                                  const std::array<std::uint8_t, 64>& data);
 
 // Linux error-class bits (values of linux/can/error.h; checked against the
 // kernel header in the SocketCAN backend).

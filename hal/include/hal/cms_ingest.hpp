@@ -23,9 +23,10 @@ namespace hal {
 struct CmsIngestConfig {
   std::uint32_t base_id = 0x180;
   CmsSampleFormat classic_format = CmsSampleFormat::kInt16;
-  std::array<float, kCmsMaxChannels> scale{};   // [unit/LSB]; 0 = channel not used (its frames are malformed)
+  std::array<float, kCmsMaxChannels>
+      scale{};  // [unit/LSB]; 0 = channel not used (its frames are malformed)
   std::chrono::milliseconds stale_after{1000};  // health kStale when no good frame for this long
-  std::chrono::milliseconds error_hold{1000};   // health reports an error/gap for this long after it
+  std::chrono::milliseconds error_hold{1000};  // health reports an error/gap for this long after it
 };
 
 class CmsIngest {
@@ -56,8 +57,8 @@ class CmsIngest {
   CmsIngestConfig config_;
   std::array<SequenceTracker, kCmsMaxChannels> trackers_{};
   std::array<TimestampUnwrapper, kCmsMaxChannels> unwrappers_{};
-  std::atomic<std::uint64_t> blocks_{0}, gaps_{0}, lost_{0}, duplicates_{0}, reordered_{0}, malformed_{0},
-      error_frames_{0}, bus_off_events_{0}, recoveries_{0}, overflows_{0};
+  std::atomic<std::uint64_t> blocks_{0}, gaps_{0}, lost_{0}, duplicates_{0}, reordered_{0},
+      malformed_{0}, error_frames_{0}, bus_off_events_{0}, recoveries_{0}, overflows_{0};
   std::atomic<bool> bus_off_{false};
   std::atomic<bool> link_down_{false};
   std::atomic<std::int64_t> last_frame_ns_{0};

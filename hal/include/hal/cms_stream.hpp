@@ -24,26 +24,26 @@ inline constexpr std::size_t kCmsMaxSamplesPerBlock = 28;
 inline constexpr std::size_t kCmsMaxChannels = 16;
 
 struct CmsBlock {
-  std::uint8_t channel = 0;          // [-] 0..kCmsMaxChannels-1
-  std::uint16_t sequence = 0;        // [-] per-channel block counter, wraps
-  std::uint8_t count = 0;            // [-] samples used in `samples`
-  Timestamp stamp{0};                // [ns] time of samples[0] (source clock)
-  Timestamp received{0};             // [ns] when the block was received (local clock)
+  std::uint8_t channel = 0;    // [-] 0..kCmsMaxChannels-1
+  std::uint16_t sequence = 0;  // [-] per-channel block counter, wraps
+  std::uint8_t count = 0;      // [-] samples used in `samples`
+  Timestamp stamp{0};          // [ns] time of samples[0] (source clock)
+  Timestamp received{0};       // [ns] when the block was received (local clock)
   std::array<float, kCmsMaxSamplesPerBlock> samples{};  // in the channel's unit (e.g. m/s²)
 };
 
 /// Counters since configure(); monotonically increasing.
 struct CmsStreamStats {
-  std::uint64_t blocks = 0;          // blocks delivered
-  std::uint64_t gaps = 0;            // sequence gaps detected (events)
-  std::uint64_t lost_blocks = 0;     // blocks missing in those gaps
-  std::uint64_t duplicates = 0;      // same sequence again: dropped
-  std::uint64_t reordered = 0;       // older sequence arriving late: dropped
-  std::uint64_t malformed = 0;       // frames that failed to decode: dropped
-  std::uint64_t error_frames = 0;    // CAN error frames
-  std::uint64_t bus_off = 0;         // bus-off events
-  std::uint64_t recoveries = 0;      // successful recoveries from bus-off / disconnect
-  std::uint64_t overflows = 0;       // blocks dropped because the queue was full
+  std::uint64_t blocks = 0;        // blocks delivered
+  std::uint64_t gaps = 0;          // sequence gaps detected (events)
+  std::uint64_t lost_blocks = 0;   // blocks missing in those gaps
+  std::uint64_t duplicates = 0;    // same sequence again: dropped
+  std::uint64_t reordered = 0;     // older sequence arriving late: dropped
+  std::uint64_t malformed = 0;     // frames that failed to decode: dropped
+  std::uint64_t error_frames = 0;  // CAN error frames
+  std::uint64_t bus_off = 0;       // bus-off events
+  std::uint64_t recoveries = 0;    // successful recoveries from bus-off / disconnect
+  std::uint64_t overflows = 0;     // blocks dropped because the queue was full
 };
 
 class CmsStream : public Device {

@@ -28,8 +28,8 @@ struct GpioChipRef {
 
 struct GpiodKeyphasorConfig {
   GpioChipRef chip;
-  unsigned line = 0;               // line offset on the chip
-  bool both_edges = false;         // false: rising edges only
+  unsigned line = 0;        // line offset on the chip
+  bool both_edges = false;  // false: rising edges only
   bool active_low = false;
   std::string consumer = "drivetwin-keyphasor";
 };

@@ -36,19 +36,19 @@ class Keyphasor : public Device {
 class KeyphasorTracker {
  public:
   struct Config {
-    int pulses_per_rev = 1;                 // [-]
-    double min_speed_hz = 0.01;             // [Hz] slower → treated as stopped/stuck
-    double max_speed_hz = 200.0;            // [Hz] faster → glitch, edge ignored
+    int pulses_per_rev = 1;                          // [-]
+    double min_speed_hz = 0.01;                      // [Hz] slower → treated as stopped/stuck
+    double max_speed_hz = 200.0;                     // [Hz] faster → glitch, edge ignored
     Timestamp stale_after{std::chrono::seconds(2)};  // no edge this long → invalid
-    bool use_rising = true;                 // which polarity marks the reference
+    bool use_rising = true;                          // which polarity marks the reference
   };
   struct State {
-    double speed_hz = 0.0;                  // [rev/s] of the shaft carrying the mark
-    Timestamp last_reference{0};            // [ns] last reference edge (angle 0)
+    double speed_hz = 0.0;        // [rev/s] of the shaft carrying the mark
+    Timestamp last_reference{0};  // [ns] last reference edge (angle 0)
     bool valid = false;
-    std::uint32_t edges = 0;                // reference edges accepted
-    std::uint32_t glitches = 0;             // edges rejected as too close
-    std::uint32_t lost = 0;                 // edges lost according to the sequence counter
+    std::uint32_t edges = 0;     // reference edges accepted
+    std::uint32_t glitches = 0;  // edges rejected as too close
+    std::uint32_t lost = 0;      // edges lost according to the sequence counter
   };
 
   KeyphasorTracker() : KeyphasorTracker(Config{}) {}

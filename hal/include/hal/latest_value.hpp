@@ -21,7 +21,8 @@ namespace hal {
 template <typename T>
 class LatestValue {
   static_assert(std::is_trivially_copyable_v<T>, "LatestValue<T> needs a trivially copyable T");
-  static constexpr std::size_t kWords = (sizeof(T) + sizeof(std::uint64_t) - 1) / sizeof(std::uint64_t);
+  static constexpr std::size_t kWords =
+      (sizeof(T) + sizeof(std::uint64_t) - 1) / sizeof(std::uint64_t);
 
  public:
   /// Publishes `value`. Wait-free, one writer.

@@ -33,25 +33,28 @@ constexpr std::size_t register_count(RegisterType t) {
 /// Where and how one value lives in the controller's registers.
 /// value [unit] = raw × scale + offset
 struct RegisterSpec {
-  std::uint16_t address = 0;       // 0-based protocol address
+  std::uint16_t address = 0;  // 0-based protocol address
   RegisterFunction function = RegisterFunction::kHolding;
   RegisterType type = RegisterType::kUInt16;
   WordOrder word_order = WordOrder::kHighWordFirst;
-  double scale = 1.0;              // [unit/LSB]
-  double offset = 0.0;             // [unit]
+  double scale = 1.0;   // [unit/LSB]
+  double offset = 0.0;  // [unit]
 };
 
 /// Decodes `regs` (register_count(spec.type) registers starting at spec.address).
 /// @return the scaled value, or nullopt if too few registers were given, the
 ///         float is NaN/Inf, or the scale is not finite.
-std::optional<double> decode_register(const RegisterSpec& spec, const std::uint16_t* regs, std::size_t n);
+std::optional<double> decode_register(const RegisterSpec& spec, const std::uint16_t* regs,
+                                      std::size_t n);
 
 /// Encodes `value` into `regs` (inverse of decode_register; integers rounded to nearest).
 /// @return false if n is too small or the value does not fit the type (nothing written).
 bool encode_register(const RegisterSpec& spec, double value, std::uint16_t* regs, std::size_t n);
 
-bool parse_register_type(std::string_view s, RegisterType& out);        // "int16", "uint16", "int32", "uint32", "float32"
-bool parse_word_order(std::string_view s, WordOrder& out);              // "high_first"/"abcd", "low_first"/"cdab"
+bool parse_register_type(std::string_view s,
+                         RegisterType& out);  // "int16", "uint16", "int32", "uint32", "float32"
+bool parse_word_order(std::string_view s,
+                      WordOrder& out);  // "high_first"/"abcd", "low_first"/"cdab"
 bool parse_register_function(std::string_view s, RegisterFunction& out);  // "holding", "input"
 const char* to_string(RegisterType t);
 const char* to_string(WordOrder w);
@@ -74,9 +77,9 @@ struct ScadaRegisterMap {
 struct ReadBlock {
   RegisterFunction function = RegisterFunction::kHolding;
   std::uint16_t start = 0;
-  std::uint16_t count = 0;    // ≤ kMaxReadRegisters
+  std::uint16_t count = 0;  // ≤ kMaxReadRegisters
 };
-inline constexpr std::uint16_t kMaxReadRegisters = 125;   // Modbus limit for FC 03/04
+inline constexpr std::uint16_t kMaxReadRegisters = 125;  // Modbus limit for FC 03/04
 inline constexpr std::size_t kMaxReadBlocks = kScadaQuantityCount + 1;
 
 /// Plans the fewest reads covering every entry of `map` (entries merged when a
@@ -96,23 +99,26 @@ std::optional<std::size_t> validate_map(const ScadaRegisterMap& map);
 // (FC 04) registers; 32-bit values in the server's word order, float32 = IEEE 754):
 inline constexpr std::uint16_t kResultsMapVersion = 1;
 namespace results_reg {
-inline constexpr std::uint16_t kMapVersion = 0;        // uint16: kResultsMapVersion
-inline constexpr std::uint16_t kStatusWord = 1;        // uint16: StatusBit
-inline constexpr std::uint16_t kFaultWord = 2;         // uint16
-inline constexpr std::uint16_t kCalibrationWord = 3;   // uint16
-inline constexpr std::uint16_t kSequence = 4;          // uint32 (4-5)
-inline constexpr std::uint16_t kStampS = 6;            // uint32 (6-7) [s] loop time of the results
-inline constexpr std::uint16_t kRotorTorque = 8;       // float32 [N·m]
-inline constexpr std::uint16_t kRotorSpeed = 10;       // float32 [rpm]
-inline constexpr std::uint16_t kWindSpeed = 12;        // float32 [m/s]
-inline constexpr std::uint16_t kHssSpeed = 14;         // float32 [rpm]
+inline constexpr std::uint16_t kMapVersion = 0;       // uint16: kResultsMapVersion
+inline constexpr std::uint16_t kStatusWord = 1;       // uint16: StatusBit
+inline constexpr std::uint16_t kFaultWord = 2;        // uint16
+inline constexpr std::uint16_t kCalibrationWord = 3;  // uint16
+inline constexpr std::uint16_t kSequence = 4;         // uint32 (4-5)
+inline constexpr std::uint16_t kStampS = 6;           // uint32 (6-7) [s] loop time of the results
+inline constexpr std::uint16_t kRotorTorque = 8;      // float32 [N·m]
+inline constexpr std::uint16_t kRotorSpeed = 10;      // float32 [rpm]
+inline constexpr std::uint16_t kWindSpeed = 12;       // float32 [m/s]
+inline constexpr std::uint16_t kHssSpeed = 14;        // float32 [rpm]
 inline constexpr std::uint16_t kCalibrationResidual = 16;  // float32 [-]
-inline constexpr std::uint16_t kComponents = 20;       // per component c: 20 + 6c: load, damage, rul_h (float32 each)
+inline constexpr std::uint16_t kComponents =
+    20;  // per component c: 20 + 6c: load, damage, rul_h (float32 each)
 inline constexpr std::uint16_t kComponentStride = 6;
 inline constexpr std::uint16_t kIndicators =
-    kComponents + kComponentStride * static_cast<std::uint16_t>(kResultComponentCount);  // float32 each
+    kComponents +
+    kComponentStride * static_cast<std::uint16_t>(kResultComponentCount);  // float32 each
 inline constexpr std::uint16_t kCommands =
-    kIndicators + 2 * static_cast<std::uint16_t>(kResultIndicatorCount);  // 16 command registers (writable if configured)
+    kIndicators + 2 * static_cast<std::uint16_t>(
+                          kResultIndicatorCount);  // 16 command registers (writable if configured)
 inline constexpr std::uint16_t kCommandCount = 16;
 inline constexpr std::uint16_t kCount = kCommands + kCommandCount;  // total registers in the image
 }  // namespace results_reg

@@ -30,28 +30,28 @@
 namespace hal {
 
 struct ModbusServerConfig {
-  std::string bind_address = "127.0.0.1";   // "0.0.0.0" for all interfaces
-  std::uint16_t port = 1502;                // 0: ephemeral (see bound_port())
-  int unit_id = 1;                          // answered unit id (0xFF and 0 also accepted)
+  std::string bind_address = "127.0.0.1";  // "0.0.0.0" for all interfaces
+  std::uint16_t port = 1502;               // 0: ephemeral (see bound_port())
+  int unit_id = 1;                         // answered unit id (0xFF and 0 also accepted)
   WordOrder word_order = WordOrder::kHighWordFirst;
   int max_connections = 4;
-  std::vector<std::string> allow;           // client IPv4 addresses; empty = anyone
-  std::vector<std::uint16_t> writable;      // command registers (absolute addresses) clients may write
+  std::vector<std::string> allow;       // client IPv4 addresses; empty = anyone
+  std::vector<std::uint16_t> writable;  // command registers (absolute addresses) clients may write
   std::chrono::milliseconds idle_timeout{60000};  // close a connection silent for this long
 };
 
 /// What clients wrote into the command registers (last values).
 struct ModbusCommands {
   std::array<std::uint16_t, results_reg::kCommandCount> values{};
-  std::uint32_t writes = 0;                 // accepted write requests so far
+  std::uint32_t writes = 0;  // accepted write requests so far
 };
 
 /// Counters (wait-free snapshot).
 struct ModbusServerStats {
   std::uint64_t requests = 0;
-  std::uint64_t exceptions = 0;             // exception responses sent
-  std::uint64_t malformed = 0;              // connections dropped for a malformed frame
-  std::uint64_t rejected = 0;               // connections refused (limit or allow-list)
+  std::uint64_t exceptions = 0;  // exception responses sent
+  std::uint64_t malformed = 0;   // connections dropped for a malformed frame
+  std::uint64_t rejected = 0;    // connections refused (limit or allow-list)
   std::uint64_t accepted = 0;
   int open_connections = 0;
 };

@@ -31,17 +31,17 @@ struct ModbusClientConfig {
   // RTU
   std::string device = "/dev/ttyS0";
   int baud = 19200;
-  char parity = 'E';               // 'N', 'E', 'O'
+  char parity = 'E';  // 'N', 'E', 'O'
   int data_bits = 8;
   int stop_bits = 1;
   // Both
-  int unit_id = 1;                 // Modbus slave / unit id
+  int unit_id = 1;  // Modbus slave / unit id
   std::chrono::milliseconds poll_period{1000};
   std::chrono::milliseconds response_timeout{200};
   std::chrono::milliseconds min_backoff{100};
   std::chrono::milliseconds max_backoff{5000};
-  std::chrono::milliseconds stale_after{3000};   // data older than this → kStale
-  std::uint16_t max_hole = 8;       // registers read across to merge two reads
+  std::chrono::milliseconds stale_after{3000};  // data older than this → kStale
+  std::uint16_t max_hole = 8;                   // registers read across to merge two reads
   ScadaRegisterMap map;
 };
 

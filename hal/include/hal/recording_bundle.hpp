@@ -32,33 +32,33 @@ struct BundleChannel {
 
 /// Mean operating point over the recording.
 struct BundleOperatingPoint {
-  double rotor_speed_rpm = 0.0;                 // [rpm] required
-  std::optional<double> wind_speed_mps;         // [m/s]
-  std::optional<double> input_torque_nm;        // [N·m] rotor (gearbox input) torque
+  double rotor_speed_rpm = 0.0;           // [rpm] required
+  std::optional<double> wind_speed_mps;   // [m/s]
+  std::optional<double> input_torque_nm;  // [N·m] rotor (gearbox input) torque
 };
 
 /// One row of scada.csv. Columns other than t_s and wind_speed_mps may be absent.
 struct BundleScadaRow {
-  double t_s = 0.0;                             // [s] since the start of the recording
-  double wind_speed_mps = 0.0;                  // [m/s]
-  std::optional<double> rotor_speed_rpm;        // [rpm]
-  std::optional<double> power_kw;               // [kW]
-  std::optional<double> pitch_deg;              // [deg]
-  std::optional<double> torque_nm;              // [N·m]
+  double t_s = 0.0;                       // [s] since the start of the recording
+  double wind_speed_mps = 0.0;            // [m/s]
+  std::optional<double> rotor_speed_rpm;  // [rpm]
+  std::optional<double> power_kw;         // [kW]
+  std::optional<double> pitch_deg;        // [deg]
+  std::optional<double> torque_nm;        // [N·m]
 };
 
 /// A whole bundle in memory.
 struct Recording {
-  std::string drivetrain = "paper-2mw";         // drivetrain name, or a path relative to the bundle
-  double sample_rate_hz = 0.0;                  // [Hz]
-  std::string samples_file = "cms.wav";         // "*.wav" or "*.csv"
+  std::string drivetrain = "paper-2mw";  // drivetrain name, or a path relative to the bundle
+  double sample_rate_hz = 0.0;           // [Hz]
+  std::string samples_file = "cms.wav";  // "*.wav" or "*.csv"
   std::vector<BundleChannel> channels;
   BundleOperatingPoint operating_point;
-  std::string start_utc;                        // ISO 8601, "" when absent
+  std::string start_utc;  // ISO 8601, "" when absent
   std::string notes;
   /// samples[c][i]: channel c (order of `channels`), sample i, in the channel's unit.
   std::vector<std::vector<double>> samples;
-  std::vector<BundleScadaRow> scada;               // empty: no scada.csv
+  std::vector<BundleScadaRow> scada;  // empty: no scada.csv
 
   std::size_t sample_count() const { return samples.empty() ? 0 : samples.front().size(); }
   /// Index of the channel named `name`, if any.
@@ -70,16 +70,16 @@ struct Recording {
 /// these from its drivetrain description. A value <= 0 disables that upper bound;
 /// the lower bounds (non-negative, finite) always apply.
 struct OperatingRange {
-  double max_rotor_speed_rpm = 0.0;   // [rpm]
-  double max_wind_speed_mps = 0.0;    // [m/s]
-  double max_input_torque_nm = 0.0;   // [N·m]
+  double max_rotor_speed_rpm = 0.0;  // [rpm]
+  double max_wind_speed_mps = 0.0;   // [m/s]
+  double max_input_torque_nm = 0.0;  // [N·m]
 };
 
 /// What was wrong with a bundle: printable as "<file>: <field>: <message>".
 struct BundleError {
-  std::string file;      // path of the offending file ("recording.json", ".../cms.wav")
-  std::string field;     // JSON key, CSV row/column, WAV chunk; "" when the whole file
-  std::string message;   // what was found and what was expected
+  std::string file;     // path of the offending file ("recording.json", ".../cms.wav")
+  std::string field;    // JSON key, CSV row/column, WAV chunk; "" when the whole file
+  std::string message;  // what was found and what was expected
   std::string to_string() const;
 };
 
@@ -121,8 +121,8 @@ struct WavData {
 };
 
 /// Parses WAV bytes held in memory. `file` is used for messages only.
-[[nodiscard]] std::optional<BundleError> parse_wav(const std::string& bytes, const std::string& file,
-                                                   WavData& out);
+[[nodiscard]] std::optional<BundleError> parse_wav(const std::string& bytes,
+                                                   const std::string& file, WavData& out);
 
 /// Parses a CMS samples CSV (header `t_s,<names...>`) for the given channels,
 /// matching columns by name, and checks t_s against the sample rate.

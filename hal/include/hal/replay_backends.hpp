@@ -59,7 +59,8 @@ class ReplayScadaSource final : public ScadaSource {
   /// From a SCADA CSV file read with the given column mapping (bundle or e.g.
   /// kelmarsh); replay time 0 is the first row's time. Rows without a time or
   /// wind speed are skipped (counted in skipped_rows()).
-  ReplayScadaSource(std::string csv_path, const ScadaColumns& columns, const ReplayScadaConfig& config = {});
+  ReplayScadaSource(std::string csv_path, const ScadaColumns& columns,
+                    const ReplayScadaConfig& config = {});
 
   /// Loads the rows (file I/O for the CSV form). kInvalidConfig with error() set
   /// when the file cannot be read or holds no usable row.
@@ -128,7 +129,7 @@ class ReplayCmsStream final : public CmsStream {
   std::array<std::size_t, kCmsMaxChannels> map_{};
   std::size_t channel_count_ = 0;
   double fs_ = 0.0;
-  std::size_t next_block_ = 0;    // block index (per channel)
+  std::size_t next_block_ = 0;  // block index (per channel)
   std::uint8_t next_channel_ = 0;
   std::size_t blocks_per_channel_ = 0;
   CmsStreamStats stats_{};

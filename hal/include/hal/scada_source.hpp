@@ -20,13 +20,13 @@ namespace hal {
 /// The operating quantities the twin uses. Each has one fixed SI-ish unit;
 /// a register map converts the controller's raw registers into it.
 enum class ScadaQuantity : std::uint8_t {
-  kWindSpeed,        // [m/s] nacelle anemometer
-  kRotorSpeed,       // [rpm] rotor (low-speed shaft)
-  kGeneratorSpeed,   // [rpm] generator (high-speed shaft)
-  kPower,            // [kW] electrical active power
-  kPitch,            // [deg] blade pitch angle
-  kRotorTorque,      // [N·m] rotor torque as reported by the controller
-  kYawError,         // [deg]
+  kWindSpeed,           // [m/s] nacelle anemometer
+  kRotorSpeed,          // [rpm] rotor (low-speed shaft)
+  kGeneratorSpeed,      // [rpm] generator (high-speed shaft)
+  kPower,               // [kW] electrical active power
+  kPitch,               // [deg] blade pitch angle
+  kRotorTorque,         // [N·m] rotor torque as reported by the controller
+  kYawError,            // [deg]
   kAmbientTemperature,  // [degC]
   kCount
 };
@@ -61,20 +61,22 @@ constexpr bool scada_quantity_from_key(std::string_view key, ScadaQuantity& out)
 
 /// One value with the time it was measured (received) and whether it is usable.
 struct Measurement {
-  double value = 0.0;     // in the quantity's unit (kScadaQuantities)
-  Timestamp stamp{0};     // [ns] when it was received (source clock)
-  bool valid = false;     // false: never received, decode error, or flagged invalid
+  double value = 0.0;  // in the quantity's unit (kScadaQuantities)
+  Timestamp stamp{0};  // [ns] when it was received (source clock)
+  bool valid = false;  // false: never received, decode error, or flagged invalid
 };
 
 /// The latest operating data.
 struct ScadaData {
   std::array<Measurement, kScadaQuantityCount> values{};
-  Timestamp last_update{0};      // [ns] last successful poll / replay step
-  std::uint32_t update_count = 0;   // successful polls so far
-  std::uint32_t error_count = 0;    // failed polls / decode errors so far
+  Timestamp last_update{0};        // [ns] last successful poll / replay step
+  std::uint32_t update_count = 0;  // successful polls so far
+  std::uint32_t error_count = 0;   // failed polls / decode errors so far
   std::uint32_t reconnect_count = 0;
 
-  const Measurement& operator[](ScadaQuantity q) const { return values[static_cast<std::size_t>(q)]; }
+  const Measurement& operator[](ScadaQuantity q) const {
+    return values[static_cast<std::size_t>(q)];
+  }
   Measurement& operator[](ScadaQuantity q) { return values[static_cast<std::size_t>(q)]; }
 };
 

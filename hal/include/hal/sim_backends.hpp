@@ -57,12 +57,13 @@ class SimRandom {
 // ---- SCADA -------------------------------------------------------------------
 
 struct SimScadaConfig {
-  std::chrono::milliseconds period{1000};       // controller update period
+  std::chrono::milliseconds period{1000};  // controller update period
   std::chrono::milliseconds stale_after{3000};
-  std::array<double, kScadaQuantityCount> base{}; // mean value per quantity (unit of kScadaQuantities)
+  std::array<double, kScadaQuantityCount>
+      base{};  // mean value per quantity (unit of kScadaQuantities)
   std::array<bool, kScadaQuantityCount> present{};
-  double variation = 0.02;                        // [-] relative random variation per update
-  double noisy_variation = 0.5;                   // [-] with kNoisy
+  double variation = 0.02;       // [-] relative random variation per update
+  double noisy_variation = 0.5;  // [-] with kNoisy
   std::uint64_t seed = 1;
 };
 /// Operating data of the paper's check point (drivetrain-2mw.md): wind 6.75 m/s,
@@ -94,19 +95,19 @@ class SimScadaSource final : public ScadaSource {
 // ---- CMS stream ----------------------------------------------------------------
 
 struct SimCmsConfig {
-  double sample_rate_hz = 25600.0;              // [Hz] per channel
+  double sample_rate_hz = 25600.0;  // [Hz] per channel
   std::uint8_t channels = 2;
   CmsSampleFormat format = CmsSampleFormat::kInt16;
   std::uint8_t samples_per_frame = 28;
-  float scale = 0.001f;                         // [m/s² per LSB]
-  double tone_hz = 371.884;                     // [Hz] a sine at the paper point's high-speed mesh
-  double amplitude = 2.0;                       // [m/s²]
-  double noise = 0.05;                          // [m/s²] rms-ish uniform noise
-  double noisy_noise = 10.0;                    // [m/s²] with kNoisy
+  float scale = 0.001f;       // [m/s² per LSB]
+  double tone_hz = 371.884;   // [Hz] a sine at the paper point's high-speed mesh
+  double amplitude = 2.0;     // [m/s²]
+  double noise = 0.05;        // [m/s²] rms-ish uniform noise
+  double noisy_noise = 10.0;  // [m/s²] with kNoisy
   std::uint32_t base_id = 0x180;
   std::chrono::milliseconds stale_after{500};
   std::chrono::milliseconds error_hold{500};
-  std::size_t max_frames_per_read = 64;         // bound on work per read() call
+  std::size_t max_frames_per_read = 64;  // bound on work per read() call
   std::uint64_t seed = 2;
 };
 
@@ -137,7 +138,7 @@ class SimCmsStream final : public CmsStream {
   SimRandom rng_;
   std::array<CmsBlock, kSimCmsQueueBlocks> ring_{};
   std::size_t head_ = 0, size_ = 0;
-  std::uint64_t frame_index_ = 0;               // frames generated per channel so far
+  std::uint64_t frame_index_ = 0;  // frames generated per channel so far
   std::array<std::uint16_t, kCmsMaxChannels> sequence_{};
   Timestamp start_{0};
   bool bus_off_sent_ = false;
@@ -146,8 +147,8 @@ class SimCmsStream final : public CmsStream {
 // ---- keyphasor -------------------------------------------------------------------
 
 struct SimKeyphasorConfig {
-  double speed_hz = 14.3032;                    // [Hz] hss at the paper point (drivetrain-2mw.md)
-  double noisy_jitter = 0.2;                    // [-] edge time jitter as a fraction of the period (kNoisy)
+  double speed_hz = 14.3032;  // [Hz] hss at the paper point (drivetrain-2mw.md)
+  double noisy_jitter = 0.2;  // [-] edge time jitter as a fraction of the period (kNoisy)
   std::uint64_t seed = 3;
 };
 
@@ -167,7 +168,7 @@ class SimKeyphasor final : public Keyphasor {
   LifecycleState lifecycle_ = LifecycleState::kUnconfigured;
   std::atomic<SimFault> fault_{SimFault::kNone};
   SimRandom rng_;
-  std::uint64_t index_ = 0;                     // next edge number
+  std::uint64_t index_ = 0;  // next edge number
   std::uint32_t sequence_ = 0;
   Timestamp start_{0};
 };

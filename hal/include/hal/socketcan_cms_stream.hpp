@@ -33,15 +33,16 @@ namespace hal {
 
 struct SocketCanConfig {
   std::string interface = "can0";
-  bool fd = true;                              // accept CAN FD frames (needs an FD-capable interface)
-  std::uint32_t base_id = 0x180;               // CAN id of channel 0
+  bool fd = true;                 // accept CAN FD frames (needs an FD-capable interface)
+  std::uint32_t base_id = 0x180;  // CAN id of channel 0
   CmsSampleFormat classic_format = CmsSampleFormat::kInt16;
-  std::array<float, kCmsMaxChannels> scale{};  // [unit/LSB] per channel; 0 = channel not used
-  std::chrono::milliseconds stale_after{1000}; // no frame this long → kStale
-  std::chrono::milliseconds error_hold{1000};  // health kBusError for this long after an error frame
+  std::array<float, kCmsMaxChannels> scale{};   // [unit/LSB] per channel; 0 = channel not used
+  std::chrono::milliseconds stale_after{1000};  // no frame this long → kStale
+  std::chrono::milliseconds error_hold{
+      1000};  // health kBusError for this long after an error frame
   std::chrono::milliseconds min_backoff{100};  // socket re-open back-off
   std::chrono::milliseconds max_backoff{5000};
-  std::uint32_t heartbeat_id = 0x170;          // id of the twin's heartbeat frame (send_heartbeat)
+  std::uint32_t heartbeat_id = 0x170;  // id of the twin's heartbeat frame (send_heartbeat)
 };
 
 /// Blocks the queue between the I/O thread and the RT thread holds; when it is

@@ -33,23 +33,33 @@ bool write_sample(std::int32_t v, CmsSampleFormat f, std::uint8_t* p) {
 
 const char* to_string(CmsDecodeError e) {
   switch (e) {
-    case CmsDecodeError::kNone: return "ok";
-    case CmsDecodeError::kNotCmsId: return "CAN id is not a CMS channel";
-    case CmsDecodeError::kErrorFrame: return "error frame";
-    case CmsDecodeError::kBadLength: return "payload length does not match the header";
-    case CmsDecodeError::kBadVersion: return "unknown protocol version";
-    case CmsDecodeError::kChannelMismatch: return "channel in payload differs from CAN id";
-    case CmsDecodeError::kBadFormat: return "reserved sample format";
-    case CmsDecodeError::kBadCount: return "sample count out of range";
-    case CmsDecodeError::kNonZeroPadding: return "non-zero padding after the samples";
+    case CmsDecodeError::kNone:
+      return "ok";
+    case CmsDecodeError::kNotCmsId:
+      return "CAN id is not a CMS channel";
+    case CmsDecodeError::kErrorFrame:
+      return "error frame";
+    case CmsDecodeError::kBadLength:
+      return "payload length does not match the header";
+    case CmsDecodeError::kBadVersion:
+      return "unknown protocol version";
+    case CmsDecodeError::kChannelMismatch:
+      return "channel in payload differs from CAN id";
+    case CmsDecodeError::kBadFormat:
+      return "reserved sample format";
+    case CmsDecodeError::kBadCount:
+      return "sample count out of range";
+    case CmsDecodeError::kNonZeroPadding:
+      return "non-zero padding after the samples";
   }
   return "unknown";
 }
 
-CmsDecodeError decode_cms_frame(const CanFrame& frame, std::uint32_t base_id, CmsSampleFormat classic_format,
-                                CmsFrame& out) {
+CmsDecodeError decode_cms_frame(const CanFrame& frame, std::uint32_t base_id,
+                                CmsSampleFormat classic_format, CmsFrame& out) {
   if (frame.error) return CmsDecodeError::kErrorFrame;
-  if (frame.extended || frame.id < base_id || frame.id > base_id + kChannelMask) return CmsDecodeError::kNotCmsId;
+  if (frame.extended || frame.id < base_id || frame.id > base_id + kChannelMask)
+    return CmsDecodeError::kNotCmsId;
   const auto channel = static_cast<std::uint8_t>(frame.id - base_id);
   if (frame.len > frame.data.size()) return CmsDecodeError::kBadLength;
 
@@ -63,7 +73,8 @@ CmsDecodeError decode_cms_frame(const CanFrame& frame, std::uint32_t base_id, Cm
     out.t0_us.reset();
     const std::size_t bps = bytes_per_sample(classic_format);
     out.count = static_cast<std::uint8_t>(classic_samples(classic_format));
-    for (std::size_t i = 0; i < out.count; ++i) out.raw[i] = read_sample(&frame.data[2 + bps * i], classic_format);
+    for (std::size_t i = 0; i < out.count; ++i)
+      out.raw[i] = read_sample(&frame.data[2 + bps * i], classic_format);
     return CmsDecodeError::kNone;
   }
 
@@ -86,16 +97,21 @@ CmsDecodeError decode_cms_frame(const CanFrame& frame, std::uint32_t base_id, Cm
   out.channel = channel;
   out.format = format;
   out.sequence = static_cast<std::uint16_t>(frame.data[2] | (frame.data[3] << 8));
-  out.t0_us = static_cast<std::uint32_t>(frame.data[4]) | (static_cast<std::uint32_t>(frame.data[5]) << 8) |
-              (static_cast<std::uint32_t>(frame.data[6]) << 16) | (static_cast<std::uint32_t>(frame.data[7]) << 24);
+  out.t0_us = static_cast<std::uint32_t>(frame.data[4]) |
+              (static_cast<std::uint32_t>(frame.data[5]) << 8) |
+              (static_cast<std::uint32_t>(frame.data[6]) << 16) |
+              (static_cast<std::uint32_t>(frame.data[7]) << 24);
   out.count = static_cast<std::uint8_t>(count);
   const std::size_t bps = bytes_per_sample(format);
-  for (std::size_t i = 0; i < count; ++i) out.raw[i] = read_sample(&frame.data[kCmsFdHeaderBytes + bps * i], format);
+  for (std::size_t i = 0; i < count; ++i)
+    out.raw[i] = read_sample(&frame.data[kCmsFdHeaderBytes + bps * i], format);
   return CmsDecodeError::kNone;
 }
 
 bool encode_cms_fd_frame(const CmsFrame& block, std::uint32_t base_id, CanFrame& out) {
-  if (block.channel > kChannelMask || block.count == 0 || block.count > max_fd_samples(block.format)) return false;
+  if (block.channel > kChannelMask || block.count == 0 ||
+      block.count > max_fd_samples(block.format))
+    return false;
   const std::size_t bps = bytes_per_sample(block.format);
   const std::size_t used = kCmsFdHeaderBytes + block.count * bps;
   out = CanFrame{};
@@ -103,13 +119,16 @@ bool encode_cms_fd_frame(const CmsFrame& block, std::uint32_t base_id, CanFrame&
   out.fd = true;
   out.len = can_fd_length(used);
   out.data[0] = static_cast<std::uint8_t>((kCmsProtocolVersion << 4) | block.channel);
-  out.data[1] = static_cast<std::uint8_t>((static_cast<std::uint8_t>(block.format) << 6) | block.count);
+  out.data[1] =
+      static_cast<std::uint8_t>((static_cast<std::uint8_t>(block.format) << 6) | block.count);
   out.data[2] = static_cast<std::uint8_t>(block.sequence & 0xFF);
   out.data[3] = static_cast<std::uint8_t>(block.sequence >> 8);
   const std::uint32_t t0 = block.t0_us.value_or(0);
-  for (int i = 0; i < 4; ++i) out.data[4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>((t0 >> (8 * i)) & 0xFF);
+  for (int i = 0; i < 4; ++i)
+    out.data[4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>((t0 >> (8 * i)) & 0xFF);
   for (std::size_t i = 0; i < block.count; ++i)
-    if (!write_sample(block.raw[i], block.format, &out.data[kCmsFdHeaderBytes + bps * i])) return false;
+    if (!write_sample(block.raw[i], block.format, &out.data[kCmsFdHeaderBytes + bps * i]))
+      return false;
   return true;
 }
 
@@ -144,8 +163,10 @@ Timestamp TimestampUnwrapper::unwrap(std::uint32_t t_us) {
   if (have_last_) {
     // A step "backwards" by more than half the range is a wrap forwards.
     const auto d = static_cast<std::int32_t>(t_us - last_);
-    if (d > 0 && t_us < last_) ++high_;            // wrapped forwards
-    else if (d < 0 && t_us > last_) --high_;       // a late frame from before the wrap
+    if (d > 0 && t_us < last_)
+      ++high_;  // wrapped forwards
+    else if (d < 0 && t_us > last_)
+      --high_;  // a late frame from before the wrap
   }
   have_last_ = true;
   last_ = t_us;
@@ -153,7 +174,8 @@ Timestamp TimestampUnwrapper::unwrap(std::uint32_t t_us) {
   return std::chrono::microseconds(us);
 }
 
-CanErrorInfo classify_error_frame(std::uint32_t error_class, const std::array<std::uint8_t, 64>& data) {
+CanErrorInfo classify_error_frame(std::uint32_t error_class,
+                                  const std::array<std::uint8_t, 64>& data) {
   CanErrorInfo info;
   info.tx_timeout = (error_class & kCanErrTxTimeout) != 0;
   info.lost_arbitration = (error_class & kCanErrLostArb) != 0;

@@ -13,7 +13,8 @@ Status CmsIngest::ingest(const CanFrame& frame, Timestamp now, CmsBlock& out) {
     return bus_off_ ? Status::kBusOff : Status::kBusError;
   }
   CmsFrame f;
-  if (decode_cms_frame(frame, config_.base_id, config_.classic_format, f) != CmsDecodeError::kNone ||
+  if (decode_cms_frame(frame, config_.base_id, config_.classic_format, f) !=
+          CmsDecodeError::kNone ||
       config_.scale[f.channel] == 0.0f) {
     ++malformed_;
     last_malformed_ns_ = now.count();
@@ -67,7 +68,8 @@ Status CmsIngest::health(Timestamp now) const {
   if (bus_off_) return Status::kBusOff;
   if (link_down_) return Status::kDisconnected;
   if (now - Timestamp{last_error_ns_.load()} < config_.error_hold) return Status::kBusError;
-  if (now - Timestamp{last_malformed_ns_.load()} < config_.error_hold) return Status::kProtocolError;
+  if (now - Timestamp{last_malformed_ns_.load()} < config_.error_hold)
+    return Status::kProtocolError;
   if (now - Timestamp{last_gap_ns_.load()} < config_.error_hold) return Status::kGap;
   if (now - Timestamp{last_frame_ns_.load()} > config_.stale_after) return Status::kStale;
   return Status::kOk;

@@ -28,20 +28,34 @@ std::uint32_t float_bits(float f) {
   return u;
 }
 
-void put_u32(ResultsImage& img, std::uint16_t addr, std::uint32_t v, WordOrder o) { split(v, o, &img[addr]); }
-void put_f32(ResultsImage& img, std::uint16_t addr, float v, WordOrder o) { split(float_bits(v), o, &img[addr]); }
+void put_u32(ResultsImage& img, std::uint16_t addr, std::uint32_t v, WordOrder o) {
+  split(v, o, &img[addr]);
+}
+void put_f32(ResultsImage& img, std::uint16_t addr, float v, WordOrder o) {
+  split(float_bits(v), o, &img[addr]);
+}
 
 }  // namespace
 
-std::optional<double> decode_register(const RegisterSpec& spec, const std::uint16_t* regs, std::size_t n) {
-  if (regs == nullptr || n < register_count(spec.type) || !std::isfinite(spec.scale) || !std::isfinite(spec.offset))
+std::optional<double> decode_register(const RegisterSpec& spec, const std::uint16_t* regs,
+                                      std::size_t n) {
+  if (regs == nullptr || n < register_count(spec.type) || !std::isfinite(spec.scale) ||
+      !std::isfinite(spec.offset))
     return std::nullopt;
   double raw = 0.0;
   switch (spec.type) {
-    case RegisterType::kInt16: raw = static_cast<double>(static_cast<std::int16_t>(regs[0])); break;
-    case RegisterType::kUInt16: raw = static_cast<double>(regs[0]); break;
-    case RegisterType::kInt32: raw = static_cast<double>(static_cast<std::int32_t>(join(regs, spec.word_order))); break;
-    case RegisterType::kUInt32: raw = static_cast<double>(join(regs, spec.word_order)); break;
+    case RegisterType::kInt16:
+      raw = static_cast<double>(static_cast<std::int16_t>(regs[0]));
+      break;
+    case RegisterType::kUInt16:
+      raw = static_cast<double>(regs[0]);
+      break;
+    case RegisterType::kInt32:
+      raw = static_cast<double>(static_cast<std::int32_t>(join(regs, spec.word_order)));
+      break;
+    case RegisterType::kUInt32:
+      raw = static_cast<double>(join(regs, spec.word_order));
+      break;
     case RegisterType::kFloat32: {
       const std::uint32_t u = join(regs, spec.word_order);
       float f;
@@ -57,11 +71,13 @@ std::optional<double> decode_register(const RegisterSpec& spec, const std::uint1
 }
 
 bool encode_register(const RegisterSpec& spec, double value, std::uint16_t* regs, std::size_t n) {
-  if (regs == nullptr || n < register_count(spec.type) || !std::isfinite(value) || !std::isfinite(spec.scale) ||
-      spec.scale == 0.0 || !std::isfinite(spec.offset))
+  if (regs == nullptr || n < register_count(spec.type) || !std::isfinite(value) ||
+      !std::isfinite(spec.scale) || spec.scale == 0.0 || !std::isfinite(spec.offset))
     return false;
   const double raw = (value - spec.offset) / spec.scale;
-  auto fits = [&](double lo, double hi) { return std::isfinite(raw) && std::round(raw) >= lo && std::round(raw) <= hi; };
+  auto fits = [&](double lo, double hi) {
+    return std::isfinite(raw) && std::round(raw) >= lo && std::round(raw) <= hi;
+  };
   switch (spec.type) {
     case RegisterType::kInt16:
       if (!fits(-32768.0, 32767.0)) return false;
@@ -73,14 +89,17 @@ bool encode_register(const RegisterSpec& spec, double value, std::uint16_t* regs
       return true;
     case RegisterType::kInt32:
       if (!fits(-2147483648.0, 2147483647.0)) return false;
-      split(static_cast<std::uint32_t>(static_cast<std::int32_t>(std::llround(raw))), spec.word_order, regs);
+      split(static_cast<std::uint32_t>(static_cast<std::int32_t>(std::llround(raw))),
+            spec.word_order, regs);
       return true;
     case RegisterType::kUInt32:
       if (!fits(0.0, 4294967295.0)) return false;
       split(static_cast<std::uint32_t>(std::llround(raw)), spec.word_order, regs);
       return true;
     case RegisterType::kFloat32: {
-      if (!std::isfinite(raw) || std::fabs(raw) > static_cast<double>(std::numeric_limits<float>::max())) return false;
+      if (!std::isfinite(raw) ||
+          std::fabs(raw) > static_cast<double>(std::numeric_limits<float>::max()))
+        return false;
       split(float_bits(static_cast<float>(raw)), spec.word_order, regs);
       return true;
     }
@@ -89,43 +108,65 @@ bool encode_register(const RegisterSpec& spec, double value, std::uint16_t* regs
 }
 
 bool parse_register_type(std::string_view s, RegisterType& out) {
-  if (s == "int16") out = RegisterType::kInt16;
-  else if (s == "uint16") out = RegisterType::kUInt16;
-  else if (s == "int32") out = RegisterType::kInt32;
-  else if (s == "uint32") out = RegisterType::kUInt32;
-  else if (s == "float32") out = RegisterType::kFloat32;
-  else return false;
+  if (s == "int16")
+    out = RegisterType::kInt16;
+  else if (s == "uint16")
+    out = RegisterType::kUInt16;
+  else if (s == "int32")
+    out = RegisterType::kInt32;
+  else if (s == "uint32")
+    out = RegisterType::kUInt32;
+  else if (s == "float32")
+    out = RegisterType::kFloat32;
+  else
+    return false;
   return true;
 }
 
 bool parse_word_order(std::string_view s, WordOrder& out) {
-  if (s == "high_first" || s == "abcd") out = WordOrder::kHighWordFirst;
-  else if (s == "low_first" || s == "cdab") out = WordOrder::kLowWordFirst;
-  else return false;
+  if (s == "high_first" || s == "abcd")
+    out = WordOrder::kHighWordFirst;
+  else if (s == "low_first" || s == "cdab")
+    out = WordOrder::kLowWordFirst;
+  else
+    return false;
   return true;
 }
 
 bool parse_register_function(std::string_view s, RegisterFunction& out) {
-  if (s == "holding") out = RegisterFunction::kHolding;
-  else if (s == "input") out = RegisterFunction::kInput;
-  else return false;
+  if (s == "holding")
+    out = RegisterFunction::kHolding;
+  else if (s == "input")
+    out = RegisterFunction::kInput;
+  else
+    return false;
   return true;
 }
 
 const char* to_string(RegisterType t) {
   switch (t) {
-    case RegisterType::kInt16: return "int16";
-    case RegisterType::kUInt16: return "uint16";
-    case RegisterType::kInt32: return "int32";
-    case RegisterType::kUInt32: return "uint32";
-    case RegisterType::kFloat32: return "float32";
+    case RegisterType::kInt16:
+      return "int16";
+    case RegisterType::kUInt16:
+      return "uint16";
+    case RegisterType::kInt32:
+      return "int32";
+    case RegisterType::kUInt32:
+      return "uint32";
+    case RegisterType::kFloat32:
+      return "float32";
   }
   return "?";
 }
-const char* to_string(WordOrder w) { return w == WordOrder::kHighWordFirst ? "high_first" : "low_first"; }
-const char* to_string(RegisterFunction f) { return f == RegisterFunction::kHolding ? "holding" : "input"; }
+const char* to_string(WordOrder w) {
+  return w == WordOrder::kHighWordFirst ? "high_first" : "low_first";
+}
+const char* to_string(RegisterFunction f) {
+  return f == RegisterFunction::kHolding ? "holding" : "input";
+}
 
-std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole, std::array<ReadBlock, kMaxReadBlocks>& out) {
+std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole,
+                       std::array<ReadBlock, kMaxReadBlocks>& out) {
   struct Span {
     RegisterFunction function;
     std::uint32_t start;
@@ -135,14 +176,17 @@ std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole, std:
   std::size_t n = 0;
   for (std::size_t i = 0; i < map.count && i < map.entries.size(); ++i) {
     const RegisterSpec& s = map.entries[i].spec;
-    spans[n++] = {s.function, s.address, s.address + static_cast<std::uint32_t>(register_count(s.type))};
+    spans[n++] = {s.function, s.address,
+                  s.address + static_cast<std::uint32_t>(register_count(s.type))};
   }
   if (map.invalid_mask && n < spans.size())
     spans[n++] = {map.invalid_mask->function, map.invalid_mask->address,
-                  map.invalid_mask->address + static_cast<std::uint32_t>(register_count(map.invalid_mask->type))};
-  std::sort(spans.begin(), spans.begin() + static_cast<std::ptrdiff_t>(n), [](const Span& a, const Span& b) {
-    return a.function != b.function ? a.function < b.function : a.start < b.start;
-  });
+                  map.invalid_mask->address +
+                      static_cast<std::uint32_t>(register_count(map.invalid_mask->type))};
+  std::sort(spans.begin(), spans.begin() + static_cast<std::ptrdiff_t>(n),
+            [](const Span& a, const Span& b) {
+              return a.function != b.function ? a.function < b.function : a.start < b.start;
+            });
   std::size_t blocks = 0;
   for (std::size_t i = 0; i < n; ++i) {
     const Span& s = spans[i];
@@ -150,12 +194,14 @@ std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole, std:
       ReadBlock& last = out[blocks - 1];
       const std::uint32_t last_end = std::uint32_t{last.start} + last.count;
       const std::uint32_t new_end = std::max(last_end, s.end);
-      if (last.function == s.function && s.start <= last_end + max_hole && new_end - last.start <= kMaxReadRegisters) {
+      if (last.function == s.function && s.start <= last_end + max_hole &&
+          new_end - last.start <= kMaxReadRegisters) {
         last.count = static_cast<std::uint16_t>(new_end - last.start);
         continue;
       }
     }
-    out[blocks++] = {s.function, static_cast<std::uint16_t>(s.start), static_cast<std::uint16_t>(s.end - s.start)};
+    out[blocks++] = {s.function, static_cast<std::uint16_t>(s.start),
+                     static_cast<std::uint16_t>(s.end - s.start)};
   }
   return blocks;
 }
@@ -163,8 +209,8 @@ std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole, std:
 std::optional<std::size_t> validate_map(const ScadaRegisterMap& map) {
   if (map.count > map.entries.size()) return map.entries.size();
   auto bad_spec = [](const RegisterSpec& s) {
-    return std::uint32_t{s.address} + register_count(s.type) > 0x10000u || !std::isfinite(s.scale) || s.scale == 0.0 ||
-           !std::isfinite(s.offset);
+    return std::uint32_t{s.address} + register_count(s.type) > 0x10000u ||
+           !std::isfinite(s.scale) || s.scale == 0.0 || !std::isfinite(s.offset);
   };
   for (std::size_t i = 0; i < map.count; ++i) {
     const RegisterSpec& s = map.entries[i].spec;
@@ -177,7 +223,8 @@ std::optional<std::size_t> validate_map(const ScadaRegisterMap& map) {
       if (o.function == s.function && a0 < b1 && b0 < a1) return i;
     }
   }
-  if (map.invalid_mask && (bad_spec(*map.invalid_mask) || map.invalid_mask->type != RegisterType::kUInt16))
+  if (map.invalid_mask &&
+      (bad_spec(*map.invalid_mask) || map.invalid_mask->type != RegisterType::kUInt16))
     return map.count;
   return std::nullopt;
 }
@@ -191,7 +238,8 @@ void encode_results(const TwinResults& r, WordOrder o, ResultsImage& img) {
   img[kCalibrationWord] = r.calibration_word;
   put_u32(img, kSequence, r.sequence, o);
   const auto stamp_s = std::chrono::duration_cast<std::chrono::seconds>(r.stamp).count();
-  put_u32(img, kStampS, static_cast<std::uint32_t>(std::clamp<std::int64_t>(stamp_s, 0, 0xFFFFFFFF)), o);
+  put_u32(img, kStampS,
+          static_cast<std::uint32_t>(std::clamp<std::int64_t>(stamp_s, 0, 0xFFFFFFFF)), o);
   put_f32(img, kRotorTorque, r.rotor_torque_nm, o);
   put_f32(img, kRotorSpeed, r.rotor_speed_rpm, o);
   put_f32(img, kWindSpeed, r.wind_speed_mps, o);

@@ -47,7 +47,8 @@ struct GpiodKeyphasor::Impl {
       const int n = gpiod_line_event_read_multiple(line, events, kEventsPerRead);
       for (int i = 0; i < n; ++i) {
         KeyphasorEdge e;
-        e.stamp = std::chrono::seconds(events[i].ts.tv_sec) + std::chrono::nanoseconds(events[i].ts.tv_nsec);
+        e.stamp = std::chrono::seconds(events[i].ts.tv_sec) +
+                  std::chrono::nanoseconds(events[i].ts.tv_nsec);
         e.rising = events[i].event_type == GPIOD_LINE_EVENT_RISING_EDGE;
         e.sequence = sequence++;  // a dropped edge below shows as a jump to the tracker
         if (!active.load()) continue;
@@ -57,7 +58,8 @@ struct GpiodKeyphasor::Impl {
   }
 };
 
-GpiodKeyphasor::GpiodKeyphasor(const GpiodKeyphasorConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+GpiodKeyphasor::GpiodKeyphasor(const GpiodKeyphasorConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
 
 GpiodKeyphasor::~GpiodKeyphasor() {
   Impl& m = *impl_;
@@ -78,8 +80,8 @@ Status GpiodKeyphasor::configure() {
   if (!m.line) return Status::kInvalidConfig;
   gpiod_line_request_config req{};
   req.consumer = m.config.consumer.c_str();
-  req.request_type =
-      m.config.both_edges ? GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES : GPIOD_LINE_REQUEST_EVENT_RISING_EDGE;
+  req.request_type = m.config.both_edges ? GPIOD_LINE_REQUEST_EVENT_BOTH_EDGES
+                                         : GPIOD_LINE_REQUEST_EVENT_RISING_EDGE;
   req.flags = m.config.active_low ? GPIOD_LINE_REQUEST_FLAG_ACTIVE_LOW : 0;
   if (gpiod_line_request(m.line, &req, 0) != 0) {
     m.line = nullptr;
@@ -140,7 +142,8 @@ struct GpiodDigitalOutputs::Impl {
   }
 };
 
-GpiodDigitalOutputs::GpiodDigitalOutputs(const GpiodOutputsConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+GpiodDigitalOutputs::GpiodDigitalOutputs(const GpiodOutputsConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
 
 GpiodDigitalOutputs::~GpiodDigitalOutputs() {
   Impl& m = *impl_;
@@ -162,7 +165,8 @@ Status GpiodDigitalOutputs::configure() {
   // Requested straight into the safe states: no glitch to "healthy" at start-up.
   if (gpiod_line_request_output(wd, m.config.consumer.c_str(), 0) != 0) return Status::kIoError;
   m.watchdog = wd;
-  if (gpiod_line_request_output(al, m.config.consumer.c_str(), m.alarm_level(true)) != 0) return Status::kIoError;
+  if (gpiod_line_request_output(al, m.config.consumer.c_str(), m.alarm_level(true)) != 0)
+    return Status::kIoError;
   m.alarm = al;
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;

@@ -23,11 +23,14 @@ namespace hal {
 
 // The protocol header mirrors the kernel's error classes without including it.
 static_assert(kCanErrTxTimeout == CAN_ERR_TX_TIMEOUT && kCanErrLostArb == CAN_ERR_LOSTARB &&
-              kCanErrCrtl == CAN_ERR_CRTL && kCanErrProt == CAN_ERR_PROT && kCanErrTrx == CAN_ERR_TRX &&
-              kCanErrAck == CAN_ERR_ACK && kCanErrBusOff == CAN_ERR_BUSOFF && kCanErrBusError == CAN_ERR_BUSERROR &&
+              kCanErrCrtl == CAN_ERR_CRTL && kCanErrProt == CAN_ERR_PROT &&
+              kCanErrTrx == CAN_ERR_TRX && kCanErrAck == CAN_ERR_ACK &&
+              kCanErrBusOff == CAN_ERR_BUSOFF && kCanErrBusError == CAN_ERR_BUSERROR &&
               kCanErrRestarted == CAN_ERR_RESTARTED);
-static_assert(kCanErrCrtlRxWarning == CAN_ERR_CRTL_RX_WARNING && kCanErrCrtlTxWarning == CAN_ERR_CRTL_TX_WARNING &&
-              kCanErrCrtlRxPassive == CAN_ERR_CRTL_RX_PASSIVE && kCanErrCrtlTxPassive == CAN_ERR_CRTL_TX_PASSIVE);
+static_assert(kCanErrCrtlRxWarning == CAN_ERR_CRTL_RX_WARNING &&
+              kCanErrCrtlTxWarning == CAN_ERR_CRTL_TX_WARNING &&
+              kCanErrCrtlRxPassive == CAN_ERR_CRTL_RX_PASSIVE &&
+              kCanErrCrtlTxPassive == CAN_ERR_CRTL_TX_PASSIVE);
 
 namespace {
 constexpr std::chrono::milliseconds kPollTick{100};
@@ -35,7 +38,8 @@ constexpr int kMaxFramesPerWake = 256;  // bounded burst before re-checking stop
 }  // namespace
 
 struct SocketCanCmsStream::Impl {
-  Impl(const SocketCanConfig& c, const Clock& clk) : config(c), clock(clk), ingest(ingest_config(c)) {}
+  Impl(const SocketCanConfig& c, const Clock& clk)
+      : config(c), clock(clk), ingest(ingest_config(c)) {}
 
   SocketCanConfig config;
   const Clock& clock;
@@ -77,7 +81,8 @@ struct SocketCanCmsStream::Impl {
       filters[i].can_id = config.base_id + static_cast<canid_t>(i);
       filters[i].can_mask = CAN_EFF_FLAG | CAN_RTR_FLAG | CAN_SFF_MASK;
     }
-    ::setsockopt(s, SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(), static_cast<socklen_t>(sizeof filters));
+    ::setsockopt(s, SOL_CAN_RAW, CAN_RAW_FILTER, filters.data(),
+                 static_cast<socklen_t>(sizeof filters));
     ifreq ifr{};
     std::strncpy(ifr.ifr_name, config.interface.c_str(), IFNAMSIZ - 1);
     if (::ioctl(s, SIOCGIFINDEX, &ifr) != 0) {
@@ -121,7 +126,8 @@ struct SocketCanCmsStream::Impl {
       if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;
       const Timestamp now = clock.now();
       if (n != CAN_MTU && n != CANFD_MTU) continue;  // cannot happen on a raw CAN socket
-      if ((f.can_id & CAN_RTR_FLAG) && !(f.can_id & CAN_ERR_FLAG)) f.len = 0;  // remote frame: malformed below
+      if ((f.can_id & CAN_RTR_FLAG) && !(f.can_id & CAN_ERR_FLAG))
+        f.len = 0;  // remote frame: malformed below
       on_frame(f, n == CANFD_MTU, now);
     }
     return true;
@@ -148,7 +154,8 @@ struct SocketCanCmsStream::Impl {
       }
       std::array<pollfd, 2> fds{{{wake_fd, POLLIN, 0}, {s, POLLIN, 0}}};
       const int nfds = s >= 0 ? 2 : 1;
-      const int ready = ::poll(fds.data(), static_cast<nfds_t>(nfds), static_cast<int>(kPollTick.count()));
+      const int ready =
+          ::poll(fds.data(), static_cast<nfds_t>(nfds), static_cast<int>(kPollTick.count()));
       if (ready < 0) continue;
       if (fds[0].revents & POLLIN) {
         std::uint64_t v;
@@ -189,8 +196,10 @@ SocketCanCmsStream::~SocketCanCmsStream() {
 Status SocketCanCmsStream::configure() {
   Impl& m = *impl_;
   if (m.lifecycle != LifecycleState::kUnconfigured) return Status::kWrongState;
-  if (m.config.interface.empty() || m.config.interface.size() >= IFNAMSIZ || m.config.base_id + 15 > CAN_SFF_MASK ||
-      m.config.min_backoff <= std::chrono::milliseconds(0) || m.config.max_backoff < m.config.min_backoff)
+  if (m.config.interface.empty() || m.config.interface.size() >= IFNAMSIZ ||
+      m.config.base_id + 15 > CAN_SFF_MASK ||
+      m.config.min_backoff <= std::chrono::milliseconds(0) ||
+      m.config.max_backoff < m.config.min_backoff)
     return Status::kInvalidConfig;
   bool any = false;
   for (float s : m.config.scale) any |= s != 0.0f;

@@ -30,13 +30,15 @@
 namespace hal {
 namespace {
 
-constexpr std::size_t kMbapHeader = 7;             // transaction(2) protocol(2) length(2) unit(1)
+constexpr std::size_t kMbapHeader = 7;  // transaction(2) protocol(2) length(2) unit(1)
 constexpr std::size_t kMaxAdu = MODBUS_TCP_MAX_ADU_LENGTH;  // 260
-constexpr int kMaxConnectionsLimit = 32;            // hard cap on max_connections
+constexpr int kMaxConnectionsLimit = 32;                    // hard cap on max_connections
 constexpr std::chrono::milliseconds kPollTick{100};
 
 // Function codes that write registers / coils.
-bool is_register_write(std::uint8_t fc) { return fc == 0x06 || fc == 0x10 || fc == 0x16 || fc == 0x17; }
+bool is_register_write(std::uint8_t fc) {
+  return fc == 0x06 || fc == 0x10 || fc == 0x16 || fc == 0x17;
+}
 
 std::uint16_t be16(const std::uint8_t* p) { return static_cast<std::uint16_t>((p[0] << 8) | p[1]); }
 
@@ -57,7 +59,7 @@ struct ModbusResultsServer::Impl {
   int listen_fd = -1;
   int wake_fd = -1;
   std::uint16_t port = 0;
-  modbus_t* ctx = nullptr;             // only for modbus_reply / modbus_reply_exception
+  modbus_t* ctx = nullptr;  // only for modbus_reply / modbus_reply_exception
   modbus_mapping_t* mapping = nullptr;
   std::array<Connection, kMaxConnectionsLimit> conns{};
   std::array<in_addr_t, 64> allow{};
@@ -66,7 +68,7 @@ struct ModbusResultsServer::Impl {
 
   LatestValue<TwinResults> latest;
   LatestValue<ModbusCommands> commands_out;
-  ModbusCommands commands{};           // server thread only
+  ModbusCommands commands{};  // server thread only
   std::atomic<std::uint64_t> requests{0}, exceptions{0}, malformed{0}, rejected{0}, accepted{0};
   std::atomic<int> open{0};
   std::atomic<bool> active{false};
@@ -220,7 +222,8 @@ struct ModbusResultsServer::Impl {
     while (true) {
       sockaddr_in peer{};
       socklen_t plen = sizeof peer;
-      const int fd = ::accept4(listen_fd, reinterpret_cast<sockaddr*>(&peer), &plen, SOCK_NONBLOCK | SOCK_CLOEXEC);
+      const int fd = ::accept4(listen_fd, reinterpret_cast<sockaddr*>(&peer), &plen,
+                               SOCK_NONBLOCK | SOCK_CLOEXEC);
       if (fd < 0) return;  // EAGAIN: backlog drained
       ++accepted;
       bool allowed = allow_count == 0;
@@ -295,7 +298,8 @@ struct ModbusResultsServer::Impl {
   }
 };
 
-ModbusResultsServer::ModbusResultsServer(const ModbusServerConfig& config) : impl_(std::make_unique<Impl>(config)) {}
+ModbusResultsServer::ModbusResultsServer(const ModbusServerConfig& config)
+    : impl_(std::make_unique<Impl>(config)) {}
 
 ModbusResultsServer::~ModbusResultsServer() {
   Impl& m = *impl_;
@@ -314,8 +318,8 @@ Status ModbusResultsServer::configure() {
   Impl& m = *impl_;
   if (m.lifecycle != LifecycleState::kUnconfigured) return Status::kWrongState;
   const ModbusServerConfig& c = m.config;
-  if (c.max_connections < 1 || c.max_connections > kMaxConnectionsLimit || c.unit_id < 1 || c.unit_id > 247 ||
-      c.allow.size() > m.allow.size())
+  if (c.max_connections < 1 || c.max_connections > kMaxConnectionsLimit || c.unit_id < 1 ||
+      c.unit_id > 247 || c.allow.size() > m.allow.size())
     return Status::kInvalidConfig;
   for (auto a : c.writable)
     if (a < results_reg::kCommands || a >= results_reg::kCount) return Status::kInvalidConfig;
@@ -327,10 +331,12 @@ Status ModbusResultsServer::configure() {
   sockaddr_in sa{};
   sa.sin_family = AF_INET;
   sa.sin_port = htons(c.port);
-  if (::inet_pton(AF_INET, c.bind_address.c_str(), &sa.sin_addr) != 1) return Status::kInvalidConfig;
+  if (::inet_pton(AF_INET, c.bind_address.c_str(), &sa.sin_addr) != 1)
+    return Status::kInvalidConfig;
 
   m.ctx = modbus_new_tcp("127.0.0.1", 0);  // never connects; only formats replies
-  m.mapping = modbus_mapping_new_start_address(0, 0, 0, 0, 0, results_reg::kCount, 0, results_reg::kCount);
+  m.mapping =
+      modbus_mapping_new_start_address(0, 0, 0, 0, 0, results_reg::kCount, 0, results_reg::kCount);
   if (!m.ctx || !m.mapping) return Status::kIoError;
   m.image[results_reg::kMapVersion] = kResultsMapVersion;
   m.mapping->tab_registers[results_reg::kMapVersion] = kResultsMapVersion;
@@ -340,7 +346,8 @@ Status ModbusResultsServer::configure() {
   if (m.listen_fd < 0) return Status::kIoError;
   const int one = 1;
   ::setsockopt(m.listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
-  if (::bind(m.listen_fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) != 0 || ::listen(m.listen_fd, 16) != 0) {
+  if (::bind(m.listen_fd, reinterpret_cast<sockaddr*>(&sa), sizeof sa) != 0 ||
+      ::listen(m.listen_fd, 16) != 0) {
     ::close(m.listen_fd);
     m.listen_fd = -1;
     return Status::kIoError;

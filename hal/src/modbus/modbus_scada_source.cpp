@@ -31,8 +31,8 @@ struct ModbusScadaSource::Impl {
 
   std::mutex mutex;
   std::condition_variable cv;
-  bool active = false;   // guarded by mutex
-  bool stop = false;     // guarded by mutex
+  bool active = false;  // guarded by mutex
+  bool stop = false;    // guarded by mutex
   std::thread thread;
 
   /// Waits up to `d`; returns false if the thread must stop or the source was deactivated.
@@ -125,8 +125,10 @@ struct ModbusScadaSource::Impl {
         continue;
       }
       backoff = config.min_backoff;
-      const auto spent = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started);
-      wait_for(spent < config.poll_period ? config.poll_period - spent : std::chrono::milliseconds(0));
+      const auto spent = std::chrono::duration_cast<std::chrono::milliseconds>(
+          std::chrono::steady_clock::now() - started);
+      wait_for(spent < config.poll_period ? config.poll_period - spent
+                                          : std::chrono::milliseconds(0));
     }
     disconnect();
   }
@@ -152,7 +154,8 @@ Status ModbusScadaSource::configure() {
   if (m.lifecycle != LifecycleState::kUnconfigured) return Status::kWrongState;
   const ModbusClientConfig& c = m.config;
   if (validate_map(c.map) || c.map.count == 0 || c.unit_id < 0 || c.unit_id > 247 ||
-      c.poll_period <= std::chrono::milliseconds(0) || c.response_timeout <= std::chrono::milliseconds(0) ||
+      c.poll_period <= std::chrono::milliseconds(0) ||
+      c.response_timeout <= std::chrono::milliseconds(0) ||
       c.min_backoff <= std::chrono::milliseconds(0) || c.max_backoff < c.min_backoff)
     return Status::kInvalidConfig;
   m.block_count = plan_reads(c.map, c.max_hole, m.blocks);
@@ -164,8 +167,10 @@ Status ModbusScadaSource::configure() {
   if (m.ctx == nullptr) return Status::kInvalidConfig;
   if (modbus_set_slave(m.ctx, c.unit_id) != 0) return Status::kInvalidConfig;
   const auto us = std::chrono::duration_cast<std::chrono::microseconds>(c.response_timeout).count();
-  modbus_set_response_timeout(m.ctx, static_cast<std::uint32_t>(us / 1000000), static_cast<std::uint32_t>(us % 1000000));
-  modbus_set_byte_timeout(m.ctx, static_cast<std::uint32_t>(us / 1000000), static_cast<std::uint32_t>(us % 1000000));
+  modbus_set_response_timeout(m.ctx, static_cast<std::uint32_t>(us / 1000000),
+                              static_cast<std::uint32_t>(us % 1000000));
+  modbus_set_byte_timeout(m.ctx, static_cast<std::uint32_t>(us / 1000000),
+                          static_cast<std::uint32_t>(us % 1000000));
   m.thread = std::thread([&m] { m.run(); });
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;

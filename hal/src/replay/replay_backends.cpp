@@ -7,7 +7,9 @@
 namespace hal {
 namespace {
 
-Timestamp seconds(double s) { return std::chrono::duration_cast<Timestamp>(std::chrono::duration<double>(s)); }
+Timestamp seconds(double s) {
+  return std::chrono::duration_cast<Timestamp>(std::chrono::duration<double>(s));
+}
 
 constexpr std::array<std::pair<ScadaField, ScadaQuantity>, 5> kFieldMap{{
     {ScadaField::kWindSpeed, ScadaQuantity::kWindSpeed},
@@ -27,7 +29,8 @@ Timestamp ReplayClock::now() const {
 
 // ---- SCADA -------------------------------------------------------------------------------
 
-ReplayScadaSource::ReplayScadaSource(const std::vector<BundleScadaRow>& rows, const ReplayScadaConfig& config)
+ReplayScadaSource::ReplayScadaSource(const std::vector<BundleScadaRow>& rows,
+                                     const ReplayScadaConfig& config)
     : config_(config), bundle_rows_(rows) {}
 
 ReplayScadaSource::ReplayScadaSource(std::string csv_path, const ScadaColumns& columns,
@@ -88,7 +91,8 @@ Status ReplayScadaSource::configure() {
     // Bundle rows count from the start of the recording: keep their times.
   }
   if (rows_.empty()) {
-    error_ = (from_csv_ ? csv_path_ : std::string("scada.csv")) + ": no usable rows; expected at least one with time and wind speed";
+    error_ = (from_csv_ ? csv_path_ : std::string("scada.csv")) +
+             ": no usable rows; expected at least one with time and wind speed";
     return Status::kInvalidConfig;
   }
   if (config_.stale_after.count() > 0) {
@@ -122,7 +126,8 @@ Status ReplayScadaSource::read(Timestamp now, ScadaData& out) {
   // Time moved backwards (a replay restarted): find the place again.
   if (cursor_ > 0 && rows_[cursor_ - 1].t > now)
     cursor_ = static_cast<std::size_t>(
-        std::upper_bound(rows_.begin(), rows_.end(), now, [](Timestamp t, const Row& r) { return t < r.t; }) -
+        std::upper_bound(rows_.begin(), rows_.end(), now,
+                         [](Timestamp t, const Row& r) { return t < r.t; }) -
         rows_.begin());
   while (cursor_ < rows_.size() && rows_[cursor_].t <= now) ++cursor_;
   if (cursor_ == 0) return Status::kNoData;
@@ -135,19 +140,21 @@ Status ReplayScadaSource::read(Timestamp now, ScadaData& out) {
   }
   out.last_update = r.t;
   out.update_count = static_cast<std::uint32_t>(cursor_);
-  if (now - r.t > stale_after_) return cursor_ == rows_.size() ? Status::kEndOfData : Status::kStale;
+  if (now - r.t > stale_after_)
+    return cursor_ == rows_.size() ? Status::kEndOfData : Status::kStale;
   return Status::kOk;
 }
 
 // ---- CMS stream ------------------------------------------------------------------------------
 
-ReplayCmsStream::ReplayCmsStream(const Recording& rec, const Clock& clock, const ReplayCmsConfig& config)
+ReplayCmsStream::ReplayCmsStream(const Recording& rec, const Clock& clock,
+                                 const ReplayCmsConfig& config)
     : rec_(&rec), clock_(clock), config_(config) {}
 
 Status ReplayCmsStream::configure() {
   if (lifecycle_ != LifecycleState::kUnconfigured) return Status::kWrongState;
-  if (config_.samples_per_block < 1 || config_.samples_per_block > kCmsMaxSamplesPerBlock || rec_->samples.empty() ||
-      !(rec_->sample_rate_hz > 0.0))
+  if (config_.samples_per_block < 1 || config_.samples_per_block > kCmsMaxSamplesPerBlock ||
+      rec_->samples.empty() || !(rec_->sample_rate_hz > 0.0))
     return Status::kInvalidConfig;
   channel_count_ = 0;
   for (std::size_t c = 0; c < rec_->channels.size() && channel_count_ < kCmsMaxChannels; ++c) {
@@ -159,11 +166,13 @@ Status ReplayCmsStream::configure() {
   for (std::size_t k = 0; k < channel_count_; ++k) {
     const auto& src = rec_->samples[map_[k]];
     samples_[k].assign(src.size(), 0.0f);
-    std::transform(src.begin(), src.end(), samples_[k].begin(), [](double v) { return static_cast<float>(v); });
+    std::transform(src.begin(), src.end(), samples_[k].begin(),
+                   [](double v) { return static_cast<float>(v); });
   }
   fs_ = rec_->sample_rate_hz;
-  blocks_per_channel_ = samples_[0].size() / config_.samples_per_block;  // a partial last block is not sent
-  rec_ = nullptr;  // everything needed is copied
+  blocks_per_channel_ =
+      samples_[0].size() / config_.samples_per_block;  // a partial last block is not sent
+  rec_ = nullptr;                                      // everything needed is copied
   lifecycle_ = LifecycleState::kInactive;
   return Status::kOk;
 }
@@ -195,7 +204,8 @@ Status ReplayCmsStream::read(CmsBlock& out) {
   out.count = static_cast<std::uint8_t>(n);
   out.stamp = start_ + seconds(static_cast<double>(first) / fs_);
   out.received = clock_.now();
-  std::copy_n(samples_[next_channel_].begin() + static_cast<std::ptrdiff_t>(first), n, out.samples.begin());
+  std::copy_n(samples_[next_channel_].begin() + static_cast<std::ptrdiff_t>(first), n,
+              out.samples.begin());
   std::fill(out.samples.begin() + static_cast<std::ptrdiff_t>(n), out.samples.end(), 0.0f);
   ++stats_.blocks;
   if (++next_channel_ == channel_count_) {
@@ -206,11 +216,13 @@ Status ReplayCmsStream::read(CmsBlock& out) {
 }
 
 Status ReplayCmsStream::health(Timestamp) const {
-  if (lifecycle_ == LifecycleState::kActive && next_block_ >= blocks_per_channel_) return Status::kEndOfData;
+  if (lifecycle_ == LifecycleState::kActive && next_block_ >= blocks_per_channel_)
+    return Status::kEndOfData;
   return Status::kOk;
 }
 
-// ---- keyphasor -----------------------------------------------------------------------------------
+// ---- keyphasor
+// -----------------------------------------------------------------------------------
 
 std::vector<double> tacho_edges_s(const std::vector<double>& x, double fs) {
   std::vector<double> edges;
@@ -249,7 +261,8 @@ Status ReplayKeyphasor::configure() {
     }
   }
   if (!idx || *idx >= rec_->samples.size()) return Status::kInvalidConfig;
-  for (double t : tacho_edges_s(rec_->samples[*idx], rec_->sample_rate_hz)) edges_.push_back(seconds(t));
+  for (double t : tacho_edges_s(rec_->samples[*idx], rec_->sample_rate_hz))
+    edges_.push_back(seconds(t));
   rec_ = nullptr;
   if (edges_.empty()) return Status::kInvalidConfig;
   lifecycle_ = LifecycleState::kInactive;

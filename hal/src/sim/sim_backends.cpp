@@ -10,20 +10,27 @@ namespace hal {
 
 const char* to_string(SimFault f) {
   switch (f) {
-    case SimFault::kNone: return "none";
-    case SimFault::kSilent: return "silent";
-    case SimFault::kStuck: return "stuck";
-    case SimFault::kNoisy: return "noisy";
-    case SimFault::kGarbage: return "garbage";
-    case SimFault::kGaps: return "gaps";
-    case SimFault::kBusOff: return "bus_off";
+    case SimFault::kNone:
+      return "none";
+    case SimFault::kSilent:
+      return "silent";
+    case SimFault::kStuck:
+      return "stuck";
+    case SimFault::kNoisy:
+      return "noisy";
+    case SimFault::kGarbage:
+      return "garbage";
+    case SimFault::kGaps:
+      return "gaps";
+    case SimFault::kBusOff:
+      return "bus_off";
   }
   return "?";
 }
 
 bool parse_sim_fault(const char* s, SimFault& out) {
-  for (auto f : {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy, SimFault::kGarbage,
-                 SimFault::kGaps, SimFault::kBusOff})
+  for (auto f : {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy,
+                 SimFault::kGarbage, SimFault::kGaps, SimFault::kBusOff})
     if (std::strcmp(s, to_string(f)) == 0) {
       out = f;
       return true;
@@ -54,7 +61,8 @@ SimScadaSource::SimScadaSource(const SimScadaConfig& config, const Clock& clock)
 
 Status SimScadaSource::configure() {
   if (lifecycle_ != LifecycleState::kUnconfigured) return Status::kWrongState;
-  if (config_.period <= std::chrono::milliseconds(0) || config_.stale_after <= std::chrono::milliseconds(0))
+  if (config_.period <= std::chrono::milliseconds(0) ||
+      config_.stale_after <= std::chrono::milliseconds(0))
     return Status::kInvalidConfig;
   lifecycle_ = LifecycleState::kInactive;
   return Status::kOk;
@@ -133,9 +141,10 @@ SimCmsStream::SimCmsStream(const SimCmsConfig& config, const Clock& clock)
 
 Status SimCmsStream::configure() {
   if (lifecycle_ != LifecycleState::kUnconfigured) return Status::kWrongState;
-  if (config_.channels < 1 || config_.channels > kCmsMaxChannels || !(config_.sample_rate_hz > 0.0) ||
-      config_.samples_per_frame < 1 || config_.samples_per_frame > max_fd_samples(config_.format) ||
-      !(config_.scale > 0.0f) || config_.base_id + kCmsMaxChannels - 1 > 0x7FF || config_.max_frames_per_read < 1)
+  if (config_.channels < 1 || config_.channels > kCmsMaxChannels ||
+      !(config_.sample_rate_hz > 0.0) || config_.samples_per_frame < 1 ||
+      config_.samples_per_frame > max_fd_samples(config_.format) || !(config_.scale > 0.0f) ||
+      config_.base_id + kCmsMaxChannels - 1 > 0x7FF || config_.max_frames_per_read < 1)
     return Status::kInvalidConfig;
   lifecycle_ = LifecycleState::kInactive;
   return Status::kOk;
@@ -193,15 +202,18 @@ void SimCmsStream::generate(Timestamp now) {
       f.channel = ch;
       f.format = config_.format;
       f.count = config_.samples_per_frame;
-      f.sequence = fault == SimFault::kStuck ? static_cast<std::uint16_t>(sequence_[ch] - 1) : sequence_[ch]++;
-      f.t0_us = static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(t0 * 1e6)) & 0xFFFFFFFFu);
+      f.sequence = fault == SimFault::kStuck ? static_cast<std::uint16_t>(sequence_[ch] - 1)
+                                             : sequence_[ch]++;
+      f.t0_us = static_cast<std::uint32_t>(static_cast<std::uint64_t>(std::llround(t0 * 1e6)) &
+                                           0xFFFFFFFFu);
       for (std::size_t i = 0; i < f.count; ++i) {
         const double t = t0 + static_cast<double>(i) * ts;
         const double phase = static_cast<double>(ch) * 0.5;
-        const double x = config_.amplitude * std::sin(2.0 * std::numbers::pi * config_.tone_hz * t + phase) +
-                         noise * rng_.uniform();
-        f.raw[i] = static_cast<std::int32_t>(std::clamp<long>(std::lround(x / static_cast<double>(config_.scale)),
-                                                              -lim - 1, lim));
+        const double x =
+            config_.amplitude * std::sin(2.0 * std::numbers::pi * config_.tone_hz * t + phase) +
+            noise * rng_.uniform();
+        f.raw[i] = static_cast<std::int32_t>(
+            std::clamp<long>(std::lround(x / static_cast<double>(config_.scale)), -lim - 1, lim));
       }
       if (fault == SimFault::kSilent) continue;
       if (fault == SimFault::kGaps && k % 4 == 3) continue;
@@ -220,7 +232,8 @@ void SimCmsStream::generate(Timestamp now) {
       if (fault == SimFault::kGarbage) {
         constexpr std::uint8_t kLens[] = {8, 12, 16, 20, 24, 32, 48, 64};
         frame.len = kLens[rng_.next() % 8];
-        for (std::size_t i = 0; i < frame.len; ++i) frame.data[i] = static_cast<std::uint8_t>(rng_.next());
+        for (std::size_t i = 0; i < frame.len; ++i)
+          frame.data[i] = static_cast<std::uint8_t>(rng_.next());
       }
       CmsBlock b;
       const Status s = ingest_.ingest(frame, now, b);
@@ -282,7 +295,8 @@ Status SimKeyphasor::read(KeyphasorEdge& out) {
   const double elapsed_s = std::chrono::duration<double>(now - start_).count();
   const auto due = static_cast<std::uint64_t>(std::max(0.0, elapsed_s / period_s)) + 1;
   if (due > index_ + kMaxBehind) {
-    sequence_ += static_cast<std::uint32_t>(due - index_ - kMaxBehind);  // lost, visible to the tracker
+    sequence_ +=
+        static_cast<std::uint32_t>(due - index_ - kMaxBehind);  // lost, visible to the tracker
     index_ = due - kMaxBehind;
   }
   while (index_ < due) {

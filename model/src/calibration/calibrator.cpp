@@ -19,7 +19,8 @@ double reference_hz(const Kinematics& k, double rotor_rpm) {
 dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics& k) {
   const double ref = reference_hz(k, 60.0);  // any speed: orders are ratios
   config.mesh_count = std::min(k.stage_count(), dsp::kMaxMeshes);
-  for (std::size_t s = 0; s < config.mesh_count; ++s) config.mesh_orders[s] = ref > 0.0 ? k.mesh_hz(s, 60.0) / ref : 0.0;
+  for (std::size_t s = 0; s < config.mesh_count; ++s)
+    config.mesh_orders[s] = ref > 0.0 ? k.mesh_hz(s, 60.0) / ref : 0.0;
   return config;
 }
 }  // namespace
@@ -38,7 +39,8 @@ double CalibrationSpace::upper(std::size_t i) const {
   return std::log(i < 5 ? mesh_scale_max : bearing_scale_max);
 }
 
-DynamicsParameters CalibrationSpace::to_parameters(const double* x, const DynamicsParameters& base) const {
+DynamicsParameters CalibrationSpace::to_parameters(const double* x,
+                                                   const DynamicsParameters& base) const {
   DynamicsParameters p = base;
   p.rayleigh_eta = std::exp(x[0]);
   p.rayleigh_zeta = std::exp(x[1]);
@@ -62,13 +64,14 @@ void CalibrationSpace::to_variables(const DynamicsParameters& p, double* x) cons
 }
 
 bool needs_calibration(const PointIndicators& indicators) {
-  return std::any_of(indicators.begin(), indicators.end(), [](const Indicators& i) { return !within_thresholds(i); });
+  return std::any_of(indicators.begin(), indicators.end(),
+                     [](const Indicators& i) { return !within_thresholds(i); });
 }
 
 // ---- Calibrator ----------------------------------------------------------------
 
-Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain, const dsp::FeatureConfig& features,
-                       const CalibratorConfig& config)
+Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain,
+                       const dsp::FeatureConfig& features, const CalibratorConfig& config)
     : simulator_(simulator),
       kinematics_(drivetrain),
       config_(config),
@@ -76,7 +79,8 @@ Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetra
   problem_.owner = this;
   feature_problem_.owner = this;
   const dsp::FeatureConfig& fc = features_.config();
-  feature_count_ = std::min(kMeasurementPoints * (1 + fc.mesh_count * fc.harmonics), kMaxLsqFeatures);
+  feature_count_ =
+      std::min(kMeasurementPoints * (1 + fc.mesh_count * fc.harmonics), kMaxLsqFeatures);
 }
 
 void Calibrator::set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured,
@@ -95,7 +99,8 @@ bool Calibrator::simulate_features(const DynamicsParameters& params,
   if (!simulator_.simulate(params, op_, duration_s, waves)) return false;
   for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
     const dsp::DspStatus s =
-        features_.extract(waves[pt].samples, waves[pt].count, waves[pt].sample_rate_hz, {nullptr, 0, ref_hz}, out[pt]);
+        features_.extract(waves[pt].samples, waves[pt].count, waves[pt].sample_rate_hz,
+                          {nullptr, 0, ref_hz}, out[pt]);
     if (s != dsp::DspStatus::kOk) return false;
   }
   return true;
@@ -104,7 +109,8 @@ bool Calibrator::simulate_features(const DynamicsParameters& params,
 bool Calibrator::evaluate(const DynamicsParameters& params, PointIndicators& out) {
   std::array<dsp::PointFeatures, kMeasurementPoints> simulated{};
   if (!simulate_features(params, simulated)) return false;
-  for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) out[pt] = compute_indicators(simulated[pt], measured_[pt]);
+  for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt)
+    out[pt] = compute_indicators(simulated[pt], measured_[pt]);
   return true;
 }
 
@@ -114,7 +120,8 @@ namespace {
 constexpr double kLogFloor = 1e-300;
 void log_features(const dsp::PointFeatures& f, double* phi) {
   phi[0] = std::log(std::max(f.rms, kLogFloor));
-  for (std::size_t i = 0; i < f.count; ++i) phi[1 + i] = std::log(std::max(f.amplitude[i], kLogFloor));
+  for (std::size_t i = 0; i < f.count; ++i)
+    phi[1 + i] = std::log(std::max(f.amplitude[i], kLogFloor));
 }
 }  // namespace
 
@@ -131,7 +138,8 @@ bool Calibrator::evaluate_variables(const double* x, double* f, double* phi) {
     f[3 * pt + 0] = ind[pt].f1;
     f[3 * pt + 1] = ind[pt].f2;
     f[3 * pt + 2] = ind[pt].f3;
-    worst = std::max(worst, ind[pt].valid ? worst_threshold_ratio(ind[pt]) : std::numeric_limits<double>::max());
+    worst = std::max(
+        worst, ind[pt].valid ? worst_threshold_ratio(ind[pt]) : std::numeric_limits<double>::max());
     if (phi) log_features(simulated[pt], phi + pt * (1 + simulated[pt].count));
   }
   problem_.best_ratio = std::min(problem_.best_ratio, worst);
@@ -141,7 +149,9 @@ bool Calibrator::evaluate_variables(const double* x, double* f, double* phi) {
   return true;
 }
 
-void Calibrator::Problem::evaluate(const double* x, double* f) { owner->evaluate_variables(x, f, nullptr); }
+void Calibrator::Problem::evaluate(const double* x, double* f) {
+  owner->evaluate_variables(x, f, nullptr);
+}
 
 bool Calibrator::FeatureProblem::evaluate(const double* x, double* phi) {
   std::array<double, kCalibrationObjectives> f{};
@@ -163,7 +173,8 @@ void Calibrator::archive_add(const double* x, const double* f) {
     return better;
   };
   for (std::size_t a = 0; a < archive_n_; ++a) {
-    if (dominates(archive_f_[a].data(), f) || std::equal(f, f + kCalibrationObjectives, archive_f_[a].begin())) {
+    if (dominates(archive_f_[a].data(), f) ||
+        std::equal(f, f + kCalibrationObjectives, archive_f_[a].begin())) {
       return;
     }
   }
@@ -180,7 +191,8 @@ void Calibrator::archive_add(const double* x, const double* f) {
   if (archive_n_ == kMaxArchive) {
     std::size_t worst = 0;
     for (std::size_t a = 1; a < archive_n_; ++a) {
-      if (problem_.preference(archive_f_[a].data()) > problem_.preference(archive_f_[worst].data())) worst = a;
+      if (problem_.preference(archive_f_[a].data()) > problem_.preference(archive_f_[worst].data()))
+        worst = a;
     }
     if (problem_.preference(f) >= problem_.preference(archive_f_[worst].data())) return;
     slot = worst;
@@ -216,12 +228,14 @@ double Calibrator::Problem::preference(const double* f) const {
   // The worst indicator in units of its threshold: < 1 means everything fits.
   double worst = 0.0;
   for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
-    worst = std::max({worst, f[3 * pt] / kF1Threshold, f[3 * pt + 1] / kF2Threshold, f[3 * pt + 2] / kF3Threshold});
+    worst = std::max({worst, f[3 * pt] / kF1Threshold, f[3 * pt + 1] / kF2Threshold,
+                      f[3 * pt + 2] / kF3Threshold});
   }
   return worst;
 }
 
-bool Calibrator::start(const DynamicsParameters& current, const std::optional<DynamicsParameters>& previous,
+bool Calibrator::start(const DynamicsParameters& current,
+                       const std::optional<DynamicsParameters>& previous,
                        const FeatureJacobian* previous_model) {
   if (features_.config_status() != dsp::DspStatus::kOk) {
     state_ = StepStatus::kFailed;
@@ -252,7 +266,8 @@ bool Calibrator::start(const DynamicsParameters& current, const std::optional<Dy
       weight[offset] = 1.0 / kF1Threshold;
       const std::size_t n = std::max<std::size_t>(m.resolved_count(), 1);
       for (std::size_t i = 0; i < m.count; ++i) {
-        weight[offset + 1 + i] = m.resolved[i] ? 1.0 / (kF3Threshold * std::sqrt(static_cast<double>(n))) : 0.0;
+        weight[offset + 1 + i] =
+            m.resolved[i] ? 1.0 / (kF3Threshold * std::sqrt(static_cast<double>(n))) : 0.0;
       }
     }
     tr_->set_target(target.data(), weight.data());
@@ -289,7 +304,9 @@ StepStatus Calibrator::step() {
     finish(true);
     return state_;
   }
-  const bool more = config_.method == CalibrationMethod::kTrustRegion ? (tr_->step() && !tr_->finished()) : mogoa_->step();
+  const bool more = config_.method == CalibrationMethod::kTrustRegion
+                        ? (tr_->step() && !tr_->finished())
+                        : mogoa_->step();
   const bool reached = config_.stop_at_threshold && problem_.evaluations_to_threshold != 0;
   if (!more || reached) finish(false);
   return state_;
@@ -308,7 +325,8 @@ void Calibrator::finish(bool cancelled) {
   ideal.fill(std::numeric_limits<double>::infinity());
   std::array<double, kCalibrationObjectives> f{};
   for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t k = 0; k < kCalibrationObjectives; ++k) ideal[k] = std::min(ideal[k], archive_objective(a, k));
+    for (std::size_t k = 0; k < kCalibrationObjectives; ++k)
+      ideal[k] = std::min(ideal[k], archive_objective(a, k));
   }
   static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
   std::size_t best = 0;
@@ -343,7 +361,8 @@ void Calibrator::finish(bool cancelled) {
       mogoa_->archive_member(best, x.data(), nullptr);
     }
     r.parameters = config_.space.to_parameters(x.data(), base_);
-    // Re-evaluate the choice: the indicators (and their validity) reported are the chosen parameters' own.
+    // Re-evaluate the choice: the indicators (and their validity) reported are the chosen
+    // parameters' own.
     if (evaluate(r.parameters, r.indicators)) r.fits = !needs_calibration(r.indicators);
   } else {
     r.parameters = base_;
@@ -360,7 +379,8 @@ void Calibrator::publish(const CalibrationResult& result) {
   const std::uint32_t s = sequence_.load(std::memory_order_relaxed);
   sequence_.store(s + 1, std::memory_order_relaxed);  // odd: writing
   std::atomic_thread_fence(std::memory_order_release);
-  for (std::size_t i = 0; i < kResultWords; ++i) result_words_[i].store(words[i], std::memory_order_relaxed);
+  for (std::size_t i = 0; i < kResultWords; ++i)
+    result_words_[i].store(words[i], std::memory_order_relaxed);
   sequence_.store(s + 2, std::memory_order_release);
 }
 
@@ -369,7 +389,8 @@ bool Calibrator::read_result(CalibrationResult& out) const {
     const std::uint32_t s1 = sequence_.load(std::memory_order_acquire);
     if (s1 & 1U) continue;
     std::array<std::uint64_t, kResultWords> words{};
-    for (std::size_t i = 0; i < kResultWords; ++i) words[i] = result_words_[i].load(std::memory_order_relaxed);
+    for (std::size_t i = 0; i < kResultWords; ++i)
+      words[i] = result_words_[i].load(std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_acquire);
     if (sequence_.load(std::memory_order_relaxed) != s1) continue;
     if (s1 == 0) return false;

@@ -5,24 +5,30 @@
 
 namespace model::calibration {
 
-DynamicsSimulator::DynamicsSimulator(const Drivetrain& drivetrain, DynamicsModel model, double sample_rate_hz,
-                                     double settle_s)
-    : drivetrain_(drivetrain), model_(model), sample_rate_hz_(sample_rate_hz), settle_s_(settle_s) {}
+DynamicsSimulator::DynamicsSimulator(const Drivetrain& drivetrain, DynamicsModel model,
+                                     double sample_rate_hz, double settle_s)
+    : drivetrain_(drivetrain),
+      model_(model),
+      sample_rate_hz_(sample_rate_hz),
+      settle_s_(settle_s) {}
 
-bool DynamicsSimulator::simulate(const DynamicsParameters& params, const OperatingPoint& op, double duration_s,
+bool DynamicsSimulator::simulate(const DynamicsParameters& params, const OperatingPoint& op,
+                                 double duration_s,
                                  std::array<WaveformView, kMeasurementPoints>& out) {
   drivetrain_.dynamics = params;
   dynamics::SimulationSettings settings;
   settings.seconds = settle_s_ + duration_s;
   settings.sample_rate_hz = sample_rate_hz_;
   const dynamics::OperatingPoint dop{op.rotor_speed_rpm, op.input_torque_nm};
-  const bool ok = model_ == DynamicsModel::kRom ? dynamics::simulate_rom(drivetrain_, dop, settings, outputs_, &error_)
-                                                : dynamics::simulate_full(drivetrain_, dop, settings, outputs_, &error_);
+  const bool ok = model_ == DynamicsModel::kRom
+                      ? dynamics::simulate_rom(drivetrain_, dop, settings, outputs_, &error_)
+                      : dynamics::simulate_full(drivetrain_, dop, settings, outputs_, &error_);
   if (!ok) return false;
   skip_ = static_cast<std::size_t>(std::llround(settle_s_ * sample_rate_hz_));
   for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
-    const std::string channel =
-        p < drivetrain_.measurement_points.size() ? drivetrain_.measurement_points[p].channel : std::string();
+    const std::string channel = p < drivetrain_.measurement_points.size()
+                                    ? drivetrain_.measurement_points[p].channel
+                                    : std::string();
     std::size_t idx = outputs_.sensor_channels.size();
     for (std::size_t c = 0; c < outputs_.sensor_channels.size(); ++c) {
       if (outputs_.sensor_channels[c] == channel) idx = c;

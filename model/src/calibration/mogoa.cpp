@@ -33,12 +33,14 @@ bool dominates(const A& a, const B& b, std::size_t n) {
 }
 }  // namespace
 
-Mogoa::Mogoa(MultiObjectiveProblem& problem, const MogoaConfig& config) : problem_(problem), config_(config) {
+Mogoa::Mogoa(MultiObjectiveProblem& problem, const MogoaConfig& config)
+    : problem_(problem), config_(config) {
   dims_ = problem.variables();
   objs_ = problem.objectives();
   config_ok_ = dims_ >= 1 && dims_ <= kMaxVariables && objs_ >= 1 && objs_ <= kMaxObjectives &&
-               config.population >= 2 && config.population <= kMaxPopulation && config.archive_size >= 1 &&
-               config.archive_size <= kMaxArchive && config.max_iterations >= 1;
+               config.population >= 2 && config.population <= kMaxPopulation &&
+               config.archive_size >= 1 && config.archive_size <= kMaxArchive &&
+               config.max_iterations >= 1;
   if (!config_ok_) return;
   std::uint64_t s = config.seed;
   for (auto& r : rng_) r = splitmix64(s);
@@ -54,7 +56,8 @@ Mogoa::Mogoa(MultiObjectiveProblem& problem, const MogoaConfig& config) : proble
   x_next_.resize(n, d);
   f_.resize(n, static_cast<Eigen::Index>(objs_));
   archive_x_.resize(static_cast<Eigen::Index>(kMaxArchive + kMaxPopulation), d);
-  archive_f_.resize(static_cast<Eigen::Index>(kMaxArchive + kMaxPopulation), static_cast<Eigen::Index>(objs_));
+  archive_f_.resize(static_cast<Eigen::Index>(kMaxArchive + kMaxPopulation),
+                    static_cast<Eigen::Index>(objs_));
   ranks_.resize(static_cast<Eigen::Index>(kMaxArchive + kMaxPopulation));
   weights_.resize(static_cast<Eigen::Index>(kMaxArchive + kMaxPopulation));
   x_work_.resize(d);
@@ -90,7 +93,9 @@ std::size_t Mogoa::roulette(const double* weights, std::size_t n) {
   return n - 1;
 }
 
-double Mogoa::social_force(double r, double f, double l) { return f * std::exp(-r / l) - std::exp(-r); }
+double Mogoa::social_force(double r, double f, double l) {
+  return f * std::exp(-r / l) - std::exp(-r);
+}
 
 void Mogoa::seed_position(const double* x) {
   if (!config_ok_ || initialised_ || seeded_ >= config_.population) return;
@@ -145,7 +150,8 @@ void Mogoa::rank_archive() {
   const auto m = static_cast<Eigen::Index>(objs_);
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxObjectives, 1> radius(m);
   for (Eigen::Index k = 0; k < m; ++k) {
-    radius(k) = (archive_f_.col(k).head(n).maxCoeff() - archive_f_.col(k).head(n).minCoeff()) / 20.0;
+    radius(k) =
+        (archive_f_.col(k).head(n).maxCoeff() - archive_f_.col(k).head(n).minCoeff()) / 20.0;
   }
   for (Eigen::Index i = 0; i < n; ++i) {
     int count = 0;
@@ -176,7 +182,8 @@ std::size_t Mogoa::choose_target() {
     std::size_t best = 0;
     double best_value = std::numeric_limits<double>::infinity();
     for (std::size_t a = 0; a < archive_count_; ++a) {
-      for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(objs_); ++k) f_work_(k) = archive_f_(static_cast<Eigen::Index>(a), k);
+      for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(objs_); ++k)
+        f_work_(k) = archive_f_(static_cast<Eigen::Index>(a), k);
       const double v = problem_.preference(f_work_.data());
       if (v < best_value) {
         best_value = v;
@@ -186,7 +193,8 @@ std::size_t Mogoa::choose_target() {
     return best;
   }
   rank_archive();
-  for (std::size_t a = 0; a < archive_count_; ++a) weights_(static_cast<Eigen::Index>(a)) = 1.0 / ranks_(static_cast<Eigen::Index>(a));
+  for (std::size_t a = 0; a < archive_count_; ++a)
+    weights_(static_cast<Eigen::Index>(a)) = 1.0 / ranks_(static_cast<Eigen::Index>(a));
   return roulette(weights_.data(), archive_count_);
 }
 
@@ -200,7 +208,8 @@ bool Mogoa::step() {
   if (iteration_ >= config_.max_iterations) return false;
   ++iteration_;
   // c decreases linearly over the iterations (GOA eq. 2.8).
-  const double c = config_.c_max - static_cast<double>(iteration_) * (config_.c_max - config_.c_min) /
+  const double c = config_.c_max - static_cast<double>(iteration_) *
+                                       (config_.c_max - config_.c_min) /
                                        static_cast<double>(config_.max_iterations);
   const auto target = static_cast<Eigen::Index>(choose_target());
   const auto n = static_cast<Eigen::Index>(config_.population);
@@ -212,7 +221,8 @@ bool Mogoa::step() {
       const double dist = (x_.row(j) - x_.row(i)).norm();
       const double mapped = 1.0 + std::fmod(dist, 3.0);  // distances mapped into [1, 4)
       // (ub − lb)/2 = 1/2 in the normalised box.
-      const double gain = c * 0.5 * social_force(mapped, config_.attraction_f, config_.length_scale_l) /
+      const double gain = c * 0.5 *
+                          social_force(mapped, config_.attraction_f, config_.length_scale_l) /
                           (dist + std::numeric_limits<double>::epsilon());
       x_work_.noalias() += gain * (x_.row(j) - x_.row(i)).transpose();
     }
@@ -228,7 +238,8 @@ bool Mogoa::step() {
 void Mogoa::archive_member(std::size_t i, double* x, double* f) const {
   const auto r = static_cast<Eigen::Index>(i);
   if (x != nullptr) {
-    for (Eigen::Index j = 0; j < static_cast<Eigen::Index>(dims_); ++j) x[j] = lower_(j) + span_(j) * archive_x_(r, j);
+    for (Eigen::Index j = 0; j < static_cast<Eigen::Index>(dims_); ++j)
+      x[j] = lower_(j) + span_(j) * archive_x_(r, j);
   }
   if (f != nullptr) {
     for (Eigen::Index k = 0; k < static_cast<Eigen::Index>(objs_); ++k) f[k] = archive_f_(r, k);

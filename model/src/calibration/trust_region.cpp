@@ -17,11 +17,12 @@ std::uint64_t splitmix64(std::uint64_t& state) {
 }
 std::uint64_t rotl(std::uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
 
-constexpr double kShrink = 0.5;       // γ_dec
-constexpr double kGrow = 2.0;         // γ_inc
-constexpr double kRatioPoor = 0.1;    // η1
-constexpr double kRatioGood = 0.7;    // η2
-constexpr double kEigenFloor = 1e-12; // relative: smaller curvatures are treated as flat (pseudo-inverse)
+constexpr double kShrink = 0.5;     // γ_dec
+constexpr double kGrow = 2.0;       // γ_inc
+constexpr double kRatioPoor = 0.1;  // η1
+constexpr double kRatioGood = 0.7;  // η2
+constexpr double kEigenFloor =
+    1e-12;  // relative: smaller curvatures are treated as flat (pseudo-inverse)
 constexpr int kBisections = 60;
 constexpr double kPi = 3.14159265358979323846;
 }  // namespace
@@ -30,8 +31,9 @@ TrustRegionLeastSquares::TrustRegionLeastSquares(FeatureMap& map, const TrustReg
     : map_(map), config_(config) {
   n_ = map.variables();
   m_ = map.features();
-  config_ok_ = n_ > 0 && n_ <= kMaxLsqVariables && m_ > 0 && m_ <= kMaxLsqFeatures && config.initial_radius > 0.0 &&
-               config.min_radius > 0.0 && config.max_radius >= config.initial_radius && config.max_evaluations > 0;
+  config_ok_ = n_ > 0 && n_ <= kMaxLsqVariables && m_ > 0 && m_ <= kMaxLsqFeatures &&
+               config.initial_radius > 0.0 && config.min_radius > 0.0 &&
+               config.max_radius >= config.initial_radius && config.max_evaluations > 0;
   if (!config_ok_) return;
   for (std::size_t i = 0; i < n_; ++i) {
     lower_(static_cast<Eigen::Index>(i)) = map.lower(i);
@@ -158,8 +160,12 @@ bool TrustRegionLeastSquares::step() {
         phase_ = jacobian_valid_ ? Phase::kIterate : Phase::kProbe;
         probe_ = 0;
         break;
-      case Phase::kProbe: probe_step(); break;
-      case Phase::kIterate: iterate_step(); break;
+      case Phase::kProbe:
+        probe_step();
+        break;
+      case Phase::kIterate:
+        iterate_step();
+        break;
     }
     if (evaluations_ >= config_.max_evaluations) finished_ = true;
     if (!finished_ && radius_ < config_.min_radius) {
@@ -233,7 +239,8 @@ void TrustRegionLeastSquares::probe_step() {
     // (2): J·D = ΔΦ  →  J = ΔΦ·D⁻¹ (D padded with the identity beyond n).
     const Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables> d_inv = probe_d_.inverse();
     jacobian_.noalias() = probe_dphi_ * d_inv;
-    for (Eigen::Index k = n; k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k) jacobian_.col(k).setZero();
+    for (Eigen::Index k = n; k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k)
+      jacobian_.col(k).setZero();
     jacobian_valid_ = true;
     if (probe_best_cost_ < cost_k_) {
       x_k_ = probe_best_x_;
@@ -253,12 +260,14 @@ void TrustRegionLeastSquares::compute_step(Vector& s, double& predicted) const {
   a.noalias() = wj.transpose() * wj;
   const Vector g = wj.transpose() * r;
   // Padding variables: unit curvature, zero gradient → zero step.
-  for (Eigen::Index k = static_cast<Eigen::Index>(n_); k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k) {
+  for (Eigen::Index k = static_cast<Eigen::Index>(n_);
+       k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k) {
     a.row(k).setZero();
     a.col(k).setZero();
     a(k, k) = 1.0;
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables>> eig(a);
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables>>
+      eig(a);
   const Vector lambda = eig.eigenvalues().cwiseMax(0.0);
   const Vector b = eig.eigenvectors().transpose() * g;
   const double floor = kEigenFloor * std::max(lambda.maxCoeff(), 1e-300);
@@ -295,7 +304,8 @@ void TrustRegionLeastSquares::iterate_step() {
   double predicted = 0.0;
   compute_step(s, predicted);
   const double step_norm = s.norm();
-  if (!(cost_k_ - predicted > 1e-14 * std::max(cost_k_, 1e-300)) || step_norm < 1e-3 * config_.min_radius) {
+  if (!(cost_k_ - predicted > 1e-14 * std::max(cost_k_, 1e-300)) ||
+      step_norm < 1e-3 * config_.min_radius) {
     // The model predicts no progress within Δ (stationary for the model, or the
     // box blocks it): shrink towards the finishing radius without evaluating.
     radius_ *= kShrink * kShrink;
@@ -315,7 +325,8 @@ void TrustRegionLeastSquares::iterate_step() {
     radius_ = std::max(kShrink * std::min(radius_, step_norm), 0.5 * config_.min_radius);
     ++failures_;
   } else {
-    if (rho > kRatioGood && step_norm >= 0.9 * radius_) radius_ = std::min(kGrow * radius_, config_.max_radius);
+    if (rho > kRatioGood && step_norm >= 0.9 * radius_)
+      radius_ = std::min(kGrow * radius_, config_.max_radius);
     failures_ = 0;
   }
   if (ok && c < cost_k_) {

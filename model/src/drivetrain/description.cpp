@@ -14,7 +14,9 @@ const T* find_by_id(const std::vector<T>& items, std::string_view id) {
 const Gear* Drivetrain::gear(std::string_view id) const { return find_by_id(gears, id); }
 const Bearing* Drivetrain::bearing(std::string_view id) const { return find_by_id(bearings, id); }
 const Shaft* Drivetrain::shaft(std::string_view id) const { return find_by_id(shafts, id); }
-const Material* Drivetrain::material(std::string_view id) const { return find_by_id(materials, id); }
+const Material* Drivetrain::material(std::string_view id) const {
+  return find_by_id(materials, id);
+}
 const GearStage* Drivetrain::stage(std::string_view id) const { return find_by_id(stages, id); }
 
 std::vector<std::string> builtin_drivetrain_names() { return {"paper-2mw"}; }

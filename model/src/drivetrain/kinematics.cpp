@@ -65,13 +65,15 @@ std::optional<double> Kinematics::shaft_hz(std::string_view shaft, double rotor_
     if (stage.input_shaft == shaft) return rotor_hz * input_ratio_[i];
     if (stage.output_shaft == shaft) return rotor_hz * input_ratio_[i] * stage_ratio_[i];
   }
-  if (stage_count_ == 0 && !drivetrain_->shafts.empty() && drivetrain_->shafts.front().id == shaft) {
+  if (stage_count_ == 0 && !drivetrain_->shafts.empty() &&
+      drivetrain_->shafts.front().id == shaft) {
     return rotor_hz;  // a single-shaft machine (no gear stage): the shaft is the rotor
   }
   return std::nullopt;
 }
 
-std::optional<BearingFrequencies> Kinematics::bearing_hz(std::string_view id, double rotor_rpm) const {
+std::optional<BearingFrequencies> Kinematics::bearing_hz(std::string_view id,
+                                                         double rotor_rpm) const {
   const Bearing* b = drivetrain_->bearing(id);
   if (b == nullptr) return std::nullopt;
   const std::optional<double> fr = shaft_hz(b->shaft, rotor_rpm);

@@ -109,13 +109,17 @@ Drivetrain paper_2mw() {
     return b;
   };
   d.bearings = {
-      bearing("b1", "sun_shaft", "planet side", 22, 40, 400, 0, 1, BearingType::kRoller, 2.4e6, 2.0e9),
+      bearing("b1", "sun_shaft", "planet side", 22, 40, 400, 0, 1, BearingType::kRoller, 2.4e6,
+              2.0e9),
       bearing("b2", "sun_shaft", "g1 side", 22, 40, 400, 0, 1, BearingType::kRoller, 2.4e6, 2.0e9),
       bearing("b3", "ims", "rotor side", 18, 32, 230, 0, 1, BearingType::kRoller, 1.1e6, 1.2e9),
-      bearing("b4", "ims", "generator side", 20, 28, 220, 12, 1, BearingType::kRoller, 0.9e6, 1.0e9),
+      bearing("b4", "ims", "generator side", 20, 28, 220, 12, 1, BearingType::kRoller, 0.9e6,
+              1.0e9),
       bearing("b5", "hss", "rotor side", 16, 28, 150, 0, 1, BearingType::kRoller, 0.62e6, 0.8e9),
-      bearing("b6", "hss", "generator side", 14, 30, 160, 15, 1, BearingType::kRoller, 0.6e6, 0.7e9),
-      bearing("pb", "planet", "on planet pin", 17, 36, 250, 0, 2, BearingType::kRoller, 1.6e6, 1.5e9),
+      bearing("b6", "hss", "generator side", 14, 30, 160, 15, 1, BearingType::kRoller, 0.6e6,
+              0.7e9),
+      bearing("pb", "planet", "on planet pin", 17, 36, 250, 0, 2, BearingType::kRoller, 1.6e6,
+              1.5e9),
   };
 
   d.measurement_points = {
@@ -126,8 +130,8 @@ Drivetrain paper_2mw() {
   // Rayleigh damping C = ηM + ζK (model/dynamics): modal damping ξ = η/(2ω) + ζω/2 gives
   // 2 % at 20 Hz, 1.3 % at the 372 Hz hss mesh, 3 % at 1 kHz, 8 % at 2.5 kHz — the
   // 1–8 % band usually assumed for gear transmissions; calibration refines both.
-  d.dynamics.rayleigh_eta = 5.0;     // [1/s]
-  d.dynamics.rayleigh_zeta = 1.0e-5; // [s]
+  d.dynamics.rayleigh_eta = 5.0;      // [1/s]
+  d.dynamics.rayleigh_zeta = 1.0e-5;  // [s]
   return d;
 }
 

@@ -17,7 +17,8 @@ DspStatus validate(const FeatureConfig& c, const SpectrumAnalyzer& analyzer) {
   for (std::size_t m = 0; m < c.mesh_count; ++m) {
     for (std::size_t h = 1; h <= c.harmonics; ++h) {
       const double order = static_cast<double>(h) * c.mesh_orders[m];
-      if (!(order > 0.0) || order + min_separation_orders >= nyquist_order) return DspStatus::kBadConfig;
+      if (!(order > 0.0) || order + min_separation_orders >= nyquist_order)
+        return DspStatus::kBadConfig;
       if (order < min_separation_orders) return DspStatus::kTooShort;
       for (std::size_t m2 = 0; m2 < c.mesh_count; ++m2) {
         for (std::size_t h2 = 1; h2 <= c.harmonics; ++h2) {
@@ -46,8 +47,8 @@ double FeatureExtractor::required_duration_s(double shaft_hz) const {
   return static_cast<double>(config_.revolutions + 1) / shaft_hz;
 }
 
-DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz, const SpeedReference& speed,
-                                    PointFeatures& out) {
+DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz,
+                                    const SpeedReference& speed, PointFeatures& out) {
   if (config_status_ != DspStatus::kOk) return config_status_;
   const DspStatus quality = check_waveform(x, n, config_.flat_threshold);
   if (quality != DspStatus::kOk) return quality;
@@ -59,8 +60,10 @@ DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz
   out.count = config_.mesh_count * config_.harmonics;
   const auto lines = static_cast<long long>(analyzer_.lines());
   const auto lobe = static_cast<long long>(config_.lobe_half_width);
-  const auto reach = static_cast<long long>(std::min<std::size_t>(config_.noise_half_width, kMaxNoiseLines / 2));
-  const double lobe_gain = std::sqrt(static_cast<double>(2 * lobe + 1) / SpectrumAnalyzer::kHannEnbwLines);
+  const auto reach =
+      static_cast<long long>(std::min<std::size_t>(config_.noise_half_width, kMaxNoiseLines / 2));
+  const double lobe_gain =
+      std::sqrt(static_cast<double>(2 * lobe + 1) / SpectrumAnalyzer::kHannEnbwLines);
   for (std::size_t m = 0; m < config_.mesh_count; ++m) {
     for (std::size_t h = 1; h <= config_.harmonics; ++h) {
       const std::size_t i = m * config_.harmonics + (h - 1);
@@ -75,11 +78,13 @@ DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz
       }
       double floor = 0.0;
       if (k > 0) {
-        std::nth_element(neighbours_.begin(), neighbours_.begin() + static_cast<long>(k / 2), neighbours_.begin() + static_cast<long>(k));
+        std::nth_element(neighbours_.begin(), neighbours_.begin() + static_cast<long>(k / 2),
+                         neighbours_.begin() + static_cast<long>(k));
         floor = neighbours_[k / 2] * lobe_gain;
       }
       out.noise_floor[i] = floor;
-      out.resolved[i] = out.amplitude[i] > 0.0 && out.amplitude[i] >= config_.resolved_ratio * floor;
+      out.resolved[i] =
+          out.amplitude[i] > 0.0 && out.amplitude[i] >= config_.resolved_ratio * floor;
     }
   }
   return DspStatus::kOk;

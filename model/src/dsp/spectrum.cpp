@@ -11,13 +11,20 @@ namespace model::dsp {
 
 const char* to_string(DspStatus status) {
   switch (status) {
-    case DspStatus::kOk: return "ok";
-    case DspStatus::kBadConfig: return "analysis configured with an impossible size";
-    case DspStatus::kTooShort: return "recording too short for the frequency resolution the indicators need";
-    case DspStatus::kFlat: return "channel is flat (no variation)";
-    case DspStatus::kClipped: return "channel is clipped (flat tops at its extreme values)";
-    case DspStatus::kNonFinite: return "channel holds non-finite samples";
-    case DspStatus::kNoSpeed: return "no usable speed reference (tacho, speed or mesh line)";
+    case DspStatus::kOk:
+      return "ok";
+    case DspStatus::kBadConfig:
+      return "analysis configured with an impossible size";
+    case DspStatus::kTooShort:
+      return "recording too short for the frequency resolution the indicators need";
+    case DspStatus::kFlat:
+      return "channel is flat (no variation)";
+    case DspStatus::kClipped:
+      return "channel is clipped (flat tops at its extreme values)";
+    case DspStatus::kNonFinite:
+      return "channel holds non-finite samples";
+    case DspStatus::kNoSpeed:
+      return "no usable speed reference (tacho, speed or mesh line)";
   }
   return "unknown";
 }
@@ -43,7 +50,8 @@ SpectrumAnalyzer::SpectrumAnalyzer(std::size_t nfft) {
   double sum = 0.0;
   for (std::size_t i = 0; i < nfft; ++i) {
     // Periodic Hann window (Harris 1978): w[n] = 0.5·(1 − cos(2πn/N)).
-    window_[i] = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(nfft)));
+    window_[i] = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) /
+                                       static_cast<double>(nfft)));
     sum += window_[i];
   }
   amplitude_gain_ = 2.0 / sum;

@@ -55,7 +55,9 @@ class Assembler {
     int dof;
     double c;
   };
-  void spring(std::initializer_list<Term> terms, double k) { springs_.push_back({std::vector<Term>(terms), k}); }
+  void spring(std::initializer_list<Term> terms, double k) {
+    springs_.push_back({std::vector<Term>(terms), k});
+  }
 
   FullModel finish() {
     FullModel m;
@@ -101,7 +103,8 @@ MeshVector mesh_vector(const Eigen::Vector2d& centre_a, const Eigen::Vector2d& c
                        const Eigen::Vector2d& pitch_point, const Eigen::Vector2d& nt, double beta_b,
                        double axial_sign) {
   MeshVector v;
-  v.n = Eigen::Vector3d(std::cos(beta_b) * nt.x(), std::cos(beta_b) * nt.y(), axial_sign * std::sin(beta_b));
+  v.n = Eigen::Vector3d(std::cos(beta_b) * nt.x(), std::cos(beta_b) * nt.y(),
+                        axial_sign * std::sin(beta_b));
   auto lever = [&](const Eigen::Vector2d& centre) {
     // ρ: from the centre to the tangency point on the base circle (foot of the perpendicular).
     const Eigen::Vector2d d = pitch_point - centre;
@@ -150,7 +153,8 @@ Eigen::VectorXd FullModel::force(double rotor_revolutions, double input_torque_n
 Eigen::VectorXd FullModel::static_deflection(double input_torque_nm) const {
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
   for (const ForceTerm& t : forces) {
-    f += (t.per_newton_metre ? t.amplitude * input_torque_nm : t.amplitude) * t.shape.mean() * t.pattern;
+    f += (t.per_newton_metre ? t.amplitude * input_torque_nm : t.amplitude) * t.shape.mean() *
+         t.pattern;
   }
   return stiffness.llt().solve(f);
 }
@@ -161,14 +165,16 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   if (d.stages.size() != 3 || d.stages[0].type != StageType::kPlanetary ||
       d.stages[1].type != StageType::kParallel || d.stages[2].type != StageType::kParallel) {
     fail(error, "drivetrain '" + d.name +
-                    "': stages: the dynamics model needs one planetary stage followed by two parallel stages");
+                    "': stages: the dynamics model needs one planetary stage followed by two "
+                    "parallel stages");
     return std::nullopt;
   }
   const GearStage& ps = d.stages[0];
   const GearStage& is = d.stages[1];
   const GearStage& hs = d.stages[2];
   if (ps.gears.size() != 3 || is.gears.size() != 2 || hs.gears.size() != 2) {
-    fail(error, "drivetrain '" + d.name + "': stages: gear lists must be {sun, planet, ring}, {wheel, pinion}");
+    fail(error, "drivetrain '" + d.name +
+                    "': stages: gear lists must be {sun, planet, ring}, {wheel, pinion}");
     return std::nullopt;
   }
   if (ps.planets < 1) {
@@ -210,10 +216,11 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
   }
   const DynamicsParameters& dp = d.dynamics;
-  if (!(dp.rayleigh_eta >= 0.0) || !(dp.rayleigh_zeta >= 0.0) || !(dp.bearing_stiffness_fluctuation >= 0.0) ||
-      !(dp.bearing_stiffness_fluctuation < 1.0)) {
+  if (!(dp.rayleigh_eta >= 0.0) || !(dp.rayleigh_zeta >= 0.0) ||
+      !(dp.bearing_stiffness_fluctuation >= 0.0) || !(dp.bearing_stiffness_fluctuation < 1.0)) {
     fail(error, "drivetrain '" + d.name +
-                    "': dynamics: rayleigh_eta, rayleigh_zeta must be ≥ 0 and bearing_stiffness_fluctuation in [0, 1)");
+                    "': dynamics: rayleigh_eta, rayleigh_zeta must be ≥ 0 and "
+                    "bearing_stiffness_fluctuation in [0, 1)");
     return std::nullopt;
   }
   for (std::size_t i = 0; i < 3; ++i) {
@@ -228,10 +235,24 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   Assembler as;
 
   // ---- planetary stage (Lin & Parker 1999) ------------------------------------------------
-  const GearPair sp_pair{sun.teeth, planet.teeth, false, ps.normal_module_m, ps.pressure_angle_rad, 0.0,
-                         std::min(sun.face_width_m, planet.face_width_m), sun.profile_shift, planet.profile_shift};
-  const GearPair rp_pair{planet.teeth, ring.teeth, true, ps.normal_module_m, ps.pressure_angle_rad, 0.0,
-                         std::min(ring.face_width_m, planet.face_width_m), planet.profile_shift, ring.profile_shift};
+  const GearPair sp_pair{sun.teeth,
+                         planet.teeth,
+                         false,
+                         ps.normal_module_m,
+                         ps.pressure_angle_rad,
+                         0.0,
+                         std::min(sun.face_width_m, planet.face_width_m),
+                         sun.profile_shift,
+                         planet.profile_shift};
+  const GearPair rp_pair{planet.teeth,
+                         ring.teeth,
+                         true,
+                         ps.normal_module_m,
+                         ps.pressure_angle_rad,
+                         0.0,
+                         std::min(ring.face_width_m, planet.face_width_m),
+                         planet.profile_shift,
+                         ring.profile_shift};
   const MeshGeometry sp_geo = mesh_geometry(sp_pair);
   const MeshGeometry rp_geo = mesh_geometry(rp_pair);
   const double r_sun = sp_geo.pitch_radius1_m;
@@ -263,28 +284,44 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   }
 
   // ---- shafts (Timoshenko, 4 DOF per node) --------------------------------------------------
-  const GearPair int_pair{g[4]->teeth, g[3]->teeth, false, is.normal_module_m, is.pressure_angle_rad,
-                          is.helix_angle_rad, std::min(g[3]->face_width_m, g[4]->face_width_m),
-                          g[4]->profile_shift, g[3]->profile_shift};
-  const GearPair hs_pair{g[6]->teeth, g[5]->teeth, false, hs.normal_module_m, hs.pressure_angle_rad,
-                         hs.helix_angle_rad, std::min(g[5]->face_width_m, g[6]->face_width_m),
-                         g[6]->profile_shift, g[5]->profile_shift};
+  const GearPair int_pair{g[4]->teeth,
+                          g[3]->teeth,
+                          false,
+                          is.normal_module_m,
+                          is.pressure_angle_rad,
+                          is.helix_angle_rad,
+                          std::min(g[3]->face_width_m, g[4]->face_width_m),
+                          g[4]->profile_shift,
+                          g[3]->profile_shift};
+  const GearPair hs_pair{g[6]->teeth,
+                         g[5]->teeth,
+                         false,
+                         hs.normal_module_m,
+                         hs.pressure_angle_rad,
+                         hs.helix_angle_rad,
+                         std::min(g[5]->face_width_m, g[6]->face_width_m),
+                         g[6]->profile_shift,
+                         g[5]->profile_shift};
   const MeshGeometry int_geo = mesh_geometry(int_pair);
   const MeshGeometry hs_geo = mesh_geometry(hs_pair);
   const Eigen::Vector2d ims_centre =
-      int_geo.centre_distance_m * Eigen::Vector2d(std::cos(s.ims_axis_angle_rad), std::sin(s.ims_axis_angle_rad));
+      int_geo.centre_distance_m *
+      Eigen::Vector2d(std::cos(s.ims_axis_angle_rad), std::sin(s.ims_axis_angle_rad));
   const Eigen::Vector2d hss_centre =
-      ims_centre +
-      hs_geo.centre_distance_m * Eigen::Vector2d(std::cos(s.hss_axis_angle_rad), std::sin(s.hss_axis_angle_rad));
+      ims_centre + hs_geo.centre_distance_m * Eigen::Vector2d(std::cos(s.hss_axis_angle_rad),
+                                                              std::sin(s.hss_axis_angle_rad));
 
-  auto build_shaft = [&](const Shaft& shaft, int elements, Eigen::Vector2d centre) -> std::optional<std::vector<Node>> {
+  auto build_shaft = [&](const Shaft& shaft, int elements,
+                         Eigen::Vector2d centre) -> std::optional<std::vector<Node>> {
     const Material* mat = d.material(shaft.material);
     if (mat == nullptr) {
-      fail(error, "drivetrain '" + d.name + "': shafts: '" + shaft.id + "': unknown material '" + shaft.material + "'");
+      fail(error, "drivetrain '" + d.name + "': shafts: '" + shaft.id + "': unknown material '" +
+                      shaft.material + "'");
       return std::nullopt;
     }
     std::vector<Node> nodes;
-    for (int i = 0; i <= elements; ++i) nodes.push_back(as.add_node(shaft.id + "." + std::to_string(i), true, centre));
+    for (int i = 0; i <= elements; ++i)
+      nodes.push_back(as.add_node(shaft.id + "." + std::to_string(i), true, centre));
     const double le = shaft.length_m / elements;
     const double dia = shaft.diameter_m;
     const double area = std::numbers::pi * dia * dia / 4.0;
@@ -320,7 +357,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   if (!hss) return std::nullopt;
   const Node& sunn = (*sun_shaft)[kSunNode];
   as.add_mass(sunn, sun.mass_kg, disc_inertia(sun.mass_kg, r_sun));
-  as.add_mass((*sun_shaft)[kG1Node], g[3]->mass_kg, disc_inertia(g[3]->mass_kg, int_geo.pitch_radius2_m));
+  as.add_mass((*sun_shaft)[kG1Node], g[3]->mass_kg,
+              disc_inertia(g[3]->mass_kg, int_geo.pitch_radius2_m));
   as.add_mass((*ims)[kG2Node], g[4]->mass_kg, disc_inertia(g[4]->mass_kg, int_geo.pitch_radius1_m));
   as.add_mass((*ims)[kG3Node], g[5]->mass_kg, disc_inertia(g[5]->mass_kg, hs_geo.pitch_radius2_m));
   as.add_mass((*hss)[kG4Node], g[6]->mass_kg, disc_inertia(g[6]->mass_kg, hs_geo.pitch_radius1_m));
@@ -350,7 +388,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     bool known = false;
     for (int i = 0; i < 6; ++i) known = known || mp.location == bearing_ids[i];
     if (!known) {
-      fail(error, "drivetrain '" + d.name + "': measurement_points: '" + mp.channel + "' sits on '" + mp.location +
+      fail(error, "drivetrain '" + d.name + "': measurement_points: '" + mp.channel +
+                      "' sits on '" + mp.location +
                       "'; the dynamics model has housing seats under b1..b6 only");
       return std::nullopt;
     }
@@ -373,11 +412,13 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const Node* node;
     int shaft_group;
   };
-  const std::array<BearingSite, 6> sites{BearingSite{&(*sun_shaft)[kB1Node], 0}, BearingSite{&(*sun_shaft)[kB2Node], 0},
-                                         BearingSite{&(*ims)[kB3Node], 1},       BearingSite{&(*ims)[kB4Node], 1},
-                                         BearingSite{&(*hss)[kB5Node], 2},       BearingSite{&(*hss)[kB6Node], 2}};
+  const std::array<BearingSite, 6> sites{
+      BearingSite{&(*sun_shaft)[kB1Node], 0}, BearingSite{&(*sun_shaft)[kB2Node], 0},
+      BearingSite{&(*ims)[kB3Node], 1},       BearingSite{&(*ims)[kB4Node], 1},
+      BearingSite{&(*hss)[kB5Node], 2},       BearingSite{&(*hss)[kB6Node], 2}};
   for (int i = 0; i < 6; ++i) {
-    const double ka = br[i]->radial_stiffness_n_m * br[i]->rows * dp.bearing_stiffness_scale[sites[i].shaft_group];
+    const double ka = br[i]->radial_stiffness_n_m * br[i]->rows *
+                      dp.bearing_stiffness_scale[sites[i].shaft_group];
     as.spring({{sites[i].node->z, 1.0}}, s.bearing_axial_ratio * ka);
   }
 
@@ -388,7 +429,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
 
   auto add_varying = [&](std::vector<VaryingStiffness>& list, VaryingStiffness v) {
     for (int c = 0; c < v.directions.cols(); ++c) {
-      model.stiffness.noalias() += v.mean_n_m * v.directions.col(c) * v.directions.col(c).transpose();
+      model.stiffness.noalias() +=
+          v.mean_n_m * v.directions.col(c) * v.directions.col(c).transpose();
     }
     list.push_back(std::move(v));
   };
@@ -407,7 +449,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const Eigen::Vector2d w(-u.y(), u.x());
     {
       const Eigen::Vector2d nt = std::cos(alpha) * w - std::sin(alpha) * u;
-      const MeshVector mv = mesh_vector(planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, nt, 0.0, 0.0);
+      const MeshVector mv =
+          mesh_vector(planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, nt, 0.0, 0.0);
       VaryingStiffness v;
       v.id = "sun_planet_" + std::to_string(n + 1);
       v.directions = mesh_direction(n_dof, planets[n], sunn, mv);
@@ -415,8 +458,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       v.shape = k_sp.shape;
       v.order = planetary_order;
       v.phase_cycles = sun_planet_phase(sun.teeth, psi[n]);
-      model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n, sp_geo.base_radius1_m,
-                                 sun_torque_ratio, 0.0, ps.planets});
+      model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n,
+                                 sp_geo.base_radius1_m, sun_torque_ratio, 0.0, ps.planets});
       add_varying(model.meshes, std::move(v));
     }
   }
@@ -424,7 +467,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const Eigen::Vector2d u(std::cos(psi[n]), std::sin(psi[n]));
     const Eigen::Vector2d w(-u.y(), u.x());
     const Eigen::Vector2d nt = std::cos(alpha) * w + std::sin(alpha) * u;
-    const MeshVector mv = mesh_vector(planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, nt, 0.0, 0.0);
+    const MeshVector mv =
+        mesh_vector(planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, nt, 0.0, 0.0);
     VaryingStiffness v;
     v.id = "ring_planet_" + std::to_string(n + 1);
     v.directions = mesh_direction(n_dof, planets[n], ringn, mv);
@@ -434,16 +478,17 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const double gamma = ring_planet_phase(ring.teeth, psi[n]) + gamma_rs;
     v.phase_cycles = gamma - std::floor(gamma);
     // Ring reaction torque = T_in − T_sun.
-    model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n, rp_geo.base_radius2_m,
-                               1.0 - sun_torque_ratio, 0.0, ps.planets});
+    model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n,
+                               rp_geo.base_radius2_m, 1.0 - sun_torque_ratio, 0.0, ps.planets});
     add_varying(model.meshes, std::move(v));
   }
 
   // ---- parallel helical meshes -----------------------------------------------------------------
   // Driver A (wheel) turning in sense `spin` (+1: +θ) pushes the pinion B tangentially in
   // A's surface velocity and away from A: n_t = spin·cos α_t·w + sin α_t·u, u from A to B.
-  auto parallel_mesh = [&](const char* id, const Node& a, const Node& b, const MeshGeometry& geo, double spin,
-                           double order, double scale, const GearPair& pair, double torque_ratio) {
+  auto parallel_mesh = [&](const char* id, const Node& a, const Node& b, const MeshGeometry& geo,
+                           double spin, double order, double scale, const GearPair& pair,
+                           double torque_ratio) {
     const Eigen::Vector2d ab = b.centre - a.centre;
     const Eigen::Vector2d u = ab.normalized();
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -459,18 +504,20 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = k.shape;
     v.order = order;
     v.phase_cycles = 0.0;
-    model.mesh_info.push_back({a.centre, b.centre, pitch, mv.n, geo.base_radius1_m, torque_ratio, geo.base_helix_angle_rad, 1});
+    model.mesh_info.push_back({a.centre, b.centre, pitch, mv.n, geo.base_radius1_m, torque_ratio,
+                               geo.base_helix_angle_rad, 1});
     add_varying(model.meshes, std::move(v));
   };
   // Sun and carrier turn the same way (ring fixed): the sun shaft spins +θ, the ims −θ.
   const double ims_torque_ratio = sun_torque_ratio / kin.stage_ratio(1);
   const double hss_torque_ratio = ims_torque_ratio / kin.stage_ratio(2);
-  parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0, kin.mesh_hz(1, 60.0),
-                dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio);
+  parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0,
+                kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio);
   parallel_mesh("high_speed", (*ims)[kG3Node], (*hss)[kG4Node], hs_geo, -1.0, kin.mesh_hz(2, 60.0),
                 dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio);
 
-  // ---- bearings b1..b6 ---------------------------------------------------------------------------
+  // ---- bearings b1..b6
+  // ---------------------------------------------------------------------------
   for (int i = 0; i < 6; ++i) {
     const Bearing& b = *br[i];
     const Node& node = *sites[i].node;
@@ -489,7 +536,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = PeriodicTable::cosine(dp.bearing_stiffness_fluctuation);
     const std::optional<BearingFrequencies> f = kin.bearing_hz(b.id, 60.0);
     if (!f) {
-      fail(error, "drivetrain '" + d.name + "': bearings: '" + b.id + "': shaft '" + b.shaft + "' is not a drivetrain shaft");
+      fail(error, "drivetrain '" + d.name + "': bearings: '" + b.id + "': shaft '" + b.shaft +
+                      "' is not a drivetrain shaft");
       return std::nullopt;
     }
     v.order = f->bpfo_hz;  // varying compliance: one period per ball passing the outer race

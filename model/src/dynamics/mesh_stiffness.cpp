@@ -24,19 +24,22 @@ MeshGeometry mesh_geometry(const GearPair& p) {
   g.tip_radius1_m = g.pitch_radius1_m + p.normal_module_m * (1.0 + p.x1);
   g.tip_radius2_m = p.internal ? g.pitch_radius2_m - p.normal_module_m * (1.0 - p.x2)
                                : g.pitch_radius2_m + p.normal_module_m * (1.0 + p.x2);
-  g.centre_distance_m = p.internal ? g.pitch_radius2_m - g.pitch_radius1_m
-                                   : g.pitch_radius2_m + g.pitch_radius1_m;
+  g.centre_distance_m =
+      p.internal ? g.pitch_radius2_m - g.pitch_radius1_m : g.pitch_radius2_m + g.pitch_radius1_m;
   g.base_pitch_m = std::numbers::pi * g.transverse_module_m * std::cos(alpha_t);
   // Path of contact (ISO 21771 §5.4): the line of action between the two tip circles.
-  const double t1 = std::sqrt(g.tip_radius1_m * g.tip_radius1_m - g.base_radius1_m * g.base_radius1_m);
-  const double t2 = std::sqrt(g.tip_radius2_m * g.tip_radius2_m - g.base_radius2_m * g.base_radius2_m);
+  const double t1 =
+      std::sqrt(g.tip_radius1_m * g.tip_radius1_m - g.base_radius1_m * g.base_radius1_m);
+  const double t2 =
+      std::sqrt(g.tip_radius2_m * g.tip_radius2_m - g.base_radius2_m * g.base_radius2_m);
   const double a_sin = g.centre_distance_m * std::sin(alpha_t);
   g.path_of_contact_m = p.internal ? t1 - t2 + a_sin : t1 + t2 - a_sin;
   // Contact starts where gear 2's tip circle cuts the line of action.
   const double r2_sin = g.pitch_radius2_m * std::sin(alpha_t);
   g.pitch_point_m = p.internal ? r2_sin - t2 : t2 - r2_sin;
   g.transverse_contact_ratio = g.path_of_contact_m / g.base_pitch_m;
-  g.overlap_ratio = p.face_width_m * std::sin(p.helix_angle_rad) / (std::numbers::pi * p.normal_module_m);
+  g.overlap_ratio =
+      p.face_width_m * std::sin(p.helix_angle_rad) / (std::numbers::pi * p.normal_module_m);
   return g;
 }
 

@@ -47,8 +47,8 @@ void NewmarkIntegrator::accelerations_from_equilibrium() {
   a_ = rhs_.array() / m_.mass.array();
 }
 
-void NewmarkIntegrator::reset(const Eigen::VectorXd& x, const Eigen::VectorXd& v, const OperatingPoint& op,
-                              double rotor_revolutions) {
+void NewmarkIntegrator::reset(const Eigen::VectorXd& x, const Eigen::VectorXd& v,
+                              const OperatingPoint& op, double rotor_revolutions) {
   x_ = x;
   v_ = v;
   op_ = op;
@@ -77,7 +77,8 @@ void NewmarkIntegrator::step() {
   const Eigen::VectorXd a_diag = (0.25 * dt_ * dt_) * dk_;
   small_ = a_diag.asDiagonal() * g_;
   small_.diagonal().array() += 1.0;
-  const Eigen::VectorXd corr = small_.partialPivLu().solve(a_diag.asDiagonal() * (u_.transpose() * y));
+  const Eigen::VectorXd corr =
+      small_.partialPivLu().solve(a_diag.asDiagonal() * (u_.transpose() * y));
   const Eigen::VectorXd a_next = y - z_ * corr;
   x_ = tmp_ + (0.25 * dt_ * dt_) * a_next;
   v_ = v_pred + (0.5 * dt_) * a_next;

@@ -11,8 +11,10 @@
 namespace model::dynamics {
 
 static_assert(detail::kKernelDofs == kRomDofs && detail::kKernelMeshes == kRomMeshes &&
-                  detail::kKernelBearings == kRomBearings && detail::kKernelBearingRank == kRomBearingRank && detail::kKernelForces == kRomForces &&
-                  detail::kKernelSensors == kRomSensors && detail::kKernelReadoutRows == kRomReadoutRows,
+                  detail::kKernelBearings == kRomBearings &&
+                  detail::kKernelBearingRank == kRomBearingRank &&
+                  detail::kKernelForces == kRomForces && detail::kKernelSensors == kRomSensors &&
+                  detail::kKernelReadoutRows == kRomReadoutRows,
               "rom_kernel.hpp's capacities must equal rom.hpp's");
 static_assert(kRomSensors == 2, "RomOutputs::acceleration_m_s2 is filled by the kernel");
 
@@ -29,8 +31,8 @@ RomStiffnessTerm to_rom(const VaryingStiffness& v) {
 
 }  // namespace
 
-std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutoff_hz, std::string* error,
-                                   RomBuildReport* report) {
+std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutoff_hz,
+                                   std::string* error, RomBuildReport* report) {
   if (!(dt_s > 0.0) || !std::isfinite(dt_s) || !(cutoff_hz > 0.0) || !std::isfinite(cutoff_hz)) {
     fail(error, "rom: time step and cut-off frequency must be finite and > 0");
     return nullptr;
@@ -39,9 +41,10 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
       m.bearings.size() > static_cast<std::size_t>(kRomBearings) ||
       m.forces.size() > static_cast<std::size_t>(kRomForces) ||
       m.sensors.size() > static_cast<std::size_t>(kRomSensors)) {
-    fail(error, "rom: the model has more meshes, bearings, forces or sensors than the ROM's capacity (" +
-                    std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
-                    std::to_string(kRomForces) + ", " + std::to_string(kRomSensors) + ")");
+    fail(error,
+         "rom: the model has more meshes, bearings, forces or sensors than the ROM's capacity (" +
+             std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
+             std::to_string(kRomForces) + ", " + std::to_string(kRomSensors) + ")");
     return nullptr;
   }
   for (const auto& b : m.bearings) {
@@ -61,13 +64,16 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   const Eigen::VectorXd lambda = full.eigenvalues();
   if (lambda[0] <= 0.0) {
-    fail(error, "rom: the full model's stiffness is not positive definite (unsupported rigid-body motion)");
+    fail(
+        error,
+        "rom: the full model's stiffness is not positive definite (unsupported rigid-body motion)");
     return nullptr;
   }
   const double cutoff_w2 = std::pow(2.0 * std::numbers::pi * cutoff_hz, 2);
   int keep = 0;
   while (keep < n && lambda[keep] <= cutoff_w2) ++keep;
-  const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * full.eigenvectors().leftCols(keep);  // Φᵀ M Φ = I
+  const Eigen::MatrixXd phi =
+      inv_sqrt_m.asDiagonal() * full.eigenvectors().leftCols(keep);  // Φᵀ M Φ = I
 
   // Static correction vectors: input torque and each mesh direction.
   std::vector<Eigen::VectorXd> loads;
@@ -82,7 +88,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   if (unit_torque.squaredNorm() > 0.0) {
     const Eigen::VectorXd x1 = k_llt.solve(unit_torque);
-    for (const auto& b : m.bearings) loads.push_back(b.directions * (b.directions.transpose() * x1));
+    for (const auto& b : m.bearings)
+      loads.push_back(b.directions * (b.directions.transpose() * x1));
   }
   // Unit load vectors: the threshold below compares their residuals with each other.
   for (auto& l : loads) l.normalize();
@@ -107,15 +114,17 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   const int n_corr = static_cast<int>(kept.size());
   const int total = keep + n_corr;
   if (total > kRomDofs) {
-    fail(error, "rom: " + std::to_string(keep) + " modes up to " + std::to_string(cutoff_hz) + " Hz + " +
-                    std::to_string(n_corr) + " correction vectors exceed the capacity kRomDofs = " +
+    fail(error, "rom: " + std::to_string(keep) + " modes up to " + std::to_string(cutoff_hz) +
+                    " Hz + " + std::to_string(n_corr) +
+                    " correction vectors exceed the capacity kRomDofs = " +
                     std::to_string(kRomDofs) + "; lower the cut-off or raise kRomDofs");
     return nullptr;
   }
   Eigen::MatrixXd basis(n, total);
   basis.leftCols(keep) = phi;
   for (int j = 0; j < n_corr; ++j) {
-    basis.col(keep + j) = psi * ge.eigenvectors().col(kept[j]) / std::sqrt(ge.eigenvalues()[kept[j]]);
+    basis.col(keep + j) =
+        psi * ge.eigenvectors().col(kept[j]) / std::sqrt(ge.eigenvalues()[kept[j]]);
   }
   // Rayleigh–Ritz on the M-orthonormal basis.
   const Eigen::MatrixXd k_red = basis.transpose() * m.stiffness * basis;
@@ -186,21 +195,26 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (int i = 0; i < total; ++i) {
     double share = 0.0;
     for (int j = 0; j < d.bearing_count; ++j) {
-      const double amp = (*std::max_element(d.bearings[j].shape.values.begin(), d.bearings[j].shape.values.end()) - 1.0) *
-                         d.bearings[j].mean_n_m;
-      share += amp * (d.w_bearing(i, 2 * j) * d.w_bearing(i, 2 * j) + d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
+      const double amp =
+          (*std::max_element(d.bearings[j].shape.values.begin(), d.bearings[j].shape.values.end()) -
+           1.0) *
+          d.bearings[j].mean_n_m;
+      share += amp * (d.w_bearing(i, 2 * j) * d.w_bearing(i, 2 * j) +
+                      d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
     }
     if (share >= d.omega2[i]) {
-      fail(error, "rom: bearing stiffness fluctuation exceeds the stiffness of ROM mode " + std::to_string(i) +
-                      " (explicit bearing terms would be unstable)");
+      fail(error, "rom: bearing stiffness fluctuation exceeds the stiffness of ROM mode " +
+                      std::to_string(i) + " (explicit bearing terms would be unstable)");
       return nullptr;
     }
   }
   if (report) {
     report->full_mode_hz.clear();
-    for (Eigen::Index i = 0; i < lambda.size(); ++i) report->full_mode_hz.push_back(std::sqrt(lambda[i]) / (2.0 * std::numbers::pi));
+    for (Eigen::Index i = 0; i < lambda.size(); ++i)
+      report->full_mode_hz.push_back(std::sqrt(lambda[i]) / (2.0 * std::numbers::pi));
     report->rom_mode_hz.clear();
-    for (int i = 0; i < total; ++i) report->rom_mode_hz.push_back(d.omega_rad_s[i] / (2.0 * std::numbers::pi));
+    for (int i = 0; i < total; ++i)
+      report->rom_mode_hz.push_back(d.omega_rad_s[i] / (2.0 * std::numbers::pi));
     report->eigenmodes = keep;
     report->correction_vectors = n_corr;
   }
@@ -251,30 +265,22 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
 
   // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
-  const detail::RomKernelModel model{d.pqq.data(),
-                                     d.pqv.data(),
-                                     d.b0q.data(),
-                                     d.b1q.data(),
-                                     d.pvq.data(),
-                                     d.pvv.data(),
-                                     d.b0v.data(),
-                                     d.b1v.data(),
-                                     d.damping_1_s.data(),
-                                     d.omega2.data(),
-                                     d.w_force.data(),
-                                     d.w_bearing.data(),
-                                     d.w_mesh.data(),
-                                     d.readout_by_dof.data(),
-                                     d.g_mesh.data(),
-                                     d.readout_correction.data(),
-                                     d.sensor_rows.data(),
-                                     d.meshes.data(),
-                                     d.bearings.data(),
-                                     d.forces.data(),
+  const detail::RomKernelModel model{d.pqq.data(),         d.pqv.data(),
+                                     d.b0q.data(),         d.b1q.data(),
+                                     d.pvq.data(),         d.pvv.data(),
+                                     d.b0v.data(),         d.b1v.data(),
+                                     d.damping_1_s.data(), d.omega2.data(),
+                                     d.w_force.data(),     d.w_bearing.data(),
+                                     d.w_mesh.data(),      d.readout_by_dof.data(),
+                                     d.g_mesh.data(),      d.readout_correction.data(),
+                                     d.sensor_rows.data(), d.meshes.data(),
+                                     d.bearings.data(),    d.forces.data(),
                                      d.force_count};
-  const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(), z_mesh_.data()};
+  const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(),
+                                     z_mesh_.data()};
   const detail::RomKernelOutputs outputs{out.mesh_force_n.data(), out.bearing_force_x_n.data(),
-                                         out.bearing_force_y_n.data(), out.acceleration_m_s2.data()};
+                                         out.bearing_force_y_n.data(),
+                                         out.acceleration_m_s2.data()};
   detail::rom_step_kernel(model, revs_next, in.input_torque_nm, state, outputs);
   revs_ = revs_next;
   t_ += d.dt_s;

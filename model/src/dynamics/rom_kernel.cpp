@@ -24,7 +24,8 @@ constexpr int kZ = kM + kB;
 constexpr int kZpad = kKernelReadoutRows;  // kZ rounded up to whole Mesh8 vectors
 constexpr int kZv = kZpad / kM;
 static_assert(kZpad % kM == 0 && kZpad >= kZ, "read-out rows must fill whole vectors");
-constexpr int kLanes = 8;  // partial sums per dot product: one AVX-512 / two AVX2 / four NEON registers
+constexpr int kLanes =
+    8;  // partial sums per dot product: one AVX-512 / two AVX2 / four NEON registers
 static_assert(kN % kLanes == 0, "kKernelDofs must be a multiple of the dot-product lanes");
 
 [[gnu::always_inline]] inline double sum_lanes(const double (&acc)[kLanes]) noexcept {
@@ -40,8 +41,9 @@ static_assert(sizeof(Mesh8) == kM * sizeof(double), "one Mesh8 per mesh vector")
 
 // The identity's columns as whole vectors: setting one element of a vector in place
 // goes through memory and stalls the next load of the whole vector (store forwarding).
-constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0}, {0, 0, 1, 0, 0, 0, 0, 0},
-                             {0, 0, 0, 1, 0, 0, 0, 0}, {0, 0, 0, 0, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 1, 0, 0},
+constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
+                             {0, 0, 1, 0, 0, 0, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0},
+                             {0, 0, 0, 0, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 1, 0, 0},
                              {0, 0, 0, 0, 0, 0, 1, 0}, {0, 0, 0, 0, 0, 0, 0, 1}};
 
 // (I + A·G)⁻¹, A = diag(Δk_mesh), G = Wᵀ diag(b1q) W, by Gauss–Jordan elimination
@@ -85,7 +87,8 @@ constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 // One clone per x86-64 micro-architecture level; GCC's resolver picks the best at load time.
-#define DRIVETWIN_ROM_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#define DRIVETWIN_ROM_KERNEL_CLONES \
+  __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
 #define DRIVETWIN_ROM_KERNEL_CLONES
 #endif
@@ -94,10 +97,11 @@ namespace {
 // The step proper. The state arrays are `__restrict`: the kernel reads and writes them
 // only through these pointers, so the corrector writes them in place without the
 // compiler guarding every store against the model data.
-[[gnu::always_inline]] inline void step(const RomKernelModel& m, const double revs, const double input_torque_nm,
-                                        double* __restrict q, double* __restrict v, double* __restrict g,
-                                        const RomKernelState& s, const RomKernelOutputs& out) noexcept {
-
+[[gnu::always_inline]] inline void step(const RomKernelModel& m, const double revs,
+                                        const double input_torque_nm, double* __restrict q,
+                                        double* __restrict v, double* __restrict g,
+                                        const RomKernelState& s,
+                                        const RomKernelOutputs& out) noexcept {
   // The time-varying coefficients at t_{n+1} from their tables (in the clone: the
   // look-ups' floor() is one instruction with SSE4.1 and later).
   double force[kKernelForces] = {};
@@ -159,7 +163,8 @@ namespace {
     }
   }
   alignas(64) double z_sum[kZpad];
-  for (int k = 0; k < kZpad; ++k) z_sum[k] = (z_sets[0][k] + z_sets[2][k]) + (z_sets[1][k] + z_sets[3][k]);
+  for (int k = 0; k < kZpad; ++k)
+    z_sum[k] = (z_sets[0][k] + z_sets[2][k]) + (z_sets[1][k] + z_sets[3][k]);
   Mesh8 z[kZv];
   __builtin_memcpy(z, z_sum, sizeof z);
 

@@ -40,15 +40,16 @@ struct RomKernelModel {
   const double* pvv;
   const double* b0v;
   const double* b1v;
-  const double* damping_1_s;     // [kKernelDofs] [1/s]
-  const double* omega2;          // [kKernelDofs] [1/s²]
-  const double* w_force;         // [kKernelForces][kKernelDofs]
-  const double* w_bearing;       // [kKernelBearingRank][kKernelDofs]
-  const double* w_mesh;          // [kKernelMeshes][kKernelDofs]
-  const double* readout_by_dof;  // [kKernelDofs][kKernelReadoutRows]: column i of [W W_b]ᵀ, zero-padded
-  const double* g_mesh;          // [kKernelMeshes][kKernelMeshes], column-major
+  const double* damping_1_s;  // [kKernelDofs] [1/s]
+  const double* omega2;       // [kKernelDofs] [1/s²]
+  const double* w_force;      // [kKernelForces][kKernelDofs]
+  const double* w_bearing;    // [kKernelBearingRank][kKernelDofs]
+  const double* w_mesh;       // [kKernelMeshes][kKernelDofs]
+  const double*
+      readout_by_dof;    // [kKernelDofs][kKernelReadoutRows]: column i of [W W_b]ᵀ, zero-padded
+  const double* g_mesh;  // [kKernelMeshes][kKernelMeshes], column-major
   const double* readout_correction;  // [kKernelMeshes][kKernelReadoutRows]: [G; H; 0] by columns
-  const double* sensor_rows;     // [kKernelSensors][kKernelDofs]
+  const double* sensor_rows;         // [kKernelSensors][kKernelDofs]
   const RomStiffnessTerm* meshes;    // [kKernelMeshes]
   const RomStiffnessTerm* bearings;  // [kKernelBearings]
   const RomForceTerm* forces;        // [force_count]
@@ -76,8 +77,9 @@ struct RomKernelState {
 /// and writes the outputs at t_{n+1}.
 /// @param rotor_revolutions_next  rotor angle at t_{n+1} [revolutions]
 /// @param input_torque_nm         input torque held over the step [N·m]
-void rom_step_kernel(const RomKernelModel& model, double rotor_revolutions_next, double input_torque_nm,
-                     const RomKernelState& state, const RomKernelOutputs& out) noexcept;
+void rom_step_kernel(const RomKernelModel& model, double rotor_revolutions_next,
+                     double input_torque_nm, const RomKernelState& state,
+                     const RomKernelOutputs& out) noexcept;
 
 /// Which kernel the loader chose ("avx512", "avx2-fma", "baseline"): for benchmark reports.
 const char* rom_step_kernel_isa() noexcept;

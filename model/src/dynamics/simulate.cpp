@@ -29,7 +29,8 @@ void prepare(const FullModel& m, std::size_t samples, double rate, SimulationOut
 
 }  // namespace
 
-bool check_simulation_inputs(const OperatingPoint& op, const SimulationSettings& s, std::string* error) {
+bool check_simulation_inputs(const OperatingPoint& op, const SimulationSettings& s,
+                             std::string* error) {
   if (!std::isfinite(op.rotor_speed_rpm) || op.rotor_speed_rpm <= 0.0) {
     return fail(error, "operating point: rotor_speed_rpm must be finite and > 0");
   }
@@ -61,12 +62,14 @@ bool simulate_full(const Drivetrain& d, const OperatingPoint& op, const Simulati
   integ.reset_static(op);
   for (std::size_t i = 0; i < samples; ++i) {
     for (int k = 0; k < s.full_substeps; ++k) integ.step();
-    for (std::size_t j = 0; j < m->meshes.size(); ++j) out.mesh_force_n[j][i] = integ.mesh_force_n(j);
+    for (std::size_t j = 0; j < m->meshes.size(); ++j)
+      out.mesh_force_n[j][i] = integ.mesh_force_n(j);
     for (std::size_t j = 0; j < m->bearings.size(); ++j) {
       out.bearing_force_x_n[j][i] = integ.bearing_force_n(j, 0);
       out.bearing_force_y_n[j][i] = integ.bearing_force_n(j, 1);
     }
-    for (std::size_t j = 0; j < m->sensors.size(); ++j) out.acceleration_m_s2[j][i] = integ.sensor_m_s2(j);
+    for (std::size_t j = 0; j < m->sensors.size(); ++j)
+      out.acceleration_m_s2[j][i] = integ.sensor_m_s2(j);
     out.hss_revolutions[i] = integ.rotor_revolutions() * hss_ratio;
   }
   return true;
@@ -77,7 +80,8 @@ bool simulate_rom(const Drivetrain& d, const OperatingPoint& op, const Simulatio
   if (!check_simulation_inputs(op, s, error)) return false;
   const std::optional<FullModel> m = build_full_model(d, {}, error);
   if (!m) return false;
-  const std::unique_ptr<RomData> data = build_rom(*m, 1.0 / s.sample_rate_hz, s.rom_cutoff_hz, error);
+  const std::unique_ptr<RomData> data =
+      build_rom(*m, 1.0 / s.sample_rate_hz, s.rom_cutoff_hz, error);
   if (!data) return false;
   const auto samples = static_cast<std::size_t>(std::llround(s.seconds * s.sample_rate_hz));
   prepare(*m, samples, s.sample_rate_hz, out);
@@ -93,7 +97,8 @@ bool simulate_rom(const Drivetrain& d, const OperatingPoint& op, const Simulatio
       out.bearing_force_x_n[j][i] = o.bearing_force_x_n[j];
       out.bearing_force_y_n[j][i] = o.bearing_force_y_n[j];
     }
-    for (int j = 0; j < data->sensor_count; ++j) out.acceleration_m_s2[j][i] = o.acceleration_m_s2[j];
+    for (int j = 0; j < data->sensor_count; ++j)
+      out.acceleration_m_s2[j][i] = o.acceleration_m_s2[j];
     out.hss_revolutions[i] = rom->rotor_revolutions() * hss_ratio;
   }
   return true;

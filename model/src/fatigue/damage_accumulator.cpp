@@ -89,14 +89,16 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
       const double sigma = cs.stress(c, k, loads);
       std::size_t bin = overflow;
       if (sigma < config_.full_scale[c]) {
-        bin = std::min(overflow - 1, static_cast<std::size_t>(std::max(0.0, sigma) * inv_width_[c]));
+        bin =
+            std::min(overflow - 1, static_cast<std::size_t>(std::max(0.0, sigma) * inv_width_[c]));
       } else {
         s.overflow_max[c] = std::max(s.overflow_max[c], sigma);
       }
       s.bin_ticks[c][bin] += dt_ticks;
       s.bin_rev_q[c][bin] += rev_q;
       // Palmgren–Miner increment n/N(σ), n = revs·cycles per rotor rev (ISO 6336-6 §5).
-      const double inc = revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
+      const double inc =
+          revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
       // Neumaier compensated summation.
       const double sum = s.damage[c];
       const double t = sum + inc;
@@ -119,7 +121,8 @@ double DamageAccumulator::histogram_damage(std::size_t c) const {
   double d = 0.0;
   for (std::size_t i = 0; i < config_.bins; ++i) {
     const double revs = static_cast<double>(state_->bin_rev_q[c][i]) * kRevQuantum;
-    if (revs > 0.0) d += revs * cycles * ch.curve.damage_per_cycle((static_cast<double>(i) + 0.5) * width_[c]);
+    if (revs > 0.0)
+      d += revs * cycles * ch.curve.damage_per_cycle((static_cast<double>(i) + 0.5) * width_[c]);
   }
   const double over = static_cast<double>(state_->bin_rev_q[c][config_.bins]) * kRevQuantum;
   if (over > 0.0) d += over * cycles * ch.curve.damage_per_cycle(state_->overflow_max[c]);

@@ -23,9 +23,12 @@ constexpr double kMidSpanShare = 0.5;
 
 const char* failure_mode_name(FailureMode mode) {
   switch (mode) {
-    case FailureMode::kContact: return "contact";
-    case FailureMode::kBending: return "bending";
-    case FailureMode::kBearing: return "bearing";
+    case FailureMode::kContact:
+      return "contact";
+    case FailureMode::kBending:
+      return "bending";
+    case FailureMode::kBearing:
+      return "bearing";
   }
   return "?";
 }
@@ -105,7 +108,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
         return;
       }
     }
-    if (shaft_force_count < shaft_forces.size()) shaft_forces[shaft_force_count++] = {shaft, radial, axial};
+    if (shaft_force_count < shaft_forces.size())
+      shaft_forces[shaft_force_count++] = {shaft, radial, axial};
   };
   double planet_ft_per_nm = 0.0;
   int planets = 0;
@@ -118,7 +122,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
     const double t_in_per_nm = 1.0 / in_ratio;
     if (st.type == StageType::kPlanetary) {
       if (st.gears.size() != 3 || st.planets <= 0) {
-        fail("stage '" + st.id + "': planetary stage needs gears {sun, planet, ring} and planets > 0");
+        fail("stage '" + st.id +
+             "': planetary stage needs gears {sun, planet, ring} and planets > 0");
         break;
       }
       const Gear* sun = d.gear(st.gears[0]);
@@ -135,12 +140,12 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       const double zs = sun->teeth, zp = planet->teeth, zr = ring->teeth;
       const double b_sp = std::min(sun->face_width_m, planet->face_width_m);
       const double b_pr = std::min(planet->face_width_m, ring->face_width_m);
-      const PairGeometry g_sp = pair_geometry(zs, zp, sun->profile_shift, planet->profile_shift,
-                                              st.normal_module_m, st.pressure_angle_rad,
-                                              st.helix_angle_rad, b_sp, options.rating.rack);
-      const PairGeometry g_pr = pair_geometry(zp, -zr, planet->profile_shift, ring->profile_shift,
-                                              st.normal_module_m, st.pressure_angle_rad,
-                                              st.helix_angle_rad, b_pr, options.rating.rack);
+      const PairGeometry g_sp =
+          pair_geometry(zs, zp, sun->profile_shift, planet->profile_shift, st.normal_module_m,
+                        st.pressure_angle_rad, st.helix_angle_rad, b_sp, options.rating.rack);
+      const PairGeometry g_pr =
+          pair_geometry(zp, -zr, planet->profile_shift, ring->profile_shift, st.normal_module_m,
+                        st.pressure_angle_rad, st.helix_angle_rad, b_pr, options.rating.rack);
       // K_Hβ (ISO 6336-1 method C, gear_rating.hpp): the sun's body carries the torque of all
       // P planet meshes over its face width and its radial forces balance (no shaft bending);
       // a planet is an idler (no torque through its body); its pin's bending is not in the
@@ -152,7 +157,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       const MeshRating r_sp = mesh_rating(g_sp, *ms, *mp, options.k_a, options.rating, sun_body);
       const MeshRating r_pr = mesh_rating(g_pr, *mp, *mr, options.k_a, options.rating, planet_body);
       // Carrier torque T_c = P·F_t·(d_s/2)·(1 + z_r/z_s) (ring fixed): F_t per planet mesh.
-      const double ft_per_nm = t_in_per_nm / (st.planets * 0.5 * std::abs(g_sp.d_m[0]) * (1.0 + zr / zs));
+      const double ft_per_nm =
+          t_in_per_nm / (st.planets * 0.5 * std::abs(g_sp.d_m[0]) * (1.0 + zr / zs));
       planets = st.planets;
       planet_ft_per_nm = ft_per_nm;
       planet_rev_per_rotor_rev = zr / zp;
@@ -176,7 +182,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
         sun_b.sources[k] = {static_cast<std::uint8_t>(sp[k]), 0, zr / zs};
         ring_c.sources[k] = {static_cast<std::uint8_t>(pr[k]), 1, 1.0};
       }
-      sun_c.source_count = sun_b.source_count = ring_c.source_count = static_cast<std::size_t>(st.planets);
+      sun_c.source_count = sun_b.source_count = ring_c.source_count =
+          static_cast<std::size_t>(st.planets);
       add_channel(sun_c);
       add_channel(sun_b);
       for (int k = 0; k < st.planets && valid(); ++k) {
@@ -185,7 +192,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
         c1.sources[0] = {static_cast<std::uint8_t>(sp[k]), 1, zr / zp};
         Channel c2{pid, "ring-side flank", FailureMode::kContact, contact_curve(*mp), {}, 1, 0.0};
         c2.sources[0] = {static_cast<std::uint8_t>(pr[k]), 0, zr / zp};
-        Channel c3{pid, "reversed (Y_M)", FailureMode::kBending, bending_curve(*mp, true), {}, 1, 0.0};
+        Channel c3{pid, "reversed (Y_M)", FailureMode::kBending, bending_curve(*mp, true), {}, 1,
+                   0.0};
         c3.sources[0] = {static_cast<std::uint8_t>(sp[k]), 1, zr / zp};
         add_channel(c1);
         add_channel(c2);
@@ -206,11 +214,10 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       const Material* mw = material_of(*wheel);
       const Material* mpn = material_of(*pinion);
       if (!mw || !mpn) break;
-      const PairGeometry g = pair_geometry(pinion->teeth, wheel->teeth, pinion->profile_shift,
-                                           wheel->profile_shift, st.normal_module_m,
-                                           st.pressure_angle_rad, st.helix_angle_rad,
-                                           std::min(pinion->face_width_m, wheel->face_width_m),
-                                           options.rating.rack);
+      const PairGeometry g =
+          pair_geometry(pinion->teeth, wheel->teeth, pinion->profile_shift, wheel->profile_shift,
+                        st.normal_module_m, st.pressure_angle_rad, st.helix_angle_rad,
+                        std::min(pinion->face_width_m, wheel->face_width_m), options.rating.rack);
       // K_Hβ: the pinion shaft bends between its bearings (ISO 6336-1 method C, gear_rating.hpp):
       // l = the shaft's length between the bearings, d_sh its diameter, s = pinion_offset_ratio·l;
       // K' of ISO 6336-1 Figure 13 arrangement (a), where bending adds to torsion (the layout is
@@ -240,7 +247,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       for (int i : {1, 0}) {  // wheel first: the description's order
         Channel c{gears[i]->id, "", FailureMode::kContact, contact_curve(*mats[i]), {}, 1, 0.0};
         c.sources[0] = {static_cast<std::uint8_t>(slot), static_cast<std::uint8_t>(i), revs[i]};
-        Channel bnd{gears[i]->id, "", FailureMode::kBending, bending_curve(*mats[i], false), {}, 1, 0.0};
+        Channel bnd{gears[i]->id, "", FailureMode::kBending, bending_curve(*mats[i], false), {}, 1,
+                    0.0};
         bnd.sources[0] = c.sources[0];
         add_channel(c);
         add_channel(bnd);

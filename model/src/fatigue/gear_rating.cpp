@@ -12,8 +12,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kMm = 1e3;  // [mm/m]
 
-constexpr double kFshConstant = 0.023;   // [µm·mm/N] ISO 6336-1 method C, f_sh
-constexpr double kMinLineLoadNmm = 1e-6; // [N/mm] floor of F_m/b in K_Hβ
+constexpr double kFshConstant = 0.023;    // [µm·mm/N] ISO 6336-1 method C, f_sh
+constexpr double kMinLineLoadNmm = 1e-6;  // [N/mm] floor of F_m/b in K_Hβ
 
 double involute(double a) { return std::tan(a) - a; }
 
@@ -43,25 +43,25 @@ PairGeometry pair_geometry(double z1, double z2, double x1, double x2, double m_
   g.beta_rad = beta_rad;
   g.b_m = b_m;
   g.internal = z2 < 0.0;
-  const double m_t = m_n_m / std::cos(beta_rad);                              // ISO 21771 eq. 5
-  g.alpha_t_rad = std::atan(std::tan(alpha_n_rad) / std::cos(beta_rad));      // eq. 9
-  g.beta_b_rad = std::asin(std::sin(beta_rad) * std::cos(alpha_n_rad));       // eq. 13
+  const double m_t = m_n_m / std::cos(beta_rad);                          // ISO 21771 eq. 5
+  g.alpha_t_rad = std::atan(std::tan(alpha_n_rad) / std::cos(beta_rad));  // eq. 9
+  g.beta_b_rad = std::asin(std::sin(beta_rad) * std::cos(alpha_n_rad));   // eq. 13
   for (int i = 0; i < 2; ++i) {
-    g.d_m[i] = g.z[i] * m_t;                                                  // eq. 7
-    g.db_m[i] = g.d_m[i] * std::cos(g.alpha_t_rad);                           // eq. 11
-    g.da_m[i] = g.d_m[i] + 2.0 * m_n_m * (rack.addendum + g.x[i]);            // eq. 19 (signed)
+    g.d_m[i] = g.z[i] * m_t;                                        // eq. 7
+    g.db_m[i] = g.d_m[i] * std::cos(g.alpha_t_rad);                 // eq. 11
+    g.da_m[i] = g.d_m[i] + 2.0 * m_n_m * (rack.addendum + g.x[i]);  // eq. 19 (signed)
   }
   // Working pressure angle: inv α_wt = inv α_t + 2·tan α_n·(x1+x2)/(z1+z2) (ISO 21771 eq. 38).
   g.alpha_wt_rad = inverse_involute(involute(g.alpha_t_rad) +
                                     2.0 * std::tan(alpha_n_rad) * (x1 + x2) / (z1 + z2));
-  g.a_w_m = (g.db_m[0] + g.db_m[1]) / (2.0 * std::cos(g.alpha_wt_rad));       // eq. 40 (signed)
+  g.a_w_m = (g.db_m[0] + g.db_m[1]) / (2.0 * std::cos(g.alpha_wt_rad));  // eq. 40 (signed)
   // Length of path of contact (ISO 21771 eq. 69, signed form covers internal pairs).
   const double g_alpha =
       0.5 * (std::sqrt(g.da_m[0] * g.da_m[0] - g.db_m[0] * g.db_m[0]) +
              sign(z2) * std::sqrt(g.da_m[1] * g.da_m[1] - g.db_m[1] * g.db_m[1])) -
       g.a_w_m * std::sin(g.alpha_wt_rad);
-  g.eps_alpha = g_alpha / (kPi * m_t * std::cos(g.alpha_t_rad));              // eq. 72
-  g.eps_beta = b_m * std::sin(beta_rad) / (kPi * m_n_m);                      // eq. 74
+  g.eps_alpha = g_alpha / (kPi * m_t * std::cos(g.alpha_t_rad));  // eq. 72
+  g.eps_beta = b_m * std::sin(beta_rad) / (kPi * m_n_m);          // eq. 74
   g.u = z2 / z1;
   return g;
 }
@@ -74,11 +74,12 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   const double m_n = p.m_n_m;
   const double an = p.alpha_n_rad;
   const double cb = std::cos(p.beta_b_rad);
-  const double z_n = z / (cb * cb * std::cos(p.beta_rad));                    // ISO 6336-3 eq. 34
+  const double z_n = z / (cb * cb * std::cos(p.beta_rad));  // ISO 6336-3 eq. 34
   const double h_fp = rack.dedendum * m_n;
   const double rho_fp = rack.root_radius * m_n;
   // eq. 35–37 (no protuberance: s_pr = 0); T = π/3 for external gears.
-  const double e = kPi / 4.0 * m_n - h_fp * std::tan(an) - (1.0 - std::sin(an)) * rho_fp / std::cos(an);
+  const double e =
+      kPi / 4.0 * m_n - h_fp * std::tan(an) - (1.0 - std::sin(an)) * rho_fp / std::cos(an);
   const double g_ = rho_fp / m_n - h_fp / m_n + x;
   const double h = 2.0 / z_n * (kPi / 2.0 - e / m_n) - kPi / 3.0;
   // eq. 38: θ = 2G/z_n·tan θ − H, fixed-point iteration from π/6 (converges in a few steps).
@@ -93,9 +94,10 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   }
   BendingFormFactors f;
   const double s_fn = m_n * (z_n * std::sin(kPi / 3.0 - theta) +
-                             std::sqrt(3.0) * (g_ / std::cos(theta) - rho_fp / m_n));       // eq. 39
+                             std::sqrt(3.0) * (g_ / std::cos(theta) - rho_fp / m_n));  // eq. 39
   const double ct = std::cos(theta);
-  const double rho_f = m_n * (rho_fp / m_n + 2.0 * g_ * g_ / (ct * (z_n * ct * ct - 2.0 * g_)));  // eq. 40
+  const double rho_f =
+      m_n * (rho_fp / m_n + 2.0 * g_ * g_ / (ct * (z_n * ct * ct - 2.0 * g_)));  // eq. 40
   // Outer point of single pair contact in the virtual spur gear, eq. 42–47.
   const double eps_an = p.eps_alpha / (cb * cb);
   const double d_n = m_n * z_n;
@@ -105,29 +107,36 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   const double root = std::sqrt(d_an * d_an / 4.0 - d_bn * d_bn / 4.0) - p_bn * (eps_an - 1.0);
   const double d_en = 2.0 * std::sqrt(root * root + d_bn * d_bn / 4.0);
   const double alpha_en = std::acos(d_bn / d_en);
-  const double gamma_e = (0.5 * kPi + 2.0 * x * std::tan(an)) / z_n + involute(an) - involute(alpha_en);
+  const double gamma_e =
+      (0.5 * kPi + 2.0 * x * std::tan(an)) / z_n + involute(an) - involute(alpha_en);
   const double alpha_fen = alpha_en - gamma_e;
   const double h_fe = 0.5 * m_n *
                       ((std::cos(gamma_e) - std::sin(gamma_e) * std::tan(alpha_fen)) * d_en / m_n -
-                       z_n * std::cos(kPi / 3.0 - theta) - g_ / ct + rho_fp / m_n);        // eq. 41
+                       z_n * std::cos(kPi / 3.0 - theta) - g_ / ct + rho_fp / m_n);  // eq. 41
   f.s_fn_m = s_fn;
   f.rho_f_m = rho_f;
   f.h_fe_m = h_fe;
   f.alpha_fen_rad = alpha_fen;
-  f.y_f = (6.0 * h_fe / m_n * std::cos(alpha_fen)) / ((s_fn / m_n) * (s_fn / m_n) * std::cos(an));  // eq. 33
+  f.y_f = (6.0 * h_fe / m_n * std::cos(alpha_fen)) /
+          ((s_fn / m_n) * (s_fn / m_n) * std::cos(an));  // eq. 33
   const double l = s_fn / h_fe;
   const double q_s = s_fn / (2.0 * rho_f);
-  f.y_s = (1.2 + 0.13 * l) * std::pow(q_s, 1.0 / (1.21 + 2.3 / l));                        // eq. 45
+  f.y_s = (1.2 + 0.13 * l) * std::pow(q_s, 1.0 / (1.21 + 2.3 / l));  // eq. 45
   return f;
 }
 
 const char* lead_modification_name(LeadModification m) {
   switch (m) {
-    case LeadModification::kNone: return "none";
-    case LeadModification::kHelixCorrection: return "helix";
-    case LeadModification::kHelixCorrectionAndCrowning: return "helix-crowning";
-    case LeadModification::kCrowning: return "crowning";
-    case LeadModification::kEndRelief: return "end-relief";
+    case LeadModification::kNone:
+      return "none";
+    case LeadModification::kHelixCorrection:
+      return "helix";
+    case LeadModification::kHelixCorrectionAndCrowning:
+      return "helix-crowning";
+    case LeadModification::kCrowning:
+      return "crowning";
+    case LeadModification::kEndRelief:
+      return "end-relief";
   }
   return "?";
 }
@@ -173,10 +182,10 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   if (!p.internal) {
     const double t1 = std::sqrt(p.da_m[0] * p.da_m[0] / (p.db_m[0] * p.db_m[0]) - 1.0);
     const double t2 = std::sqrt(p.da_m[1] * p.da_m[1] / (p.db_m[1] * p.db_m[1]) - 1.0);
-    const double m_1 = std::tan(p.alpha_wt_rad) /
-                       std::sqrt((t1 - 2.0 * kPi / p.z[0]) * (t2 - (ea - 1.0) * 2.0 * kPi / p.z[1]));
-    const double m_2 = std::tan(p.alpha_wt_rad) /
-                       std::sqrt((t2 - 2.0 * kPi / p.z[1]) * (t1 - (ea - 1.0) * 2.0 * kPi / p.z[0]));
+    const double m_1 = std::tan(p.alpha_wt_rad) / std::sqrt((t1 - 2.0 * kPi / p.z[0]) *
+                                                            (t2 - (ea - 1.0) * 2.0 * kPi / p.z[1]));
+    const double m_2 = std::tan(p.alpha_wt_rad) / std::sqrt((t2 - 2.0 * kPi / p.z[1]) *
+                                                            (t1 - (ea - 1.0) * 2.0 * kPi / p.z[0]));
     auto factor = [eb](double m) {
       if (eb >= 1.0) return 1.0;
       return std::max(1.0, m - eb * (m - 1.0));
@@ -201,18 +210,34 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
                   std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
   r.f_ma_um = s.face_load.f_ma_factor * r.f_h_beta_um;
   switch (s.face_load.lead) {
-    case LeadModification::kNone: r.b1 = 1.0; r.b2 = 1.0; break;
-    case LeadModification::kHelixCorrection: r.b1 = 0.1; r.b2 = 1.0; break;
-    case LeadModification::kHelixCorrectionAndCrowning: r.b1 = 0.1; r.b2 = 0.5; break;
-    case LeadModification::kCrowning: r.b1 = 0.5; r.b2 = 0.5; break;
-    case LeadModification::kEndRelief: r.b1 = 0.7; r.b2 = 0.7; break;
+    case LeadModification::kNone:
+      r.b1 = 1.0;
+      r.b2 = 1.0;
+      break;
+    case LeadModification::kHelixCorrection:
+      r.b1 = 0.1;
+      r.b2 = 1.0;
+      break;
+    case LeadModification::kHelixCorrectionAndCrowning:
+      r.b1 = 0.1;
+      r.b2 = 0.5;
+      break;
+    case LeadModification::kCrowning:
+      r.b1 = 0.5;
+      r.b2 = 0.5;
+      break;
+    case LeadModification::kEndRelief:
+      r.b1 = 0.7;
+      r.b2 = 0.7;
+      break;
   }
   r.c_gamma_beta = 0.85 * s.c_gamma_n_mm_um;  // ISO 6336-1:2006 §9: c_γβ = 0.85·c_γα
   if (s.face_load.case_hardened) {
-    r.y_beta_factor = 0.15;   // case-hardened or nitrided: y_β = 0.15·F_βx, y_β ≤ 6 µm
+    r.y_beta_factor = 0.15;  // case-hardened or nitrided: y_β = 0.15·F_βx, y_β ≤ 6 µm
     r.y_beta_max_um = 6.0;
   } else {
-    r.y_beta_factor = 320.0 / std::min(m1.sigma_hlim_mpa, m2.sigma_hlim_mpa);  // y_β = 320/σ_Hlim·F_βx
+    r.y_beta_factor =
+        320.0 / std::min(m1.sigma_hlim_mpa, m2.sigma_hlim_mpa);  // y_β = 320/σ_Hlim·F_βx
     r.y_beta_max_um = std::numeric_limits<double>::infinity();
   }
   // ISO 6336-3:2006 eq. 47: helix angle factor, ε_β ≤ 1 and β ≤ 30° in the formula.
@@ -233,8 +258,8 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   const double y_alpha_um = std::min(3.0, 0.075 * f_pb_um);
   r.k_alpha_term_n_mm = s.c_gamma_n_mm_um * (f_pb_um - y_alpha_um);
   r.eps_gamma = ea + eb;
-  r.k_h_alpha_max = r.eps_gamma / (ea * r.z_eps * r.z_eps);   // eq. 76
-  r.k_f_alpha_max = r.eps_gamma / (0.25 * ea + 0.75);          // eq. 78
+  r.k_h_alpha_max = r.eps_gamma / (ea * r.z_eps * r.z_eps);  // eq. 76
+  r.k_f_alpha_max = r.eps_gamma / (0.25 * ea + 0.75);        // eq. 78
   return r;
 }
 
@@ -263,12 +288,14 @@ FaceLoad MeshRating::face_load(double ft_n) const {
 
 double MeshRating::k_alpha(double ft_n) const {
   const double b_mm = geometry.b_m * kMm;
-  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * face_load(ft_n).k_h_beta / b_mm);  // [N/mm]
+  const double fth_per_b =
+      std::max(1e-9, std::abs(ft_n) * k_a * k_v * face_load(ft_n).k_h_beta / b_mm);  // [N/mm]
   double k;
   if (eps_gamma <= 2.0) {
-    k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);                      // eq. 75
+    k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);  // eq. 75
   } else {
-    k = 0.9 + 0.4 * std::sqrt(2.0 * (eps_gamma - 1.0) / eps_gamma) * k_alpha_term_n_mm / fth_per_b;  // eq. 76
+    k = 0.9 + 0.4 * std::sqrt(2.0 * (eps_gamma - 1.0) / eps_gamma) * k_alpha_term_n_mm /
+                  fth_per_b;  // eq. 76
   }
   return std::max(1.0, k);
 }
@@ -277,13 +304,15 @@ double MeshRating::contact_stress_nominal_mpa(double ft_n) const {
   const double d1_mm = std::abs(geometry.d_m[0]) * kMm;
   const double b_mm = geometry.b_m * kMm;
   const double u = geometry.u;
-  return z_h * z_e_sqrt_mpa * z_eps * z_beta * std::sqrt(std::abs(ft_n) / (d1_mm * b_mm) * (u + 1.0) / u);
+  return z_h * z_e_sqrt_mpa * z_eps * z_beta *
+         std::sqrt(std::abs(ft_n) / (d1_mm * b_mm) * (u + 1.0) / u);
 }
 
 double MeshRating::contact_stress_mpa(double ft_n, int gear) const {
   const double k_ha = std::min(k_alpha(ft_n), std::max(1.0, k_h_alpha_max));
   const double z = gear == 0 ? z_b : z_d;
-  return z * contact_stress_nominal_mpa(ft_n) * std::sqrt(k_a * k_v * face_load(ft_n).k_h_beta * k_ha);
+  return z * contact_stress_nominal_mpa(ft_n) *
+         std::sqrt(k_a * k_v * face_load(ft_n).k_h_beta * k_ha);
 }
 
 double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
@@ -293,7 +322,8 @@ double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
   const double m_mm = geometry.m_n_m * kMm;
   const BendingFormFactors& f = bending[gear];
   // σ_F = F_t/(b·m_n)·Y_F·Y_S·Y_β·Y_B·Y_DT·K_A·K_v·K_Fβ·K_Fα, Y_B = Y_DT = 1.
-  return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * face_load(ft_n).k_f_beta * k_fa;
+  return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v *
+         face_load(ft_n).k_f_beta * k_fa;
 }
 
 }  // namespace model::fatigue

@@ -28,12 +28,14 @@ LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid&
   };
   if (grid.torque_points < 2 || grid.speed_points < 2 || !(grid.torque_max_nm > 0.0) ||
       !(grid.speed_min_rpm > 0.0) || !(grid.speed_max_rpm > grid.speed_min_rpm)) {
-    return fail("load spectrum grid: need ≥ 2 points per axis, torque_max > 0, 0 < speed_min < speed_max");
+    return fail(
+        "load spectrum grid: need ≥ 2 points per axis, torque_max > 0, 0 < speed_min < speed_max");
   }
   s.grid = grid;
   s.source = source;
   s.channel_count = channels.channel_count();
-  s.damage_per_rev.assign(static_cast<std::size_t>(grid.torque_points) * grid.speed_points * s.channel_count, 0.0);
+  s.damage_per_rev.assign(
+      static_cast<std::size_t>(grid.torque_points) * grid.speed_points * s.channel_count, 0.0);
   LoadSeries series;
   for (std::uint32_t i = 0; i < grid.torque_points; ++i) {
     for (std::uint32_t j = 0; j < grid.speed_points; ++j) {
@@ -42,18 +44,20 @@ LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid&
       series.rotor_rpm.clear();
       if (!simulator(t, n, series) || series.samples.empty() ||
           series.samples.size() != series.rotor_rpm.size() || !(series.dt_s > 0.0)) {
-        return fail("load spectrum: simulator failed at torque " + std::to_string(t) + " N·m, speed " +
-                    std::to_string(n) + " rpm");
+        return fail("load spectrum: simulator failed at torque " + std::to_string(t) +
+                    " N·m, speed " + std::to_string(n) + " rpm");
       }
       AccumulatorConfig cfg;
       cfg.tick_s = series.dt_s;
       DamageAccumulator acc(channels, cfg);
-      for (std::size_t k = 0; k < series.samples.size(); ++k) acc.step(series.samples[k], series.rotor_rpm[k], 1);
+      for (std::size_t k = 0; k < series.samples.size(); ++k)
+        acc.step(series.samples[k], series.rotor_rpm[k], 1);
       const double revs = acc.rotor_revolutions();
-      if (!(revs > 0.0)) return fail("load spectrum: no rotor revolutions at speed " + std::to_string(n) + " rpm");
+      if (!(revs > 0.0))
+        return fail("load spectrum: no rotor revolutions at speed " + std::to_string(n) + " rpm");
       for (std::size_t c = 0; c < s.channel_count; ++c) {
-        s.damage_per_rev[(static_cast<std::size_t>(i) * grid.speed_points + j) * s.channel_count + c] =
-            acc.damage(c) / revs;
+        s.damage_per_rev[(static_cast<std::size_t>(i) * grid.speed_points + j) * s.channel_count +
+                         c] = acc.damage(c) / revs;
       }
     }
   }
@@ -73,7 +77,8 @@ void LoadSpectrum::damage_per_rev_at(double torque_nm, double rotor_rpm, double*
   const double tq = std::clamp(std::abs(torque_nm), 0.0, grid.torque_max_nm);
   const double sp = std::clamp(rotor_rpm, grid.speed_min_rpm, grid.speed_max_rpm);
   const double fi = tq / grid.torque_max_nm * (grid.torque_points - 1);
-  const double fj = (sp - grid.speed_min_rpm) / (grid.speed_max_rpm - grid.speed_min_rpm) * (grid.speed_points - 1);
+  const double fj = (sp - grid.speed_min_rpm) / (grid.speed_max_rpm - grid.speed_min_rpm) *
+                    (grid.speed_points - 1);
   const auto i0 = std::min<std::size_t>(static_cast<std::size_t>(fi), grid.torque_points - 2);
   const auto j0 = std::min<std::size_t>(static_cast<std::size_t>(fj), grid.speed_points - 2);
   const double wi = fi - static_cast<double>(i0), wj = fj - static_cast<double>(j0);

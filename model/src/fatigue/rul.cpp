@@ -12,7 +12,8 @@ double time_to_failure_s(double damage, double rate_per_s) {
 }
 
 DamageRateHistory::DamageRateHistory(double interval_s, std::size_t short_window)
-    : interval_s_(interval_s), short_window_(std::clamp<std::size_t>(short_window, 1, kMaxRateIntervals)) {}
+    : interval_s_(interval_s),
+      short_window_(std::clamp<std::size_t>(short_window, 1, kMaxRateIntervals)) {}
 
 void DamageRateHistory::add_interval(double inc) {
   ring_[head_] = inc;

@@ -55,7 +55,8 @@ address = 0
 type = "float64"
 unit = "m/s"
 )");
-  EXPECT_NE(e.find("test.toml:7: scada.register[0].type: 'float64'; expected int16, uint16, int32, uint32 or float32"),
+  EXPECT_NE(e.find("test.toml:7: scada.register[0].type: 'float64'; expected int16, uint16, int32, "
+                   "uint32 or float32"),
             std::string::npos)
       << e;
 }
@@ -73,7 +74,8 @@ unit = "kN·m"
 }
 
 TEST(BusConfig, RejectsUnknownKeysSoTyposDoNotPassSilently) {
-  const std::string e = error_of("format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nintreface = \"can0\"\n");
+  const std::string e =
+      error_of("format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nintreface = \"can0\"\n");
   EXPECT_NE(e.find("test.toml:4: cms.intreface: unknown key"), std::string::npos) << e;
 }
 
@@ -95,15 +97,20 @@ unit = "rpm"
 }
 
 TEST(BusConfig, RejectsAWrongFormatVersionAndBadTomlWithPosition) {
-  EXPECT_NE(error_of("format = \"drivetwin-bus/2\"\n").find("format: 'drivetwin-bus/2'; expected \"drivetwin-bus/1\""),
+  EXPECT_NE(error_of("format = \"drivetwin-bus/2\"\n")
+                .find("format: 'drivetwin-bus/2'; expected \"drivetwin-bus/1\""),
             std::string::npos);
-  EXPECT_NE(error_of("format = \"drivetwin-bus/1\"\n[scada\n").find("test.toml:2:"), std::string::npos)
+  EXPECT_NE(error_of("format = \"drivetwin-bus/1\"\n[scada\n").find("test.toml:2:"),
+            std::string::npos)
       << error_of("format = \"drivetwin-bus/1\"\n[scada\n");
 }
 
 TEST(BusConfig, RejectsWritableResultRegisters) {
-  const std::string e = error_of("format = \"drivetwin-bus/1\"\n[results]\nbackend = \"modbus\"\nwritable = [8]\n");
-  EXPECT_NE(e.find("results.writable: expected command register addresses 150..165"), std::string::npos) << e;
+  const std::string e =
+      error_of("format = \"drivetwin-bus/1\"\n[results]\nbackend = \"modbus\"\nwritable = [8]\n");
+  EXPECT_NE(e.find("results.writable: expected command register addresses 150..165"),
+            std::string::npos)
+      << e;
 }
 
 TEST(BusConfig, ReplayWithoutABundleIsAnError) {

@@ -45,7 +45,8 @@ TEST(BusProbe, ShowsInjectedCmsGapsAndReportsASilentBus) {
   const auto gaps = app::bus::parse_bus_config(
       "format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nfault = \"gaps\"\n", "gaps.toml");
   const auto silent = app::bus::parse_bus_config(
-      "format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nfault = \"silent\"\n", "silent.toml");
+      "format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nfault = \"silent\"\n",
+      "silent.toml");
   app::bus::ProbeOptions o;
   o.seconds = 1.0;
   o.fast = true;
@@ -72,11 +73,14 @@ TEST(BusProbe, ReadsARealModbusControllerWithTheConfiguredMap) {
   peer.set_holding(0, 675);
   peer.set_holding(8, 0x48B0);  // 361747.0f
   peer.set_holding(9, 0xA260);
-  const std::string toml = "format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"modbus\"\nhost = \"127.0.0.1\"\nport = " +
-                           std::to_string(peer.port()) +
-                           "\npoll_period_ms = 100\n"
-                           "[[scada.register]]\nquantity = \"wind_speed_mps\"\naddress = 0\nscale = 0.01\nunit = \"m/s\"\n"
-                           "[[scada.register]]\nquantity = \"torque_nm\"\naddress = 8\ntype = \"float32\"\nunit = \"N·m\"\n";
+  const std::string toml =
+      "format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"modbus\"\nhost = \"127.0.0.1\"\nport = " +
+      std::to_string(peer.port()) +
+      "\npoll_period_ms = 100\n"
+      "[[scada.register]]\nquantity = \"wind_speed_mps\"\naddress = 0\nscale = 0.01\nunit = "
+      "\"m/s\"\n"
+      "[[scada.register]]\nquantity = \"torque_nm\"\naddress = 8\ntype = \"float32\"\nunit = "
+      "\"N·m\"\n";
   const auto c = app::bus::parse_bus_config(toml, "live.toml");
   app::bus::ProbeOptions o;
   o.seconds = 0.6;
@@ -96,7 +100,8 @@ TEST(BusProbe, ReadsARealModbusControllerWithTheConfiguredMap) {
 
 TEST(BusProbe, ReplaysABundleAtItsRecordedRate) {
   // Arrange: 1 s at 2.8 kHz of two channels → 100 blocks of 28 per channel
-  const auto dir = std::filesystem::temp_directory_path() / ("drivetwin-probe-" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("drivetwin-probe-" + std::to_string(::getpid()));
   hal::Recording r;
   r.sample_rate_hz = 2800;
   r.channels = {{"point1", "b5", "radial", "", "m/s^2"}, {"point2", "b3", "radial", "", "m/s^2"}};

@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 namespace mc = model::calibration;
 
 fs::path scratch_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("drivetwin-test-calibrate-" + std::to_string(::getpid())) / name;
+  const fs::path p =
+      fs::temp_directory_path() / ("drivetwin-test-calibrate-" + std::to_string(::getpid())) / name;
   fs::remove_all(p);
   return p;
 }
@@ -52,12 +53,15 @@ fs::path write_bundle(const std::string& name, double duration_s, Fault fault = 
   rec.operating_point.rotor_speed_rpm = 8.33;
   rec.operating_point.input_torque_nm = 361747.0;
   switch (fault) {
-    case Fault::kNone: break;
+    case Fault::kNone:
+      break;
     case Fault::kDropPoint2:
       rec.channels.pop_back();
       rec.samples.pop_back();
       break;
-    case Fault::kFlatPoint2: std::fill(rec.samples[1].begin(), rec.samples[1].end(), 0.0); break;
+    case Fault::kFlatPoint2:
+      std::fill(rec.samples[1].begin(), rec.samples[1].end(), 0.0);
+      break;
     case Fault::kClipPoint1: {
       double peak = 0.0;
       for (double v : rec.samples[0]) peak = std::max(peak, std::abs(v));
@@ -78,7 +82,8 @@ std::string run_calibrate(std::vector<std::string> args) {
   for (const auto& c : app::cli::commands()) c.setup(*cli.add_subcommand(c.name, c.description));
   app::cli::exit_status() = 0;
   // A small analysis so that the test stays quick (also under QEMU).
-  for (const char* a : {"--revolutions", "32", "--samples-per-rev", "256", "--quiet"}) args.emplace_back(a);
+  for (const char* a : {"--revolutions", "32", "--samples-per-rev", "256", "--quiet"})
+    args.emplace_back(a);
   args.insert(args.begin(), "calibrate");
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
   try {
@@ -95,9 +100,9 @@ TEST(CalibrateCommand, CalibratesAnOffNominalRecordingAndReportsTheDiagnosisKeys
   const fs::path json = dir.parent_path() / "drift.json";
   // Act
   // (the bundle comes from the lumped stand-in, so the stand-in calibrates it)
-  const std::string error = run_calibrate({dir.string(), "--json", json.string(), "--simulator", "lumped",
-                                           "--method", "improved", "--population", "16", "--iterations", "15",
-                                           "--seed", "3"});
+  const std::string error =
+      run_calibrate({dir.string(), "--json", json.string(), "--simulator", "lumped", "--method",
+                     "improved", "--population", "16", "--iterations", "15", "--seed", "3"});
   // Assert
   ASSERT_EQ(error, "");
   EXPECT_EQ(app::cli::exit_status(), 0);
@@ -106,7 +111,8 @@ TEST(CalibrateCommand, CalibratesAnOffNominalRecordingAndReportsTheDiagnosisKeys
   bool some_above = false;
   for (const char* p : {"point1", "point2"}) {
     const auto& b = j["fit_before"][p];
-    some_above = some_above || b["f1"].get<double>() > 0.5 || b["f2"].get<double>() > 0.2 || b["f3"].get<double>() > 0.2;
+    some_above = some_above || b["f1"].get<double>() > 0.5 || b["f2"].get<double>() > 0.2 ||
+                 b["f3"].get<double>() > 0.2;
     const auto& a = j["fit_calibrated"][p];
     EXPECT_LE(a["f1"].get<double>(), 0.5) << p;
     EXPECT_LE(a["f2"].get<double>(), 0.2) << p;
@@ -128,10 +134,13 @@ struct BadInput {
 };
 
 TEST(CalibrateCommand, RefusesBadInputWithAMessageNamingFileAndChannelAndWritesNothing) {
-  for (const BadInput& bad : {BadInput{"missing", 3.0, Fault::kDropPoint2, "recording.json: channels: no channel named 'point2'"},
-                              BadInput{"flat", 3.0, Fault::kFlatPoint2, "channel 'point2': channel is flat"},
-                              BadInput{"clipped", 3.0, Fault::kClipPoint1, "channel 'point1': channel is clipped"},
-                              BadInput{"short", 1.0, Fault::kNone, "channel 'point1': recording of 1.00 s is too short"}}) {
+  for (const BadInput& bad :
+       {BadInput{"missing", 3.0, Fault::kDropPoint2,
+                 "recording.json: channels: no channel named 'point2'"},
+        BadInput{"flat", 3.0, Fault::kFlatPoint2, "channel 'point2': channel is flat"},
+        BadInput{"clipped", 3.0, Fault::kClipPoint1, "channel 'point1': channel is clipped"},
+        BadInput{"short", 1.0, Fault::kNone,
+                 "channel 'point1': recording of 1.00 s is too short"}}) {
     const fs::path dir = write_bundle(bad.name, bad.duration_s, bad.fault);
     const fs::path json = dir.parent_path() / (std::string(bad.name) + ".json");
     const std::string error = run_calibrate({dir.string(), "--json", json.string()});

@@ -43,13 +43,13 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
     const auto& x = a.materials[i];
     const auto& y = b.materials[i];
     EXPECT_EQ(x.id, y.id);
-    for (auto m : {&model::Material::youngs_modulus_pa, &model::Material::poisson_ratio,
-                   &model::Material::density_kg_m3, &model::Material::sigma_hlim_mpa,
-                   &model::Material::sigma_flim_mpa, &model::Material::sn_contact_m,
-                   &model::Material::sn_contact_c_mpa, &model::Material::sn_bending_m,
-                   &model::Material::sn_bending_c_mpa, &model::Material::sn_contact_knee_cycles,
-                   &model::Material::sn_bending_knee_cycles,
-                   &model::Material::reversed_bending_factor}) {
+    for (auto m :
+         {&model::Material::youngs_modulus_pa, &model::Material::poisson_ratio,
+          &model::Material::density_kg_m3, &model::Material::sigma_hlim_mpa,
+          &model::Material::sigma_flim_mpa, &model::Material::sn_contact_m,
+          &model::Material::sn_contact_c_mpa, &model::Material::sn_bending_m,
+          &model::Material::sn_bending_c_mpa, &model::Material::sn_contact_knee_cycles,
+          &model::Material::sn_bending_knee_cycles, &model::Material::reversed_bending_factor}) {
       expect_same(x.*m, y.*m, "material " + x.id);
     }
   }
@@ -179,7 +179,8 @@ face_width_m = 0.1
 TEST(DrivetrainFile, AnglesAreWrittenInDegrees) {
   const model::Drivetrain d = parse_drivetrain(
       "base = \"paper-2mw\"\n[[stages]]\nid = \"planetary\"\npressure_angle_deg = 25\n", "a.toml");
-  EXPECT_NEAR(d.stage("planetary")->pressure_angle_rad, 25.0 * 3.14159265358979323846 / 180.0, 1e-15);
+  EXPECT_NEAR(d.stage("planetary")->pressure_angle_rad, 25.0 * 3.14159265358979323846 / 180.0,
+              1e-15);
 }
 
 TEST(DrivetrainFile, MalformedTomlNamesTheFileAndLine) {
@@ -209,8 +210,8 @@ TEST(DrivetrainFile, UnknownKeyIsRejectedWithItsPath) {
 }
 
 TEST(DrivetrainFile, BadListEntryNamesItsIndexAndKey) {
-  const std::string e =
-      error_of("base = \"paper-2mw\"\n[[gears]]\nid = \"sun\"\n[[gears]]\nid = \"g9\"\nteeth = 0\n");
+  const std::string e = error_of(
+      "base = \"paper-2mw\"\n[[gears]]\nid = \"sun\"\n[[gears]]\nid = \"g9\"\nteeth = 0\n");
   EXPECT_NE(e.find("key 'gears[1].teeth': expected an integer >= 1, got 0"), std::string::npos)
       << e;
 }
@@ -221,8 +222,10 @@ TEST(DrivetrainFile, EntryWithoutIdIsRejected) {
 }
 
 TEST(DrivetrainFile, BadEnumAndBadArrayAreNamed) {
-  std::string e = error_of("base = \"paper-2mw\"\n[[stages]]\nid = \"planetary\"\ntype = \"epicyclic\"\n");
-  EXPECT_NE(e.find("key 'stages[0].type': expected \"planetary\" or \"parallel\""), std::string::npos)
+  std::string e =
+      error_of("base = \"paper-2mw\"\n[[stages]]\nid = \"planetary\"\ntype = \"epicyclic\"\n");
+  EXPECT_NE(e.find("key 'stages[0].type': expected \"planetary\" or \"parallel\""),
+            std::string::npos)
       << e;
   e = error_of("base = \"paper-2mw\"\n[turbine.cp]\nc = [1, 2, 3]\n");
   EXPECT_NE(e.find("key 'turbine.cp.c': expected an array of 6 numbers"), std::string::npos) << e;
@@ -230,7 +233,8 @@ TEST(DrivetrainFile, BadEnumAndBadArrayAreNamed) {
 
 TEST(DrivetrainFile, UnknownBaseAndInconsistentWindSpeedsAreNamed) {
   std::string e = error_of("base = \"paper-3mw\"\n");
-  EXPECT_NE(e.find("key 'base': unknown built-in drivetrain \"paper-3mw\""), std::string::npos) << e;
+  EXPECT_NE(e.find("key 'base': unknown built-in drivetrain \"paper-3mw\""), std::string::npos)
+      << e;
   e = error_of("base = \"paper-2mw\"\n[turbine]\nrated_wind_mps = 25\n");
   EXPECT_NE(e.find("key 'turbine.rated_wind_mps': expected cut_in_wind_mps < rated_wind_mps < "
                    "cut_out_wind_mps"),

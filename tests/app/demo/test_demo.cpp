@@ -81,12 +81,14 @@ TEST(DemoGearboxStage, MeanMeshForcesMatchTorqueOverBaseRadiusAndPoint1ShowsTheH
     std::istringstream in(line);
     std::string id;
     double mean = 0.0;
-    if (in >> id >> mean && (id.find("planet") != std::string::npos || id == "intermediate" || id == "high_speed")) {
+    if (in >> id >> mean &&
+        (id.find("planet") != std::string::npos || id == "intermediate" || id == "high_speed")) {
       mean_kn[id] = mean;
     }
   }
   ASSERT_EQ(mean_kn.size(), 8u) << r.out;
-  const double sun_mean = (mean_kn["sun_planet_1"] + mean_kn["sun_planet_2"] + mean_kn["sun_planet_3"]) / 3;
+  const double sun_mean =
+      (mean_kn["sun_planet_1"] + mean_kn["sun_planet_2"] + mean_kn["sun_planet_3"]) / 3;
   EXPECT_NEAR(sun_mean / f_sun_kn, 1.0, 0.01);
   EXPECT_NEAR(mean_kn["intermediate"] / f_int_kn, 1.0, 0.01);
   EXPECT_NEAR(mean_kn["high_speed"] / f_hs_kn, 1.0, 0.01);
@@ -100,7 +102,8 @@ TEST(DemoGearboxStage, MeanMeshForcesMatchTorqueOverBaseRadiusAndPoint1ShowsTheH
   const double hss_mesh_hz = 8.33 / 60 * (120.0 / 21.0) * (92.0 / 21.0) * (107.0 / 26.0) * 26.0;
   EXPECT_NEAR(hss_mesh_hz, 371.88, 0.05);
   int lines_seen = 0;
-  for (std::size_t pos = point1.find(" Hz "); pos != std::string::npos; pos = point1.find(" Hz ", pos + 1)) {
+  for (std::size_t pos = point1.find(" Hz "); pos != std::string::npos;
+       pos = point1.find(" Hz ", pos + 1)) {
     const std::size_t start = point1.rfind(' ', pos - 1) + 1;
     const double hz = std::stod(point1.substr(start, pos - start));
     const double k = std::round(hz / hss_mesh_hz);

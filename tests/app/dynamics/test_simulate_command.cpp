@@ -8,8 +8,8 @@
 // executable on a bad argument and expects a non-zero exit status.
 #include <gtest/gtest.h>
 
-#include <CLI/CLI.hpp>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -35,7 +35,8 @@ constexpr double kTorqueNm = 361747.0;
 constexpr double kRateHz = 25600.0;
 
 fs::path scratch_dir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("drivetwin-test-simulate-" + std::to_string(::getpid())) / name;
+  const fs::path p =
+      fs::temp_directory_path() / ("drivetwin-test-simulate-" + std::to_string(::getpid())) / name;
   fs::remove_all(p);
   return p;
 }
@@ -118,12 +119,13 @@ TEST(SimulateCommand, WritesABundleAndLoadsWhoseMeanMeshForcesEqualStageTorqueOv
   const double f_intermediate = t_ims / (21 * mt / 2 * std::cos(at) * std::cos(bb));
   const double f_high_speed = t_hss / (26 * mt / 2 * std::cos(at) * std::cos(bb));
   // hss speed = rotor × (1 + z_r/z_s) × 92/21 × 107/26.
-  const double hss_revolutions = f_rotor_hz * (120.0 / 21.0) * (92.0 / 21.0) * (107.0 / 26.0) * seconds;
+  const double hss_revolutions =
+      f_rotor_hz * (120.0 / 21.0) * (92.0 / 21.0) * (107.0 / 26.0) * seconds;
   const fs::path dir = scratch_dir("paper-point");
 
   // Act
-  const std::string error = run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds",
-                                          number(seconds), "--out", dir.string()});
+  const std::string error = run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm),
+                                          "--seconds", number(seconds), "--out", dir.string()});
 
   // Assert: the bundle.
   ASSERT_EQ(error, "");
@@ -141,7 +143,8 @@ TEST(SimulateCommand, WritesABundleAndLoadsWhoseMeanMeshForcesEqualStageTorqueOv
   EXPECT_DOUBLE_EQ(rec.operating_point.input_torque_nm.value_or(-1.0), kTorqueNm);
   // The tacho: one rising edge per completed hss revolution (it starts high, at angle 0).
   int rising = 0;
-  for (std::size_t i = 1; i < rec.samples[2].size(); ++i) rising += rec.samples[2][i] > 2.5 && rec.samples[2][i - 1] < 2.5;
+  for (std::size_t i = 1; i < rec.samples[2].size(); ++i)
+    rising += rec.samples[2][i] > 2.5 && rec.samples[2][i - 1] < 2.5;
   EXPECT_EQ(rising, static_cast<int>(std::floor(hss_revolutions)));
   // The seat accelerations vibrate (a gearbox under load is not silent) and are finite.
   double rms1 = 0.0;
@@ -151,12 +154,13 @@ TEST(SimulateCommand, WritesABundleAndLoadsWhoseMeanMeshForcesEqualStageTorqueOv
   // Assert: loads.csv — columns, one row per sample at t = (i+1)/rate, and the statics.
   const Csv loads = read_csv(dir / "loads.csv");
   std::vector<std::string> expected_header{"t_s"};
-  for (const char* m : {"sun_planet_1", "sun_planet_2", "sun_planet_3", "ring_planet_1", "ring_planet_2",
-                        "ring_planet_3", "intermediate", "high_speed"}) {
+  for (const char* m : {"sun_planet_1", "sun_planet_2", "sun_planet_3", "ring_planet_1",
+                        "ring_planet_2", "ring_planet_3", "intermediate", "high_speed"}) {
     expected_header.push_back(std::string(m) + "_n");
   }
   for (int b = 1; b <= 6; ++b) {
-    for (const char* c : {"_x_n", "_y_n", "_radial_n"}) expected_header.push_back("b" + std::to_string(b) + c);
+    for (const char* c : {"_x_n", "_y_n", "_radial_n"})
+      expected_header.push_back("b" + std::to_string(b) + c);
   }
   EXPECT_EQ(loads.header, expected_header);
   ASSERT_EQ(loads.rows.size(), samples);
@@ -180,14 +184,17 @@ TEST(SimulateCommand, FullModelWritesTheSameColumnsAndSampleCount) {
   const fs::path dir = scratch_dir("full");
   const double seconds = 0.01;
   // Act
-  const std::string error = run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds",
-                                          number(seconds), "--out", dir.string(), "--full"});
+  const std::string error =
+      run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds",
+                    number(seconds), "--out", dir.string(), "--full"});
   // Assert
   ASSERT_EQ(error, "");
   const hal::BundleReadResult bundle = hal::read_bundle(dir);
   ASSERT_TRUE(bundle) << bundle.error.to_string();
-  EXPECT_EQ(bundle.recording->sample_count(), static_cast<std::size_t>(std::llround(seconds * kRateHz)));
-  EXPECT_NE(bundle.recording->notes.find("full-order"), std::string::npos) << bundle.recording->notes;
+  EXPECT_EQ(bundle.recording->sample_count(),
+            static_cast<std::size_t>(std::llround(seconds * kRateHz)));
+  EXPECT_NE(bundle.recording->notes.find("full-order"), std::string::npos)
+      << bundle.recording->notes;
   const Csv loads = read_csv(dir / "loads.csv");
   EXPECT_EQ(loads.header.size(), 1u + 8u + 18u);
   EXPECT_EQ(loads.rows.size(), bundle.recording->sample_count());
@@ -201,18 +208,21 @@ TEST(SimulateCommand, RefusesBadArgumentsWithAMessageNamingTheOptionAndWritesNot
   };
   const fs::path dir = scratch_dir("bad");
   const std::string out = dir.string();
-  for (const Bad& bad : {Bad{{"--rpm", "-5", "--torque", "1000", "--out", out}, "--rpm: expected a finite value > 0"},
-                         Bad{{"--rpm", "8.33", "--torque", "-1", "--out", out}, "--torque: expected a finite value"},
-                         Bad{{"--rpm", "8.33", "--torque", "1e9", "--out", out}, "--torque: 1000000000"},
-                         Bad{{"--rpm", "30", "--torque", "1000", "--out", out}, "--rpm: 30"},
-                         Bad{{"--rpm", "8.33", "--torque", "1000", "--seconds", "0", "--out", out}, "--seconds"},
-                         Bad{{"--rpm", "8.33", "--torque", "1000", "--rate", "0", "--out", out}, "--rate"},
-                         Bad{{"--rpm", "8.33", "--torque", "1000", "--out", out, "--drivetrain", "no-such.toml"},
-                             "--drivetrain"}}) {
+  for (const Bad& bad :
+       {Bad{{"--rpm", "-5", "--torque", "1000", "--out", out},
+            "--rpm: expected a finite value > 0"},
+        Bad{{"--rpm", "8.33", "--torque", "-1", "--out", out}, "--torque: expected a finite value"},
+        Bad{{"--rpm", "8.33", "--torque", "1e9", "--out", out}, "--torque: 1000000000"},
+        Bad{{"--rpm", "30", "--torque", "1000", "--out", out}, "--rpm: 30"},
+        Bad{{"--rpm", "8.33", "--torque", "1000", "--seconds", "0", "--out", out}, "--seconds"},
+        Bad{{"--rpm", "8.33", "--torque", "1000", "--rate", "0", "--out", out}, "--rate"},
+        Bad{{"--rpm", "8.33", "--torque", "1000", "--out", out, "--drivetrain", "no-such.toml"},
+            "--drivetrain"}}) {
     // Act
     const std::string error = run_simulate(bad.args);
     // Assert
-    EXPECT_NE(error.find(bad.expected), std::string::npos) << "expected '" << bad.expected << "' in: " << error;
+    EXPECT_NE(error.find(bad.expected), std::string::npos)
+        << "expected '" << bad.expected << "' in: " << error;
     EXPECT_FALSE(fs::exists(dir)) << bad.expected;
   }
 }

@@ -25,7 +25,8 @@ class AccumulatorStoreTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           (std::string("drivetwin_store_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           (std::string("drivetwin_store_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -127,8 +128,9 @@ TEST_F(AccumulatorStoreTest, WrongVersionAndForeignFilesAreNamedAndNeverLoaded) 
   auto bytes = read_bytes(store.path());
   bytes[8] = 2;
   write_bytes(store.path(), bytes);
-  write_bytes(store.backup_path(), std::vector<char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '!',
-                                                     ' ', 'n', 'o', 't', ' ', 'a', ' ', 's', 't', 'a', 't', 'e', '.'});
+  write_bytes(store.backup_path(),
+              std::vector<char>{'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd', '!', ' ',
+                                'n', 'o', 't', ' ', 'a', ' ', 's', 't', 'a', 't', 'e', '.'});
   // Act
   auto loaded = std::make_unique<mf::AccumulatorState>();
   loaded->valid_steps = 12345;

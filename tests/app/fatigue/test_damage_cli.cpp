@@ -59,7 +59,8 @@ class DamageCli : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           (std::string("drivetwin_damage_") + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           (std::string("drivetwin_damage_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -88,8 +89,8 @@ TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
   const fs::path scada = dir_ / "scada.csv", json = dir_ / "summary.json";
   std::ofstream(scada) << csv;
   // Act
-  const CliResult r = run_cli({"damage", scada.string(), "--json", json.string(), "--per-day", "--cache-dir",
-                               (dir_ / "cache").string()});
+  const CliResult r = run_cli({"damage", scada.string(), "--json", json.string(), "--per-day",
+                               "--cache-dir", (dir_ / "cache").string()});
   // Assert
   ASSERT_EQ(r.exit_code, 0) << r.error;
   std::ifstream in(json);
@@ -112,9 +113,12 @@ TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
   // revolution each, at the stress of the quasi-static rated mesh force; D = n/N(σ).
   const mf::ChannelSet cs(model::paper_2mw(), mf::ChannelOptions{});
   std::size_t c_sun = 0;
-  while (!(cs.channel(c_sun).component == "sun" && cs.channel(c_sun).mode == mf::FailureMode::kContact)) ++c_sun;
+  while (!(cs.channel(c_sun).component == "sun" &&
+           cs.channel(c_sun).mode == mf::FailureMode::kContact))
+    ++c_sun;
   const double sigma = cs.stress(c_sun, 0, cs.quasi_static_loads(1.23e6));
-  const double hand = 40320.0 * 3.0 * 99.0 / 21.0 / cs.channel(c_sun).curve.cycles_to_failure(sigma);
+  const double hand =
+      40320.0 * 3.0 * 99.0 / 21.0 / cs.channel(c_sun).curve.cycles_to_failure(sigma);
   EXPECT_NEAR(d_json, hand, 1e-9 * hand);
   EXPECT_NEAR((*sun)["damage_per_day"].get<double>(), hand / 2.0, 1e-9 * hand);
   // --per-day: two full days with the same damage, half the total each.
@@ -134,8 +138,8 @@ TEST_F(DamageCli, ASpectrumCachedByAnOlderCodeVersionIsNotReused) {
   const mf::LoadSpectrum built = mf::build_load_spectrum(cs, g, mf::SpectrumSource::kQuasiStatic,
                                                          mf::quasi_static_simulator(cs), nullptr);
   const auto key_now = app::fatigue::spectrum_key(d, cs, g, mf::SpectrumSource::kQuasiStatic);
-  const auto key_old =
-      app::fatigue::spectrum_key(d, cs, g, mf::SpectrumSource::kQuasiStatic, app::fatigue::kSpectrumCodeVersion - 1);
+  const auto key_old = app::fatigue::spectrum_key(d, cs, g, mf::SpectrumSource::kQuasiStatic,
+                                                  app::fatigue::kSpectrumCodeVersion - 1);
   const fs::path file_old = app::fatigue::spectrum_cache_file(dir_, key_old);
   ASSERT_TRUE(app::fatigue::store_cached_spectrum(file_old, key_old, built));
   // Act: the current code looks for its own key, also in the old file under its name.
@@ -143,8 +147,10 @@ TEST_F(DamageCli, ASpectrumCachedByAnOlderCodeVersionIsNotReused) {
   s.grid = g;
   const bool hit_own_file = app::fatigue::load_cached_spectrum(
       app::fatigue::spectrum_cache_file(dir_, key_now), key_now, cs.channel_count(), s);
-  const bool hit_old_file = app::fatigue::load_cached_spectrum(file_old, key_now, cs.channel_count(), s);
-  const bool same_version_hits = app::fatigue::load_cached_spectrum(file_old, key_old, cs.channel_count(), s);
+  const bool hit_old_file =
+      app::fatigue::load_cached_spectrum(file_old, key_now, cs.channel_count(), s);
+  const bool same_version_hits =
+      app::fatigue::load_cached_spectrum(file_old, key_old, cs.channel_count(), s);
   // Assert
   EXPECT_NE(key_now, key_old);
   EXPECT_NE(app::fatigue::spectrum_cache_file(dir_, key_now), file_old);

@@ -47,7 +47,8 @@ TEST(DamageHistory, ConstantRowsGiveRevolutionsTimesDamagePerRevolution) {
   EXPECT_EQ(h.rows_used, 6u);
   EXPECT_DOUBLE_EQ(h.period_s, 600.0);
   for (std::size_t c = 0; c < s.channels.channel_count(); ++c) {
-    EXPECT_NEAR(h.damage[c], direct.damage(c), 1e-2 * direct.damage(c)) << s.channels.channel(c).component;
+    EXPECT_NEAR(h.damage[c], direct.damage(c), 1e-2 * direct.damage(c))
+        << s.channels.channel(c).component;
   }
 }
 
@@ -55,14 +56,15 @@ TEST(DamageHistory, BadRowsAreReportedWithRowAndFieldAndLeaveTheDamageOfTheGoodR
   // Arrange: good rows 1, 2, 7 (after a gap) and bad rows between them.
   HistoryBench s;
   const std::string bad = std::string(kHeader) +
-                          "0,10,14,,,1000000\n"         // 1 good
-                          "600,10,14,,,1100000\n"       // 2 good
-                          "600,10,14,,,1100000\n"       // 3 duplicate t_s
-                          "300,10,14,,,1100000\n"       // 4 unsorted t_s
-                          "1200,10,-5,,,1100000\n"      // 5 negative rotor speed
-                          "1800,10,14,,,nan\n"          // 6 non-finite torque
-                          "7200,10,14,,,900000\n";      // 7 good, after a gap
-  const std::string good = std::string(kHeader) + "0,10,14,,,1000000\n600,10,14,,,1100000\n7200,10,14,,,900000\n";
+                          "0,10,14,,,1000000\n"     // 1 good
+                          "600,10,14,,,1100000\n"   // 2 good
+                          "600,10,14,,,1100000\n"   // 3 duplicate t_s
+                          "300,10,14,,,1100000\n"   // 4 unsorted t_s
+                          "1200,10,-5,,,1100000\n"  // 5 negative rotor speed
+                          "1800,10,14,,,nan\n"      // 6 non-finite torque
+                          "7200,10,14,,,900000\n";  // 7 good, after a gap
+  const std::string good =
+      std::string(kHeader) + "0,10,14,,,1000000\n600,10,14,,,1100000\n7200,10,14,,,900000\n";
   // Act
   const HistoryResult h = s.run(bad, "bad.csv");
   const HistoryResult ref = s.run(good, "good.csv");
@@ -85,7 +87,8 @@ TEST(DamageHistory, BadRowsAreReportedWithRowAndFieldAndLeaveTheDamageOfTheGoodR
   EXPECT_NE(h.issues[3].message.find("torque_nm"), std::string::npos);
   EXPECT_EQ(h.issues[4].row, 7u);
   EXPECT_NE(h.issues[4].message.find("gap"), std::string::npos);
-  for (std::size_t c = 0; c < s.channels.channel_count(); ++c) EXPECT_EQ(h.damage[c], ref.damage[c]);
+  for (std::size_t c = 0; c < s.channels.channel_count(); ++c)
+    EXPECT_EQ(h.damage[c], ref.damage[c]);
 }
 
 TEST(DamageHistory, TorqueComesFromPowerOverSpeedWhenNoTorqueColumnIsGiven) {

@@ -14,8 +14,9 @@
 namespace {
 
 TEST(DayDistribution, QuartilesMedianAndNearestDaysFollowTheHandCalculation) {
-  // Arrange: five full days with damage 5, 1, 4, 2, 3 (·1e-6) and daily mean wind 9, 5, 7, 6.5, 8 m/s,
-  // and one partial day. Sorted: 1 2 3 4 5 → type 7 quantiles at ranks 1, 2, 3: Q1 2, median 3, Q3 4.
+  // Arrange: five full days with damage 5, 1, 4, 2, 3 (·1e-6) and daily mean wind 9, 5, 7, 6.5, 8
+  // m/s, and one partial day. Sorted: 1 2 3 4 5 → type 7 quantiles at ranks 1, 2, 3: Q1 2, median
+  // 3, Q3 4.
   std::vector<app::fatigue::DayRecord> days;
   const double damage[] = {5e-6, 1e-6, 4e-6, 2e-6, 3e-6};
   const double wind[] = {9.0, 5.0, 7.0, 6.5, 8.0};

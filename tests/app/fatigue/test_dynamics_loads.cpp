@@ -13,8 +13,9 @@ namespace {
 namespace mf = model::fatigue;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-const std::vector<std::string> kMeshes = {"sun_planet_1", "sun_planet_2", "sun_planet_3", "ring_planet_1",
-                                          "ring_planet_2", "ring_planet_3", "intermediate", "high_speed"};
+const std::vector<std::string> kMeshes = {"sun_planet_1",  "sun_planet_2",  "sun_planet_3",
+                                          "ring_planet_1", "ring_planet_2", "ring_planet_3",
+                                          "intermediate",  "high_speed"};
 const std::vector<std::string> kBearings = {"b1", "b2", "b3", "b4", "b5", "b6"};
 
 TEST(RomLoadConverter, TurnsLineOfActionForcesIntoIsoTangentialForcesAndPlanetPinLoads) {

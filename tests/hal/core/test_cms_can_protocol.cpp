@@ -27,7 +27,8 @@ TEST(CmsCanProtocol, DecodesAnInt16FdFrameWrittenOutByHand) {
   // Arrange: channel 2, version 1 → byte0 0x12; int16, 2 samples → byte1 0x02;
   // sequence 0x0304 → 04 03; t0 = 0x01020304 µs → 04 03 02 01;
   // samples 1000 (0x03E8 → E8 03) and -2 (0xFFFE → FE FF); 12 bytes used: length 12.
-  const CanFrame f = fd_frame(kBase + 2, {0x12, 0x02, 0x04, 0x03, 0x04, 0x03, 0x02, 0x01, 0xE8, 0x03, 0xFE, 0xFF});
+  const CanFrame f =
+      fd_frame(kBase + 2, {0x12, 0x02, 0x04, 0x03, 0x04, 0x03, 0x02, 0x01, 0xE8, 0x03, 0xFE, 0xFF});
   CmsFrame out;
 
   // Act
@@ -45,9 +46,10 @@ TEST(CmsCanProtocol, DecodesAnInt16FdFrameWrittenOutByHand) {
 }
 
 TEST(CmsCanProtocol, DecodesInt24SamplesWithSignExtensionAndPaddingToTheFdLength) {
-  // Arrange: channel 0, int24 (0b01 << 6) with 2 samples → byte1 0x42; 8 + 6 = 14 bytes → DLC length 16.
-  // samples 0x7FFFFF (max) and -8388608 (0x800000).
-  const CanFrame f = fd_frame(kBase, {0x10, 0x42, 0x00, 0x00, 0, 0, 0, 0, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x80, 0, 0});
+  // Arrange: channel 0, int24 (0b01 << 6) with 2 samples → byte1 0x42; 8 + 6 = 14 bytes → DLC
+  // length 16. samples 0x7FFFFF (max) and -8388608 (0x800000).
+  const CanFrame f = fd_frame(
+      kBase, {0x10, 0x42, 0x00, 0x00, 0, 0, 0, 0, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x80, 0, 0});
   CmsFrame out;
 
   // Act
@@ -87,43 +89,56 @@ TEST(CmsCanProtocol, RejectsEachKindOfMalformedFrame) {
   // Arrange / Act / Assert, one malformation at a time from a good 12-byte frame.
   const CanFrame good = fd_frame(kBase + 2, {0x12, 0x02, 0, 0, 0, 0, 0, 0, 1, 0, 2, 0});
   CmsFrame out;
-  ASSERT_EQ(hal::decode_cms_frame(good, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kNone);
+  ASSERT_EQ(hal::decode_cms_frame(good, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kNone);
 
   CanFrame f = good;
   f.id = kBase + 16;
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kNotCmsId);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kNotCmsId);
   f = good;
   f.extended = true;
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kNotCmsId);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kNotCmsId);
   f = good;
   f.data[0] = 0x22;  // version 2
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadVersion);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadVersion);
   f = good;
   f.data[0] = 0x13;  // channel 3 on the id of channel 2
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kChannelMismatch);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kChannelMismatch);
   f = good;
   f.data[1] = 0x82;  // format 2 (reserved)
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadFormat);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadFormat);
   f = good;
   f.data[1] = 0x00;  // zero samples
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadCount);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadCount);
   f = good;
   f.data[1] = 0x1D;  // 29 int16 samples cannot fit 64 bytes
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadCount);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadCount);
   f = good;
   f.data[1] = 0x03;  // says 3 samples (14 bytes) but the frame has 12
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadLength);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadLength);
   f = good;
-  f.len = 16;        // 12 bytes used must travel as length 12, not 16
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadLength);
+  f.len = 16;  // 12 bytes used must travel as length 12, not 16
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadLength);
   f = fd_frame(kBase, {0x10, 0x42, 0, 0, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 9});  // padding byte 9
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kNonZeroPadding);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kNonZeroPadding);
   f = good;
-  f.fd = false;      // classic frames are exactly 8 bytes
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kBadLength);
+  f.fd = false;  // classic frames are exactly 8 bytes
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kBadLength);
   f = good;
   f.error = true;
-  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out), CmsDecodeError::kErrorFrame);
+  EXPECT_EQ(hal::decode_cms_frame(f, kBase, CmsSampleFormat::kInt16, out),
+            CmsDecodeError::kErrorFrame);
 }
 
 TEST(CmsCanProtocol, EncodeThenDecodeReturnsTheBlockForEveryCountAndFormat) {
@@ -175,14 +190,14 @@ TEST(SequenceTracker, ClassifiesInOrderGapDuplicateAndLateFramesAcrossTheWrap) {
   // Act / Assert
   EXPECT_EQ(t.on_sequence(65534).verdict, V::kFirst);
   EXPECT_EQ(t.on_sequence(65535).verdict, V::kInOrder);
-  EXPECT_EQ(t.on_sequence(0).verdict, V::kInOrder);       // wrap
+  EXPECT_EQ(t.on_sequence(0).verdict, V::kInOrder);  // wrap
   EXPECT_EQ(t.on_sequence(0).verdict, V::kDuplicate);
-  const auto gap = t.on_sequence(4);                       // 1, 2, 3 lost
+  const auto gap = t.on_sequence(4);  // 1, 2, 3 lost
   EXPECT_EQ(gap.verdict, V::kGap);
   EXPECT_EQ(gap.lost, 3);
-  EXPECT_EQ(t.on_sequence(2).verdict, V::kReordered);     // late
-  EXPECT_EQ(t.on_sequence(65535).verdict, V::kReordered); // from before the wrap
-  EXPECT_EQ(t.on_sequence(5).verdict, V::kInOrder);       // late frames did not move the reference
+  EXPECT_EQ(t.on_sequence(2).verdict, V::kReordered);      // late
+  EXPECT_EQ(t.on_sequence(65535).verdict, V::kReordered);  // from before the wrap
+  EXPECT_EQ(t.on_sequence(5).verdict, V::kInOrder);        // late frames did not move the reference
 }
 
 TEST(TimestampUnwrapper, ContinuesAcrossThe32BitMicrosecondWrap) {
@@ -191,7 +206,7 @@ TEST(TimestampUnwrapper, ContinuesAcrossThe32BitMicrosecondWrap) {
 
   // Act
   const auto a = u.unwrap(0xFFFFFF00u);
-  const auto b = u.unwrap(0x00000100u);  // 0x200 µs later, after the wrap
+  const auto b = u.unwrap(0x00000100u);     // 0x200 µs later, after the wrap
   const auto late = u.unwrap(0xFFFFFF80u);  // a late frame from before the wrap
   const auto c = u.unwrap(0x00000200u);
 

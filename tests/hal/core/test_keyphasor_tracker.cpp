@@ -53,8 +53,8 @@ TEST(KeyphasorTracker, DeclaresAStuckKeyphasorInvalidAfterTwoMissingRevolutions)
   for (std::uint32_t k = 0; k < 3; ++k) t.on_edge(edge(100ms * k, k));
 
   // Act / Assert
-  EXPECT_TRUE(t.state(250ms).valid);    // within 2 periods of the last edge (200 ms)
-  EXPECT_FALSE(t.state(450ms).valid);   // 2.5 periods without an edge
+  EXPECT_TRUE(t.state(250ms).valid);   // within 2 periods of the last edge (200 ms)
+  EXPECT_FALSE(t.state(450ms).valid);  // 2.5 periods without an edge
 }
 
 TEST(KeyphasorTracker, RejectsBounceFasterThanTheMaximumSpeed) {

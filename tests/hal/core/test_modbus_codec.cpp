@@ -13,7 +13,8 @@ using hal::RegisterSpec;
 using hal::RegisterType;
 using hal::WordOrder;
 
-RegisterSpec spec(RegisterType t, WordOrder o = WordOrder::kHighWordFirst, double scale = 1.0, double offset = 0.0) {
+RegisterSpec spec(RegisterType t, WordOrder o = WordOrder::kHighWordFirst, double scale = 1.0,
+                  double offset = 0.0) {
   RegisterSpec s;
   s.type = t;
   s.word_order = o;
@@ -29,7 +30,8 @@ TEST(ModbusCodec, DecodesFloat32InBothWordOrders) {
 
   // Act
   const auto hi = hal::decode_register(spec(RegisterType::kFloat32), abcd, 2);
-  const auto lo = hal::decode_register(spec(RegisterType::kFloat32, WordOrder::kLowWordFirst), cdab, 2);
+  const auto lo =
+      hal::decode_register(spec(RegisterType::kFloat32, WordOrder::kLowWordFirst), cdab, 2);
 
   // Assert
   ASSERT_TRUE(hi && lo);
@@ -45,12 +47,16 @@ TEST(ModbusCodec, AppliesScaleAndOffsetToSignedAndUnsignedIntegers) {
   const std::uint16_t u32[2] = {0x0001, 0x0000};  // 65536 high-word-first
 
   // Act / Assert
-  EXPECT_NEAR(*hal::decode_register(spec(RegisterType::kUInt16, WordOrder::kHighWordFirst, 0.01), wind, 1), 6.75, 1e-12);
-  EXPECT_NEAR(*hal::decode_register(spec(RegisterType::kInt16, WordOrder::kHighWordFirst, 0.1, -40.0), temp, 1), -40.5,
-              1e-12);
+  EXPECT_NEAR(
+      *hal::decode_register(spec(RegisterType::kUInt16, WordOrder::kHighWordFirst, 0.01), wind, 1),
+      6.75, 1e-12);
+  EXPECT_NEAR(*hal::decode_register(
+                  spec(RegisterType::kInt16, WordOrder::kHighWordFirst, 0.1, -40.0), temp, 1),
+              -40.5, 1e-12);
   EXPECT_EQ(*hal::decode_register(spec(RegisterType::kInt32), big, 2), -2.0);
   EXPECT_EQ(*hal::decode_register(spec(RegisterType::kUInt32), u32, 2), 65536.0);
-  EXPECT_EQ(*hal::decode_register(spec(RegisterType::kUInt32, WordOrder::kLowWordFirst), u32, 2), 1.0);
+  EXPECT_EQ(*hal::decode_register(spec(RegisterType::kUInt32, WordOrder::kLowWordFirst), u32, 2),
+            1.0);
 }
 
 TEST(ModbusCodec, RefusesNanFloatsAndTooFewRegisters) {
@@ -67,10 +73,12 @@ TEST(ModbusCodec, EncodesTheInverseOfDecodeAndRejectsValuesThatDoNotFit) {
   std::uint16_t r[2] = {0, 0};
 
   // Act / Assert: -12.5f low word first → C148 0000 swapped
-  ASSERT_TRUE(hal::encode_register(spec(RegisterType::kFloat32, WordOrder::kLowWordFirst), -12.5, r, 2));
+  ASSERT_TRUE(
+      hal::encode_register(spec(RegisterType::kFloat32, WordOrder::kLowWordFirst), -12.5, r, 2));
   EXPECT_EQ(r[0], 0x0000);
   EXPECT_EQ(r[1], 0xC148);
-  ASSERT_TRUE(hal::encode_register(spec(RegisterType::kUInt16, WordOrder::kHighWordFirst, 0.01), 6.75, r, 1));
+  ASSERT_TRUE(hal::encode_register(spec(RegisterType::kUInt16, WordOrder::kHighWordFirst, 0.01),
+                                   6.75, r, 1));
   EXPECT_EQ(r[0], 675);
   EXPECT_FALSE(hal::encode_register(spec(RegisterType::kUInt16), -1.0, r, 1));
   EXPECT_FALSE(hal::encode_register(spec(RegisterType::kInt16), 40000.0, r, 1));
@@ -146,17 +154,17 @@ TEST(ResultsRegisterMap, PutsEachResultAtItsDocumentedAddress) {
   hal::encode_results(r, WordOrder::kHighWordFirst, img);
 
   // Assert: addresses as in hal/README.md (map v1)
-  EXPECT_EQ(img[0], 1);                   // map version
-  EXPECT_EQ(img[1], 0x0021);              // running | calibrated
+  EXPECT_EQ(img[0], 1);       // map version
+  EXPECT_EQ(img[1], 0x0021);  // running | calibrated
   EXPECT_EQ(img[4], 0x0001);
   EXPECT_EQ(img[5], 0x0002);
   EXPECT_EQ(img[8], 0x48B0);
   EXPECT_EQ(img[9], 0xA260);
   EXPECT_EQ(img[10], 0x4105);
   EXPECT_EQ(img[11], 0x47AE);
-  EXPECT_EQ(img[22], 0xC148);             // component 0 damage at 20 + 2
+  EXPECT_EQ(img[22], 0xC148);  // component 0 damage at 20 + 2
   EXPECT_EQ(hal::results_reg::kIndicators, 134);
-  EXPECT_EQ(img[134 + 14], 0x48B0);       // indicator 7 at 134 + 2·7
+  EXPECT_EQ(img[134 + 14], 0x48B0);  // indicator 7 at 134 + 2·7
   EXPECT_EQ(hal::results_reg::kCommands, 150);
   EXPECT_EQ(hal::results_reg::kCount, 166);
 }

@@ -2,9 +2,9 @@
 // word orders, scaling, timeouts, a controller that vanishes and returns.
 #include <gtest/gtest.h>
 
+#include "../no_alloc.hpp"
 #include "hal/modbus_scada_source.hpp"
 #include "modbus_test_util.hpp"
-#include "../no_alloc.hpp"
 
 namespace {
 
@@ -16,7 +16,8 @@ using modbus_test::wait_until;
 
 void add(hal::ScadaRegisterMap& m, ScadaQuantity q, std::uint16_t addr, hal::RegisterType t,
          hal::RegisterFunction f = hal::RegisterFunction::kHolding,
-         hal::WordOrder o = hal::WordOrder::kHighWordFirst, double scale = 1.0, double offset = 0.0) {
+         hal::WordOrder o = hal::WordOrder::kHighWordFirst, double scale = 1.0,
+         double offset = 0.0) {
   hal::ScadaRegister& e = m.entries[m.count++];
   e.quantity = q;
   e.spec.address = addr;
@@ -42,20 +43,20 @@ TEST(ModbusScadaSource, ReadsEveryTypeWordOrderAndScaleOfTheMap) {
   // Arrange: the controller's registers, filled by hand
   PeerServer peer;
   ASSERT_TRUE(peer.bound());
-  peer.set_holding(100, 675);                   // wind: uint16, 0.01 m/s/LSB → 6.75 m/s
-  peer.set_holding(101, 0x4105);                // rotor speed: float32 ABCD 8.33f = 0x410547AE
+  peer.set_holding(100, 675);     // wind: uint16, 0.01 m/s/LSB → 6.75 m/s
+  peer.set_holding(101, 0x4105);  // rotor speed: float32 ABCD 8.33f = 0x410547AE
   peer.set_holding(102, 0x47AE);
-  peer.set_holding(103, 0xA260);                // torque: float32 CDAB 361747.0f = 0x48B0A260
+  peer.set_holding(103, 0xA260);  // torque: float32 CDAB 361747.0f = 0x48B0A260
   peer.set_holding(104, 0x48B0);
-  peer.set_input(10, static_cast<std::uint16_t>(-25));   // pitch: int16 × 0.1 → −2.5°
-  peer.set_input(11, 0xFFFF);                   // power: int32 ABCD × 0.1: 0xFFFF FC18 = −1000 → −100 kW
+  peer.set_input(10, static_cast<std::uint16_t>(-25));  // pitch: int16 × 0.1 → −2.5°
+  peer.set_input(11, 0xFFFF);  // power: int32 ABCD × 0.1: 0xFFFF FC18 = −1000 → −100 kW
   peer.set_input(12, 0xFC18);
   hal::ModbusClientConfig c = fast_config(peer.port());
-  add(c.map, ScadaQuantity::kWindSpeed, 100, hal::RegisterType::kUInt16, hal::RegisterFunction::kHolding,
-      hal::WordOrder::kHighWordFirst, 0.01);
+  add(c.map, ScadaQuantity::kWindSpeed, 100, hal::RegisterType::kUInt16,
+      hal::RegisterFunction::kHolding, hal::WordOrder::kHighWordFirst, 0.01);
   add(c.map, ScadaQuantity::kRotorSpeed, 101, hal::RegisterType::kFloat32);
-  add(c.map, ScadaQuantity::kRotorTorque, 103, hal::RegisterType::kFloat32, hal::RegisterFunction::kHolding,
-      hal::WordOrder::kLowWordFirst);
+  add(c.map, ScadaQuantity::kRotorTorque, 103, hal::RegisterType::kFloat32,
+      hal::RegisterFunction::kHolding, hal::WordOrder::kLowWordFirst);
   add(c.map, ScadaQuantity::kPitch, 10, hal::RegisterType::kInt16, hal::RegisterFunction::kInput,
       hal::WordOrder::kHighWordFirst, 0.1);
   add(c.map, ScadaQuantity::kPower, 11, hal::RegisterType::kInt32, hal::RegisterFunction::kInput,
@@ -163,8 +164,8 @@ TEST(ModbusScadaSource, RecoversWhenTheControllerVanishesAndReturnsOnTheSamePort
   const std::uint16_t port = peer->port();
   peer->set_holding(0, 500);
   hal::ModbusClientConfig c = fast_config(port);
-  add(c.map, ScadaQuantity::kWindSpeed, 0, hal::RegisterType::kUInt16, hal::RegisterFunction::kHolding,
-      hal::WordOrder::kHighWordFirst, 0.01);
+  add(c.map, ScadaQuantity::kWindSpeed, 0, hal::RegisterType::kUInt16,
+      hal::RegisterFunction::kHolding, hal::WordOrder::kHighWordFirst, 0.01);
   hal::MonotonicClock clock;
   hal::ModbusScadaSource source(c, clock);
   ASSERT_EQ(source.configure(), Status::kOk);

@@ -14,9 +14,9 @@
 #include <string>
 #include <vector>
 
+#include "../no_alloc.hpp"
 #include "hal/modbus_results_server.hpp"
 #include "modbus_test_util.hpp"
-#include "../no_alloc.hpp"
 
 namespace {
 
@@ -94,7 +94,8 @@ class ResultsServer : public ::testing::Test {
     return fd;
   }
   std::string mbpoll(const std::string& args) {
-    return run("mbpoll -m tcp -a 1 -1 -o 2 -p " + std::to_string(port_) + " " + args + " 127.0.0.1");
+    return run("mbpoll -m tcp -a 1 -1 -o 2 -p " + std::to_string(port_) + " " + args +
+               " 127.0.0.1");
   }
 
   std::unique_ptr<hal::ModbusResultsServer> server_;
@@ -113,8 +114,8 @@ TEST_F(ResultsServer, ServesTheDocumentedRegisterMapToMbpoll) {
 
   // Assert
   ASSERT_EQ(words.size(), 2u);
-  EXPECT_EQ(words[0], "1");     // map version
-  EXPECT_EQ(words[1], "33");    // running | calibrated
+  EXPECT_EQ(words[0], "1");   // map version
+  EXPECT_EQ(words[1], "33");  // running | calibrated
   ASSERT_EQ(floats.size(), 3u);
   EXPECT_EQ(floats[0], "361747");
   EXPECT_NEAR(std::stod(floats[1]), 8.33, 1e-5);
@@ -196,7 +197,8 @@ TEST_F(ResultsServer, DropsAMalformedClientWithoutDisturbingAnother) {
   ASSERT_GE(slow, 0);
 
   // Act: protocol id 0x1234 (must be 0), and half a frame that never completes
-  const std::uint8_t garbage[] = {0x00, 0x01, 0x12, 0x34, 0x00, 0x06, 0x01, 0x03, 0x00, 0x00, 0x00, 0x01};
+  const std::uint8_t garbage[] = {0x00, 0x01, 0x12, 0x34, 0x00, 0x06,
+                                  0x01, 0x03, 0x00, 0x00, 0x00, 0x01};
   const std::uint8_t half[] = {0x00, 0x02, 0x00, 0x00, 0x00, 0x06, 0x01};
   ASSERT_EQ(::send(bad, garbage, sizeof garbage, 0), static_cast<ssize_t>(sizeof garbage));
   ASSERT_EQ(::send(slow, half, sizeof half, 0), static_cast<ssize_t>(sizeof half));

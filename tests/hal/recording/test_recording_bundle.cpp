@@ -68,7 +68,8 @@ void le16(std::string& s, std::uint16_t v) {
 }
 
 // A canonical 44-byte-header WAV: format 3 (IEEE float), 32 bits, interleaved.
-std::string float_wav(std::uint16_t channels, std::uint32_t rate, const std::vector<std::uint32_t>& words) {
+std::string float_wav(std::uint16_t channels, std::uint32_t rate,
+                      const std::vector<std::uint32_t>& words) {
   std::string s = "RIFF";
   le32(s, static_cast<std::uint32_t>(36 + 4 * words.size()));
   s += "WAVEfmt ";
@@ -103,10 +104,12 @@ hal::Recording sample_recording(const std::string& samples_file) {
   r.samples.assign(2, std::vector<double>(300));
   for (std::size_t i = 0; i < 300; ++i) {
     // float-representable values so the WAV round trip is exact
-    r.samples[0][i] = static_cast<double>(static_cast<float>(std::sin(0.01 * static_cast<double>(i))));
+    r.samples[0][i] =
+        static_cast<double>(static_cast<float>(std::sin(0.01 * static_cast<double>(i))));
     r.samples[1][i] = static_cast<double>(i) * 0.25 - 10.0;
   }
-  r.scada = {{0.0, 6.5, 8.3, 520.0, std::nullopt, 360000.0}, {1.0, 6.75, 8.33, 530.0, std::nullopt, 361747.0}};
+  r.scada = {{0.0, 6.5, 8.3, 520.0, std::nullopt, 360000.0},
+             {1.0, 6.75, 8.33, 530.0, std::nullopt, 361747.0}};
   return r;
 }
 
@@ -260,56 +263,60 @@ TEST_P(BadBundle, IsRejectedWithAMessageNamingFileFieldAndExpectation) {
   ASSERT_FALSE(result) << c.name;
   EXPECT_NE(result.error.file.find(c.file_part), std::string::npos) << result.error.to_string();
   EXPECT_NE(result.error.field.find(c.field_part), std::string::npos) << result.error.to_string();
-  EXPECT_NE(result.error.message.find(c.message_part), std::string::npos) << result.error.to_string();
+  EXPECT_NE(result.error.message.find(c.message_part), std::string::npos)
+      << result.error.to_string();
 }
 
 INSTANTIATE_TEST_SUITE_P(
     EveryRule, BadBundle,
     ::testing::Values(
         BadCase{"missing_json", "", kGoodWav, "recording.json", "", "missing"},
-        BadCase{"malformed_json", "{\"format\": ", kGoodWav, "recording.json", "", "not valid JSON"},
-        BadCase{"unknown_version", json_with("recording/1", "recording/2"), kGoodWav, "recording.json", "format",
-                "expected 'drivetwin-recording/1'"},
-        BadCase{"zero_rate", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": 0"), kGoodWav, "recording.json",
-                "sample_rate_hz", "> 0"},
-        BadCase{"negative_rate", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": -4"), kGoodWav,
+        BadCase{"malformed_json", "{\"format\": ", kGoodWav, "recording.json", "",
+                "not valid JSON"},
+        BadCase{"unknown_version", json_with("recording/1", "recording/2"), kGoodWav,
+                "recording.json", "format", "expected 'drivetwin-recording/1'"},
+        BadCase{"zero_rate", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": 0"), kGoodWav,
                 "recording.json", "sample_rate_hz", "> 0"},
-        BadCase{"rate_is_text", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": \"4\""), kGoodWav,
-                "recording.json", "sample_rate_hz", "expected a number"},
-        BadCase{"channel_without_unit", json_with(", \"unit\": \"V\"", ""), kGoodWav, "recording.json",
-                "channels[1].unit", "missing"},
-        BadCase{"duplicate_channel", json_with("\"tacho\"", "\"point1\""), kGoodWav, "recording.json",
-                "channels[1].name", "unique"},
-        BadCase{"missing_rotor_speed", json_with("\"rotor_speed_rpm\": 8.33, ", ""), kGoodWav, "recording.json",
-                "operating_point.rotor_speed_rpm", "missing"},
-        BadCase{"neither_torque_nor_wind",
-                json_with("\"wind_speed_mps\": 6.75, \"input_torque_nm\": 361747", "\"power_kw\": 1"), kGoodWav,
-                "recording.json", "operating_point", "at least one"},
+        BadCase{"negative_rate", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": -4"),
+                kGoodWav, "recording.json", "sample_rate_hz", "> 0"},
+        BadCase{"rate_is_text", json_with("\"sample_rate_hz\": 4", "\"sample_rate_hz\": \"4\""),
+                kGoodWav, "recording.json", "sample_rate_hz", "expected a number"},
+        BadCase{"channel_without_unit", json_with(", \"unit\": \"V\"", ""), kGoodWav,
+                "recording.json", "channels[1].unit", "missing"},
+        BadCase{"duplicate_channel", json_with("\"tacho\"", "\"point1\""), kGoodWav,
+                "recording.json", "channels[1].name", "unique"},
+        BadCase{"missing_rotor_speed", json_with("\"rotor_speed_rpm\": 8.33, ", ""), kGoodWav,
+                "recording.json", "operating_point.rotor_speed_rpm", "missing"},
+        BadCase{
+            "neither_torque_nor_wind",
+            json_with("\"wind_speed_mps\": 6.75, \"input_torque_nm\": 361747", "\"power_kw\": 1"),
+            kGoodWav, "recording.json", "operating_point", "at least one"},
         BadCase{"rotor_speed_out_of_range", json_with("8.33", "40"), kGoodWav, "recording.json",
                 "operating_point.rotor_speed_rpm", "turbine's range"},
         BadCase{"torque_out_of_range", json_with("361747", "9e6"), kGoodWav, "recording.json",
                 "operating_point.input_torque_nm", "turbine's range"},
-        BadCase{"negative_wind", json_with("6.75", "-1"), kGoodWav, "recording.json", "operating_point.wind_speed_mps",
-                ">= 0"},
-        BadCase{"samples_escape_bundle", json_with("\"cms.wav\"", "\"../cms.wav\""), kGoodWav, "recording.json",
-                "samples", "inside the bundle"},
+        BadCase{"negative_wind", json_with("6.75", "-1"), kGoodWav, "recording.json",
+                "operating_point.wind_speed_mps", ">= 0"},
+        BadCase{"samples_escape_bundle", json_with("\"cms.wav\"", "\"../cms.wav\""), kGoodWav,
+                "recording.json", "samples", "inside the bundle"},
         BadCase{"missing_wav", kJson, "", "cms.wav", "", "missing"},
-        BadCase{"wav_channel_count", kJson, float_wav(3, 4, {kOne, kOne, kOne}), "cms.wav", "fmt chunk",
-                "expected 2"},
-        BadCase{"wav_rate_mismatch", kJson, float_wav(2, 8, {kOne, kOne}), "cms.wav", "fmt chunk", "expected 4 Hz"},
+        BadCase{"wav_channel_count", kJson, float_wav(3, 4, {kOne, kOne, kOne}), "cms.wav",
+                "fmt chunk", "expected 2"},
+        BadCase{"wav_rate_mismatch", kJson, float_wav(2, 8, {kOne, kOne}), "cms.wav", "fmt chunk",
+                "expected 4 Hz"},
         BadCase{"wav_not_riff", kJson, "hello, world", "cms.wav", "RIFF", "not a RIFF"},
-        BadCase{"wav_truncated", kJson, float_wav(2, 4, {kOne, kOne}).substr(0, 50), "cms.wav", "data chunk",
-                "truncated"},
-        BadCase{"wav_non_finite", kJson, float_wav(2, 4, {kOne, kOne, kNan, kOne}), "cms.wav", "point1' frame 1",
-                "non-finite"}),
+        BadCase{"wav_truncated", kJson, float_wav(2, 4, {kOne, kOne}).substr(0, 50), "cms.wav",
+                "data chunk", "truncated"},
+        BadCase{"wav_non_finite", kJson, float_wav(2, 4, {kOne, kOne, kNan, kOne}), "cms.wav",
+                "point1' frame 1", "non-finite"}),
     [](const ::testing::TestParamInfo<BadCase>& p) { return std::string(p.param.name); });
 
 TEST(RecordingBundle, RejectsAWavOfIntegerPcm) {
   // Arrange: format 1 (PCM) 16-bit
   TempDir dir;
   std::string wav = float_wav(2, 4, {kOne, kOne});
-  wav[20] = 1;          // wFormatTag = 1
-  wav[34] = 16;         // wBitsPerSample = 16
+  wav[20] = 1;   // wFormatTag = 1
+  wav[34] = 16;  // wBitsPerSample = 16
   write(dir.path() / "recording.json", kJson);
   write(dir.path() / "cms.wav", wav);
 
@@ -334,7 +341,8 @@ TEST(RecordingBundle, RejectsACsvMissingAChannelColumnNamingTheColumn) {
   // Assert
   ASSERT_FALSE(result);
   EXPECT_NE(result.error.file.find("cms.csv"), std::string::npos);
-  EXPECT_NE(result.error.message.find("no column 'tacho'"), std::string::npos) << result.error.to_string();
+  EXPECT_NE(result.error.message.find("no column 'tacho'"), std::string::npos)
+      << result.error.to_string();
 }
 
 TEST(RecordingBundle, RejectsANonFiniteCsvSampleNamingLineAndColumn) {
@@ -364,7 +372,8 @@ TEST(RecordingBundle, RejectsCsvTimesThatDisagreeWithTheSampleRate) {
   // Assert
   ASSERT_FALSE(result);
   EXPECT_EQ(result.error.field, "line 3, column 't_s'");
-  EXPECT_NE(result.error.message.find("expected 0.25"), std::string::npos) << result.error.to_string();
+  EXPECT_NE(result.error.message.find("expected 0.25"), std::string::npos)
+      << result.error.to_string();
 }
 
 TEST(RecordingBundle, RejectsAScadaCsvWithoutWindSpeed) {
@@ -380,7 +389,8 @@ TEST(RecordingBundle, RejectsAScadaCsvWithoutWindSpeed) {
   // Assert
   ASSERT_FALSE(result);
   EXPECT_NE(result.error.file.find("scada.csv"), std::string::npos);
-  EXPECT_NE(result.error.message.find("wind_speed_mps"), std::string::npos) << result.error.to_string();
+  EXPECT_NE(result.error.message.find("wind_speed_mps"), std::string::npos)
+      << result.error.to_string();
 }
 
 TEST(RecordingBundle, RejectsScadaTimesThatDoNotIncrease) {
@@ -410,7 +420,8 @@ TEST(RecordingBundle, RejectsAScadaRowWithoutWindSpeedNamingRowLineAndColumn) {
 
   // Assert
   ASSERT_FALSE(result);
-  EXPECT_EQ(result.error.field, "row 2 (line 3), column 'wind_speed_mps'") << result.error.to_string();
+  EXPECT_EQ(result.error.field, "row 2 (line 3), column 'wind_speed_mps'")
+      << result.error.to_string();
   EXPECT_NE(result.error.file.find("scada.csv"), std::string::npos);
 }
 
@@ -431,7 +442,8 @@ TEST(RecordingBundle, WriterLeavesNothingBehindWhenASampleIsNotFinite) {
 }
 
 TEST(RecordingBundle, WriterRefusesMismatchedChannelCountAndKeepsAnOldBundleIntact) {
-  // Arrange: a good bundle on disk, then an attempt to overwrite it with 3 channels of names but 2 of data
+  // Arrange: a good bundle on disk, then an attempt to overwrite it with 3 channels of names but 2
+  // of data
   TempDir dir;
   ASSERT_FALSE(hal::write_bundle(dir.path(), sample_recording("cms.wav")));
   const std::string before = slurp(dir.path() / "recording.json");

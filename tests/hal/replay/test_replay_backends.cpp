@@ -11,8 +11,8 @@
 #include <fstream>
 #include <numbers>
 
-#include "hal/replay_backends.hpp"
 #include "../no_alloc.hpp"
+#include "hal/replay_backends.hpp"
 
 namespace {
 
@@ -41,7 +41,8 @@ hal::Recording recording(double fs, std::size_t n, double f_tacho) {
 }
 
 TEST(ReplayCmsStream, DeliversRecordedSamplesInBlocksWhenTheirLastSampleIsDue) {
-  // Arrange: 100 samples at 1 kHz → 3 full blocks of 28 per channel (the last 16 samples are not sent)
+  // Arrange: 100 samples at 1 kHz → 3 full blocks of 28 per channel (the last 16 samples are not
+  // sent)
   const hal::Recording rec = recording(1000.0, 100, 10.0);
   hal::ReplayClock clock;  // stepped
   hal::ReplayCmsStream cms(rec, clock);
@@ -100,7 +101,8 @@ TEST(ReplayKeyphasor, GivesBackTheShaftSpeedTheTachoWasRecordedAt) {
 }
 
 TEST(TachoEdges, InterpolateTheThresholdCrossingBetweenSamples) {
-  // Arrange: 0, 0, 0.25, 0.75, 1 at fs = 4 Hz → threshold 0.5 crossed halfway between samples 2 and 3
+  // Arrange: 0, 0, 0.25, 0.75, 1 at fs = 4 Hz → threshold 0.5 crossed halfway between samples 2 and
+  // 3
   const std::vector<double> x{0, 0, 0.25, 0.75, 1, 1, 0, 0};
 
   // Act
@@ -136,7 +138,8 @@ TEST(ReplayScadaSource, ShowsEachBundleRowFromItsTimeAndGoesStaleAfterTheLast) {
 
 TEST(ReplayScadaSource, ReplaysAKelmarshStyleExportFromItsDateTimes) {
   // Arrange: 10-minute rows with the Kelmarsh header (UTF-8 degree sign) and one empty wind cell
-  const auto path = std::filesystem::temp_directory_path() / ("drivetwin-kelmarsh-" + std::to_string(::getpid()) + ".csv");
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("drivetwin-kelmarsh-" + std::to_string(::getpid()) + ".csv");
   {
     std::ofstream out(path);
     out << "Date and time,Wind speed (m/s),Rotor speed (RPM),Pitch angle (°),Power (kW)\n"

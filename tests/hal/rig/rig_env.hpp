@@ -57,7 +57,7 @@ inline bool wait_until(const std::function<bool()>& pred,
 
 }  // namespace rig
 
-#define RIG_SKIP_OUTSIDE()                                                   \
-  do {                                                                       \
+#define RIG_SKIP_OUTSIDE()                                                                   \
+  do {                                                                                       \
     if (!rig::inside()) GTEST_SKIP() << "not inside the emulated rig (DRIVETWIN_RIG unset)"; \
   } while (0)

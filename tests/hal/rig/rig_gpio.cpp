@@ -14,7 +14,8 @@ using namespace std::chrono_literals;
 using hal::Status;
 
 std::string sim_attr(const std::string& line_env, const char* fallback, const char* attr) {
-  return rig::env("DRIVETWIN_RIG_GPIOSIM_DIR") + "/sim_gpio" + rig::env(line_env.c_str(), fallback) + "/" + attr;
+  return rig::env("DRIVETWIN_RIG_GPIOSIM_DIR") + "/sim_gpio" +
+         rig::env(line_env.c_str(), fallback) + "/" + attr;
 }
 
 unsigned line_of(const char* name, unsigned fallback) {
@@ -50,25 +51,29 @@ TEST(RigGpio, MeasuresTheKeyphasorSpeedFromLinesToggledAtAKnownRate) {
   // Act: feed the edges to the tracker as the loop would
   hal::KeyphasorTracker tracker;
   std::vector<hal::KeyphasorEdge> edges;
-  const bool all = rig::wait_until([&] {
-    hal::KeyphasorEdge e;
-    while (kp.read(e) != Status::kNoData) {
-      tracker.on_edge(e);
-      edges.push_back(e);
-    }
-    return edges.size() >= static_cast<std::size_t>(kRevolutions);
-  }, 20000ms);
+  const bool all = rig::wait_until(
+      [&] {
+        hal::KeyphasorEdge e;
+        while (kp.read(e) != Status::kNoData) {
+          tracker.on_edge(e);
+          edges.push_back(e);
+        }
+        return edges.size() >= static_cast<std::size_t>(kRevolutions);
+      },
+      20000ms);
   toggler.join();
 
   // Assert: the mean rate over all edges is 10 Hz (kernel stamps; the writer's
   // jitter does not accumulate with absolute deadlines): within 5 %.
   ASSERT_TRUE(all) << edges.size() << " edges";
-  const double span_s = std::chrono::duration<double>(edges.back().stamp - edges.front().stamp).count();
+  const double span_s =
+      std::chrono::duration<double>(edges.back().stamp - edges.front().stamp).count();
   const double mean_hz = static_cast<double>(edges.size() - 1) / span_s;
   EXPECT_NEAR(mean_hz, 10.0, 0.5);
   const auto s = tracker.state(edges.back().stamp);
   EXPECT_EQ(s.edges, static_cast<std::uint32_t>(kRevolutions));
-  EXPECT_NEAR(s.speed_hz, 10.0, 3.0);  // last single period: scheduling jitter of the toggler under TCG
+  EXPECT_NEAR(s.speed_hz, 10.0,
+              3.0);  // last single period: scheduling jitter of the toggler under TCG
   // A stuck keyphasor: no more edges → invalid after two periods
   EXPECT_FALSE(tracker.state(edges.back().stamp + 300ms).valid);
 }
@@ -113,8 +118,9 @@ TEST(RigGpio, DrivesTheWatchdogAndAlarmRelayAndFallsToSafeStates) {
   // released: gpioget reads the line's pull (pull-down: relay off = alarm raised)
   out.reset();
   rig::write_text(sim_attr("DRIVETWIN_RIG_ALARM_LINE", "2", "pull"), "pull-down");
-  const std::string got = rig::sh("gpioget " + rig::env("DRIVETWIN_RIG_GPIOCHIP_NAME", "gpiochip0") + " " +
-                                  std::to_string(c.alarm_line));
+  const std::string got =
+      rig::sh("gpioget " + rig::env("DRIVETWIN_RIG_GPIOCHIP_NAME", "gpiochip0") + " " +
+              std::to_string(c.alarm_line));
   EXPECT_EQ(got.substr(0, 1), "0") << got;
 }
 

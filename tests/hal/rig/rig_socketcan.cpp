@@ -66,14 +66,15 @@ hal::SocketCanConfig config(const std::string& ifname, bool fd) {
   c.fd = fd;
   c.base_id = kBase;
   c.scale.fill(0.0f);
-  c.scale[0] = 0.001f;   // [m/s² per LSB]
+  c.scale[0] = 0.001f;  // [m/s² per LSB]
   c.scale[1] = 0.5f;
   c.stale_after = 2000ms;
   c.error_hold = 200ms;
   return c;
 }
 
-hal::CanFrame fd_block(std::uint8_t ch, std::uint16_t seq, std::uint32_t t0_us, std::int32_t first) {
+hal::CanFrame fd_block(std::uint8_t ch, std::uint16_t seq, std::uint32_t t0_us,
+                       std::int32_t first) {
   hal::CmsFrame b;
   b.channel = ch;
   b.sequence = seq;
@@ -91,7 +92,7 @@ TEST(RigSocketCan, DecodesFdBlocksFromAPeerAndCountsGapsAndDuplicates) {
   const std::string can = rig::env("DRIVETWIN_RIG_CAN", "vcan0");
   hal::MonotonicClock clock;
   hal::SocketCanConfig c = config(can, true);
-  c.error_hold = 3000ms;   // long enough for TCG emulation to finish sending before we look
+  c.error_hold = 3000ms;  // long enough for TCG emulation to finish sending before we look
   c.stale_after = 10000ms;
   hal::SocketCanCmsStream stream(c, clock);
   ASSERT_EQ(stream.configure(), Status::kOk) << "interface " << can;
@@ -124,12 +125,12 @@ TEST(RigSocketCan, DecodesFdBlocksFromAPeerAndCountsGapsAndDuplicates) {
   EXPECT_EQ(st.lost_blocks, 1u);
   EXPECT_EQ(st.duplicates, 1u);
   EXPECT_EQ(got[0].sequence, 0);
-  EXPECT_FLOAT_EQ(got[1].samples[0], 0.1f);      // raw 100 × 0.001
+  EXPECT_FLOAT_EQ(got[1].samples[0], 0.1f);  // raw 100 × 0.001
   EXPECT_FLOAT_EQ(got[1].samples[27], 0.127f);
   EXPECT_EQ((got[1].stamp - got[0].stamp).count(), 1094 * 1000);
   EXPECT_EQ(stream.health(clock.now()), Status::kGap);  // the gap is shown for error_hold
   std::this_thread::sleep_for(3200ms);
-  EXPECT_EQ(stream.health(clock.now()), Status::kOk);   // and clears without a restart
+  EXPECT_EQ(stream.health(clock.now()), Status::kOk);  // and clears without a restart
 }
 
 TEST(RigSocketCan, DecodesAFrameSentByCansend) {
@@ -195,7 +196,8 @@ TEST(RigSocketCan, ReportsBusOffAndRecoversWhenTheControllerRestarts) {
 
   // Act 1: error-passive warning, then bus-off
   ASSERT_TRUE(peer.send_error(CAN_ERR_CRTL, CAN_ERR_CRTL_RX_PASSIVE));
-  const bool bus_error = rig::wait_until([&] { return stream.health(clock.now()) == Status::kBusError; });
+  const bool bus_error =
+      rig::wait_until([&] { return stream.health(clock.now()) == Status::kBusError; });
   ASSERT_TRUE(peer.send_error(CAN_ERR_BUSOFF));
   const bool off = rig::wait_until([&] { return stream.health(clock.now()) == Status::kBusOff; });
   hal::CmsBlock b;
@@ -203,7 +205,8 @@ TEST(RigSocketCan, ReportsBusOffAndRecoversWhenTheControllerRestarts) {
 
   // Act 2: the controller restarts (restart-ms), then data flows again
   ASSERT_TRUE(peer.send_error(CAN_ERR_RESTARTED));
-  const bool recovered = rig::wait_until([&] { return stream.health(clock.now()) != Status::kBusOff; });
+  const bool recovered =
+      rig::wait_until([&] { return stream.health(clock.now()) != Status::kBusOff; });
   ASSERT_TRUE(peer.send(fd_block(0, 0, 0, 0)));
   const bool data = rig::wait_until([&] { return stream.read(b) == Status::kOk; });
 

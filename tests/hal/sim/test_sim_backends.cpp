@@ -6,9 +6,9 @@
 #include <cmath>
 #include <vector>
 
+#include "../no_alloc.hpp"
 #include "hal/memory_backends.hpp"
 #include "hal/sim_backends.hpp"
-#include "../no_alloc.hpp"
 
 namespace {
 

@@ -12,8 +12,8 @@
 #include <memory>
 #include <new>
 #include <optional>
-#include <vector>
 #include <thread>
+#include <vector>
 
 #include "model/calibration/calibrator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
@@ -78,7 +78,9 @@ class ToneSimulator : public VibrationSimulator {
     for (auto& w : wave_) w.resize(static_cast<std::size_t>(max_duration_s * kSampleRateHz));
   }
   static double gain(std::size_t point, std::size_t tone, std::size_t param) {
-    return 0.6 * std::sin(1.3 * static_cast<double>(1 + tone + 9 * point) * static_cast<double>(1 + param) + 0.4);
+    return 0.6 * std::sin(1.3 * static_cast<double>(1 + tone + 9 * point) *
+                              static_cast<double>(1 + param) +
+                          0.4);
   }
   bool simulate(const DynamicsParameters& params, const OperatingPoint& op, double duration_s,
                 std::array<WaveformView, kMeasurementPoints>& out) override {
@@ -97,7 +99,8 @@ class ToneSimulator : public VibrationSimulator {
       for (std::size_t t = 0; t < kTones; ++t) {
         double log_a = std::log(0.1 / static_cast<double>(1 + t % 3)) + (p == 0 ? 0.0 : -0.5);
         for (std::size_t j = 0; j < 8; ++j) log_a += gain(p, t, j) * x[j];
-        const double f_hz = static_cast<double>(1 + t % 3) * kinematics_.mesh_hz(t / 3, op.rotor_speed_rpm);
+        const double f_hz =
+            static_cast<double>(1 + t % 3) * kinematics_.mesh_hz(t / 3, op.rotor_speed_rpm);
         const double w = 2.0 * 3.14159265358979323846 * f_hz / kSampleRateHz;
         // A·cos(w·i + φ) by a rotating phasor (cheap under QEMU; drift ~1e-12 over a recording).
         const double a = std::exp(log_a);
@@ -139,9 +142,11 @@ class ToneCalibratorTest : public ::testing::Test {
     // The waveform views point into the simulator's buffers: copy before the calibrator simulates.
     model::dsp::FeatureExtractor fx(cal->feature_config());
     std::array<model::dsp::PointFeatures, kMeasurementPoints> measured{};
-    const double hss_hz = op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
+    const double hss_hz =
+        op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
     for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
-      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz}, measured[p]),
+      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz},
+                           measured[p]),
                 model::dsp::DspStatus::kOk);
     }
     cal->set_measurement(measured, op_);
@@ -178,8 +183,11 @@ TEST_F(ToneCalibratorTest, TheTrustRegionRecoversTheParametersThatProducedTheRec
   EXPECT_NEAR(r.parameters.rayleigh_eta / truth.rayleigh_eta, 1.0, 0.01);
   EXPECT_NEAR(r.parameters.rayleigh_zeta / truth.rayleigh_zeta, 1.0, 0.01);
   for (std::size_t s = 0; s < 3; ++s) {
-    EXPECT_NEAR(r.parameters.mesh_stiffness_scale[s] / truth.mesh_stiffness_scale[s], 1.0, 0.01) << s;
-    EXPECT_NEAR(r.parameters.bearing_stiffness_scale[s] / truth.bearing_stiffness_scale[s], 1.0, 0.01) << s;
+    EXPECT_NEAR(r.parameters.mesh_stiffness_scale[s] / truth.mesh_stiffness_scale[s], 1.0, 0.01)
+        << s;
+    EXPECT_NEAR(r.parameters.bearing_stiffness_scale[s] / truth.bearing_stiffness_scale[s], 1.0,
+                0.01)
+        << s;
   }
   for (const Indicators& i : r.indicators) EXPECT_LT(worst_threshold_ratio(i), 0.1);
 }
@@ -257,8 +265,8 @@ class CalibratorTest : public ::testing::Test {
     simulator_ = std::make_unique<LumpedSimulator>(drivetrain_, sim);
   }
 
-  std::unique_ptr<Calibrator> make(CalibrationMethod method, std::size_t population, std::size_t iterations,
-                                   std::uint64_t seed = 5) {
+  std::unique_ptr<Calibrator> make(CalibrationMethod method, std::size_t population,
+                                   std::size_t iterations, std::uint64_t seed = 5) {
     CalibratorConfig cc;
     cc.method = method;
     cc.mogoa.population = population;
@@ -270,9 +278,11 @@ class CalibratorTest : public ::testing::Test {
     EXPECT_TRUE(recorder_->simulate(drifted_parameters(), op_, 4.0, w));
     model::dsp::FeatureExtractor fx(cal->feature_config());
     std::array<model::dsp::PointFeatures, kMeasurementPoints> measured{};
-    const double hss_hz = op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
+    const double hss_hz =
+        op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
     for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
-      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz}, measured[p]),
+      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz},
+                           measured[p]),
                 model::dsp::DspStatus::kOk);
     }
     cal->set_measurement(measured, op_);
@@ -315,7 +325,8 @@ TEST(CalibrationSpace, RoundTripsParametersThroughItsLogarithmicVariables) {
   }
 }
 
-TEST_F(CalibratorTest, AnOffNominalRecordingTriggersCalibrationAndTheChosenParametersFitBothPoints) {
+TEST_F(CalibratorTest,
+       AnOffNominalRecordingTriggersCalibrationAndTheChosenParametersFitBothPoints) {
   // Arrange
   auto cal = make(CalibrationMethod::kImprovedMogoa, 8, 8);
   PointIndicators before{};

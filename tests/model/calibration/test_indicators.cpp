@@ -54,7 +54,8 @@ TEST(Indicators, ACloseMatchIsWithinThePaperThresholds) {
   // s = (−2.6, −1.8, 0.5, 3.9); Σms = 7.15 + 3.15 + 0.125 + 16.575 = 27.0;
   // Σm² = 7.5625 + 3.0625 + 0.0625 + 18.0625 = 28.75; Σs² = 6.76 + 3.24 + 0.25 + 15.21 = 25.46;
   // ρ = 27.0 / sqrt(28.75·25.46) = 27.0 / 27.0553... → f2 = 1 − ρ.
-  const auto i = compute_indicators(features(0.9, {1.1, 1.9, 4.2, 7.6}), features(1.0, {1.0, 2.0, 4.0, 8.0}));
+  const auto i =
+      compute_indicators(features(0.9, {1.1, 1.9, 4.2, 7.6}), features(1.0, {1.0, 2.0, 4.0, 8.0}));
   EXPECT_NEAR(i.f1, 0.1, 1e-12);
   EXPECT_NEAR(i.f2, 1.0 - 27.0 / std::sqrt(28.75 * 25.46), 1e-12);
   EXPECT_NEAR(i.f3, 0.0625, 1e-12);
@@ -64,15 +65,18 @@ TEST(Indicators, ACloseMatchIsWithinThePaperThresholds) {
 
 TEST(Indicators, UndefinedCasesAreFlaggedInvalidAndPenalised) {
   // Constant measured amplitudes: Pearson ρ has a zero denominator.
-  const auto flat = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {2.0, 2.0, 2.0}));
+  const auto flat =
+      compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {2.0, 2.0, 2.0}));
   EXPECT_FALSE(flat.valid);
   EXPECT_EQ(flat.f2, model::calibration::kIndicatorPenalty);
   // A zero measured amplitude is not resolved; 2 tones are fewer than kMinTones.
-  const auto zero = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {0.0, 2.0, 3.0}));
+  const auto zero =
+      compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(1.0, {0.0, 2.0, 3.0}));
   EXPECT_FALSE(zero.valid);
   EXPECT_FALSE(model::calibration::within_thresholds(zero));
   // A dead measured channel (RMS 0).
-  const auto dead = compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(0.0, {1.0, 2.0, 3.0}));
+  const auto dead =
+      compute_indicators(features(1.0, {1.0, 2.0, 3.0}), features(0.0, {1.0, 2.0, 3.0}));
   EXPECT_FALSE(dead.valid);
 }
 

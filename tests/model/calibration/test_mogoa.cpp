@@ -17,9 +17,11 @@ using model::calibration::MogoaConfig;
 TEST(Mogoa, SocialForceMatchesTheGoaFormulaAtHandComputedDistances) {
   // s(r) = 0.5·e^(−r/1.5) − e^(−r): repulsion at r = 1, attraction at r = 4,
   // zero at the comfort distance r ≈ 2.079 (GOA paper, Fig. 2).
-  EXPECT_NEAR(Mogoa::social_force(1.0, 0.5, 1.5), 0.5 * 0.513417119032592 - 0.36787944117144233, 1e-12);
+  EXPECT_NEAR(Mogoa::social_force(1.0, 0.5, 1.5), 0.5 * 0.513417119032592 - 0.36787944117144233,
+              1e-12);
   EXPECT_LT(Mogoa::social_force(1.0, 0.5, 1.5), 0.0);
-  EXPECT_NEAR(Mogoa::social_force(4.0, 0.5, 1.5), 0.5 * 0.06948345122280154 - 0.01831563888873418, 1e-12);
+  EXPECT_NEAR(Mogoa::social_force(4.0, 0.5, 1.5), 0.5 * 0.06948345122280154 - 0.01831563888873418,
+              1e-12);
   EXPECT_GT(Mogoa::social_force(4.0, 0.5, 1.5), 0.0);
   EXPECT_NEAR(Mogoa::social_force(2.0794, 0.5, 1.5), 0.0, 1e-4);
 }
@@ -53,16 +55,22 @@ ZdtResult run(zdt::Kind kind, std::uint64_t seed) {
 // 30 variables; at 200 iterations ZDT3 is still at IGD ≈ 0.15).
 void expect_converges(zdt::Kind kind, const char* name) {
   const ZdtResult r = run(kind, 7);
-  std::printf("[ MOGOA    ] %s: IGD %.4f (initial population %.3f) after %zu evaluations\n", name, r.igd_final,
-              r.igd_initial, r.evaluations);
+  std::printf("[ MOGOA    ] %s: IGD %.4f (initial population %.3f) after %zu evaluations\n", name,
+              r.igd_final, r.igd_initial, r.evaluations);
   EXPECT_EQ(r.evaluations, 50u * 501u);
   EXPECT_LT(r.igd_final, 0.1);
   EXPECT_LT(r.igd_final, 0.05 * r.igd_initial);
 }
 
-TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt1) { expect_converges(zdt::Kind::kZdt1, "ZDT1"); }
-TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt2) { expect_converges(zdt::Kind::kZdt2, "ZDT2"); }
-TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt3) { expect_converges(zdt::Kind::kZdt3, "ZDT3"); }
+TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt1) {
+  expect_converges(zdt::Kind::kZdt1, "ZDT1");
+}
+TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt2) {
+  expect_converges(zdt::Kind::kZdt2, "ZDT2");
+}
+TEST(Mogoa, ArchiveApproachesTheTrueParetoFrontOfZdt3) {
+  expect_converges(zdt::Kind::kZdt3, "ZDT3");
+}
 
 TEST(Mogoa, TwoRunsWithTheSameSeedGiveTheSameArchiveBitForBit) {
   zdt::Problem problem(zdt::Kind::kZdt1);

@@ -24,10 +24,10 @@ struct LinearMap : FeatureMap {
   Eigen::Matrix<double, 5, 1> c;
   std::vector<Eigen::Vector3d> visited;
   LinearMap() {
-    a << 1.0, 0.2, -0.3,   //
-        0.4, 1.5, 0.1,     //
-        -0.2, 0.3, 0.9,    //
-        0.7, -0.5, 0.2,    //
+    a << 1.0, 0.2, -0.3,  //
+        0.4, 1.5, 0.1,    //
+        -0.2, 0.3, 0.9,   //
+        0.7, -0.5, 0.2,   //
         0.1, 0.1, 0.1;
     c << 0.3, -0.1, 0.2, 0.0, 0.5;
   }
@@ -68,7 +68,8 @@ TEST(TrustRegionLeastSquares, LandsOnTheLeastSquaresSolutionOfALinearMapRightAft
   const Eigen::Vector3d x_star = map.a.colPivHouseholderQr().solve(target - map.c);
   const std::array<double, 5> w{1.0, 1.0, 1.0, 1.0, 1.0};
   TrustRegionConfig cfg;
-  cfg.initial_radius = 0.5;  // x* is within 0.5 of the start: the first step is the full Gauss–Newton step
+  cfg.initial_radius =
+      0.5;  // x* is within 0.5 of the start: the first step is the full Gauss–Newton step
   cfg.restarts = false;
   TrustRegionLeastSquares tr(map, cfg);
   ASSERT_TRUE(tr.config_ok());

@@ -29,9 +29,15 @@ class Problem : public model::calibration::MultiObjectiveProblem {
     const double q = f1 / g;
     double h = 0.0;
     switch (kind_) {
-      case Kind::kZdt1: h = 1.0 - std::sqrt(q); break;
-      case Kind::kZdt2: h = 1.0 - q * q; break;
-      case Kind::kZdt3: h = 1.0 - std::sqrt(q) - q * std::sin(10.0 * std::numbers::pi * f1); break;
+      case Kind::kZdt1:
+        h = 1.0 - std::sqrt(q);
+        break;
+      case Kind::kZdt2:
+        h = 1.0 - q * q;
+        break;
+      case Kind::kZdt3:
+        h = 1.0 - std::sqrt(q) - q * std::sin(10.0 * std::numbers::pi * f1);
+        break;
     }
     f[0] = f1;
     f[1] = g * h;
@@ -46,17 +52,21 @@ class Problem : public model::calibration::MultiObjectiveProblem {
 inline std::vector<std::pair<double, double>> true_front(Kind kind, std::size_t points = 500) {
   // ZDT3: the non-dominated pieces of f2 = 1 − √f1 − f1·sin(10πf1).
   static constexpr double kZdt3Pieces[5][2] = {{0.0, 0.0830015349},
-                                                {0.1822287280, 0.2577623634},
-                                                {0.4093136748, 0.4538821041},
-                                                {0.6183967944, 0.6525117038},
-                                                {0.8233317983, 0.8518328654}};
+                                               {0.1822287280, 0.2577623634},
+                                               {0.4093136748, 0.4538821041},
+                                               {0.6183967944, 0.6525117038},
+                                               {0.8233317983, 0.8518328654}};
   std::vector<std::pair<double, double>> front;
   for (std::size_t i = 0; i < points; ++i) {
     double f1 = static_cast<double>(i) / static_cast<double>(points - 1);
     double f2 = 0.0;
     switch (kind) {
-      case Kind::kZdt1: f2 = 1.0 - std::sqrt(f1); break;
-      case Kind::kZdt2: f2 = 1.0 - f1 * f1; break;
+      case Kind::kZdt1:
+        f2 = 1.0 - std::sqrt(f1);
+        break;
+      case Kind::kZdt2:
+        f2 = 1.0 - f1 * f1;
+        break;
       case Kind::kZdt3: {
         // Spread the points over the total length of the pieces.
         double total = 0.0;
@@ -79,7 +89,8 @@ inline std::vector<std::pair<double, double>> true_front(Kind kind, std::size_t 
 }
 
 /// IGD: mean over the true front's points of the distance to the nearest archive member.
-inline double igd(const model::calibration::Mogoa& mogoa, const std::vector<std::pair<double, double>>& front) {
+inline double igd(const model::calibration::Mogoa& mogoa,
+                  const std::vector<std::pair<double, double>>& front) {
   double sum = 0.0;
   for (const auto& [a, b] : front) {
     double best = 1e300;

@@ -34,9 +34,11 @@ namespace {
 using model::dsp::DspStatus;
 constexpr double kPi = std::numbers::pi;
 
-std::vector<double> sine(std::size_t n, double fs, double f, double a, double phase = 0.3, double offset = 0.0) {
+std::vector<double> sine(std::size_t n, double fs, double f, double a, double phase = 0.3,
+                         double offset = 0.0) {
   std::vector<double> x(n);
-  for (std::size_t i = 0; i < n; ++i) x[i] = offset + a * std::sin(2.0 * kPi * f * static_cast<double>(i) / fs + phase);
+  for (std::size_t i = 0; i < n; ++i)
+    x[i] = offset + a * std::sin(2.0 * kPi * f * static_cast<double>(i) / fs + phase);
   return x;
 }
 
@@ -87,7 +89,8 @@ TEST(CheckWaveform, RejectsFlatClippedAndNonFiniteChannelsAndAcceptsANoisySine) 
   EXPECT_EQ(model::dsp::check_waveform(flat.data(), flat.size(), 1e-9), DspStatus::kFlat);
 
   auto clipped = sine(20000, 25600.0, 372.0, 1.0);
-  for (double& v : clipped) v = std::clamp(v, -0.8, 0.8);  // amplifier saturating at 80 % of the peak
+  for (double& v : clipped)
+    v = std::clamp(v, -0.8, 0.8);  // amplifier saturating at 80 % of the peak
   EXPECT_EQ(model::dsp::check_waveform(clipped.data(), clipped.size(), 1e-9), DspStatus::kClipped);
 
   auto broken = sine(20000, 25600.0, 372.0, 1.0);
@@ -99,7 +102,9 @@ TEST(CheckWaveform, RejectsFlatClippedAndNonFiniteChannelsAndAcceptsANoisySine) 
 // θ(t) = f0·t + (f1 − f0)·t²/(2T) [rev]; a tacho pulse at every whole θ.
 struct Ramp {
   double f0_hz, f1_hz, duration_s;
-  double angle_rev(double t) const { return f0_hz * t + (f1_hz - f0_hz) * t * t / (2.0 * duration_s); }
+  double angle_rev(double t) const {
+    return f0_hz * t + (f1_hz - f0_hz) * t * t / (2.0 * duration_s);
+  }
   double time_of_rev(double rev) const {  // inverse of angle_rev
     const double a = (f1_hz - f0_hz) / (2.0 * duration_s);
     return (-f0_hz + std::sqrt(f0_hz * f0_hz + 4.0 * a * rev)) / (2.0 * a);
@@ -137,7 +142,8 @@ model::dsp::FeatureConfig hss_mesh_config() {
   return c;
 }
 
-TEST(FeatureExtractor, TachoOrderTrackingRecoversMeshHarmonicsOfADriftingShaftThatAFixedSpeedSmears) {
+TEST(FeatureExtractor,
+     TachoOrderTrackingRecoversMeshHarmonicsOfADriftingShaftThatAFixedSpeedSmears) {
   // Arrange: hss ramping +4 % over 5 s (more than a recording's ±2 %), mesh
   // harmonics 26, 52, 78 orders with amplitudes 1.0, 0.5, 0.2 m/s².
   const double fs = 25600.0;
@@ -147,7 +153,8 @@ TEST(FeatureExtractor, TachoOrderTrackingRecoversMeshHarmonicsOfADriftingShaftTh
   const double amps[3] = {1.0, 0.5, 0.2};
   for (std::size_t i = 0; i < n; ++i) {
     const double theta = ramp.angle_rev(static_cast<double>(i) / fs);
-    for (int h = 1; h <= 3; ++h) x[i] += amps[h - 1] * std::cos(2.0 * kPi * 26.0 * h * theta + 0.4 * h);
+    for (int h = 1; h <= 3; ++h)
+      x[i] += amps[h - 1] * std::cos(2.0 * kPi * 26.0 * h * theta + 0.4 * h);
   }
   std::vector<double> pulses;
   for (int k = 1; ramp.time_of_rev(k) < ramp.duration_s; ++k) pulses.push_back(ramp.time_of_rev(k));
@@ -164,7 +171,8 @@ TEST(FeatureExtractor, TachoOrderTrackingRecoversMeshHarmonicsOfADriftingShaftTh
   ASSERT_EQ(s1, DspStatus::kOk);
   ASSERT_EQ(s2, DspStatus::kOk);
   ASSERT_EQ(with_tacho.count, 3u);
-  for (int h = 0; h < 3; ++h) EXPECT_NEAR(with_tacho.amplitude[h], amps[h], 0.01 * amps[h]) << "harmonic " << h + 1;
+  for (int h = 0; h < 3; ++h)
+    EXPECT_NEAR(with_tacho.amplitude[h], amps[h], 0.01 * amps[h]) << "harmonic " << h + 1;
   EXPECT_LT(fixed_speed.amplitude[2], 0.5 * amps[2]);
   // RMS of a sum of sines: sqrt(Σ A²/2).
   EXPECT_NEAR(with_tacho.rms, std::sqrt((1.0 + 0.25 + 0.04) / 2.0), 2e-3);
@@ -192,15 +200,16 @@ TEST(FeatureExtractor, RejectsAResolutionThatCannotSeparateTwoMeshHarmonics) {
   EXPECT_EQ(model::dsp::FeatureExtractor(c).config_status(), DspStatus::kTooShort);
 }
 
-TEST(EstimateShaftHzFromMesh, FindsTheTrueSpeedFromTheMeshLineWhenTheNominalSpeedIsThreePercentOff) {
+TEST(EstimateShaftHzFromMesh,
+     FindsTheTrueSpeedFromTheMeshLineWhenTheNominalSpeedIsThreePercentOff) {
   // Arrange: hss at 14.303 Hz, mesh 26·14.303 = 371.88 Hz; nominal 3 % low.
   const double fs = 25600.0;
   const auto x = sine(65536, fs, 26.0 * 14.303, 1.0);
   model::dsp::SpectrumAnalyzer analyzer(65536);
   std::vector<double> work(analyzer.lines());
   // Act
-  const auto f = model::dsp::estimate_shaft_hz_from_mesh(x.data(), x.size(), fs, 14.303 * 0.97, 26.0, 0.05,
-                                                         analyzer, work.data());
+  const auto f = model::dsp::estimate_shaft_hz_from_mesh(x.data(), x.size(), fs, 14.303 * 0.97,
+                                                         26.0, 0.05, analyzer, work.data());
   // Assert: the line spacing is 0.39 Hz at the mesh → 0.015 Hz at the shaft;
   // the centroid does better than one line.
   ASSERT_TRUE(f.has_value());
@@ -247,7 +256,8 @@ TEST(FeatureExtractor, ExtractsWithoutAllocatingAfterConstruction) {
   // Warm-up once, then count.
   ASSERT_EQ(fx.extract(x.data(), x.size(), fs, {nullptr, 0, 14.3}, f), DspStatus::kOk);
   const std::size_t before = g_allocations;
-  for (int k = 0; k < 3; ++k) ASSERT_EQ(fx.extract(x.data(), x.size(), fs, {nullptr, 0, 14.3}, f), DspStatus::kOk);
+  for (int k = 0; k < 3; ++k)
+    ASSERT_EQ(fx.extract(x.data(), x.size(), fs, {nullptr, 0, 14.3}, f), DspStatus::kOk);
   EXPECT_EQ(g_allocations, before);
   EXPECT_NEAR(f.amplitude[0], 1.0, 0.01);
 }

@@ -46,8 +46,9 @@ void expect_faithful(double rpm, double torque) {
         const double f = h * k.mesh_hz(stage, rpm);
         const double a_full = line_amplitude(p.full.acceleration_m_s2[c], kRate, f);
         const double a_rom = line_amplitude(p.rom.acceleration_m_s2[c], kRate, f);
-        EXPECT_NEAR(a_rom / a_full, 1.0, 0.05) << p.full.sensor_channels[c] << " stage " << stage << " harmonic " << h
-                                               << " (" << f << " Hz): full " << a_full << ", rom " << a_rom;
+        EXPECT_NEAR(a_rom / a_full, 1.0, 0.05)
+            << p.full.sensor_channels[c] << " stage " << stage << " harmonic " << h << " (" << f
+            << " Hz): full " << a_full << ", rom " << a_rom;
       }
     }
   }
@@ -62,7 +63,9 @@ TEST(RomFidelity, MeshHarmonicsAndMeshForcesAgreeWithTheFullModelAtThePaperPoint
   expect_faithful(8.33, 361747.0);
 }
 
-TEST(RomFidelity, MeshHarmonicsAndMeshForcesAgreeWithTheFullModelAtRated) { expect_faithful(14.8, 1.23e6); }
+TEST(RomFidelity, MeshHarmonicsAndMeshForcesAgreeWithTheFullModelAtRated) {
+  expect_faithful(14.8, 1.23e6);
+}
 
 // Amplitude spectrum on a 0.5 Hz grid (the Hann main lobe of a 2 s record is ±1 Hz).
 struct Spectrum {

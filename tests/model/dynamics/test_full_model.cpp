@@ -116,37 +116,44 @@ TEST(FullModelModes, LowestTorsionalModesAgreeWithAHandAssembledTorsionalChain) 
   auto polar = [](double dia) { return kPi * std::pow(dia, 4) / 32; };
   const double rs = 0.1785, rp = 0.3315, rc = rs + rp;
   const double mt = 0.014 / std::cos(10 * kPi / 180);
-  const double w_sun = 120.0 / 21.0, w_ims = w_sun * 92 / 21, w_hss = w_ims * 107 / 26;  // per carrier speed
+  const double w_sun = 120.0 / 21.0, w_ims = w_sun * 92 / 21,
+               w_hss = w_ims * 107 / 26;  // per carrier speed
   auto refl = [&](double j, double w) { return j * (w / w_hss) * (w / w_hss); };
   // Planets: translation on the carrier radius + spin (r_c/r_p)·ω_c (ring fixed).
-  const double j_carrier = sp.carrier_inertia_kg_m2 + 3 * 994 * rc * rc + 3 * 0.5 * 994 * rp * rp * (rc / rp) * (rc / rp);
+  const double j_carrier = sp.carrier_inertia_kg_m2 + 3 * 994 * rc * rc +
+                           3 * 0.5 * 994 * rp * rp * (rc / rp) * (rc / rp);
   const double sun_el = 1.40 / 11, ims_el = 1.0 / 8, hss_el = 0.9 / 8;
-  const double j_sun_shaft = rho * polar(0.26) * 1.40, j_ims = rho * polar(0.22) * 1.0, j_hss = rho * polar(0.16) * 0.9;
+  const double j_sun_shaft = rho * polar(0.26) * 1.40, j_ims = rho * polar(0.22) * 1.0,
+               j_hss = rho * polar(0.16) * 0.9;
   // DOFs: 0 carrier + planets, 1 sun, 2 g1, 3 g2, 4 g3, 5 g4, 6 hss end, 7 generator;
   // each shaft's polar inertia split between its two gear DOFs.
   Eigen::VectorXd j(8);
   j << refl(j_carrier, 1), refl(0.5 * 286 * rs * rs + 0.5 * j_sun_shaft, w_sun),
       refl(0.5 * 2724 * std::pow(92 * mt / 2, 2) + 0.5 * j_sun_shaft, w_sun),
       refl(0.5 * 102 * std::pow(21 * mt / 2, 2) + 0.5 * j_ims, w_ims),
-      refl(0.5 * 2096 * std::pow(107 * mt / 2, 2) + 0.5 * j_ims, w_ims), 0.5 * 101 * std::pow(26 * mt / 2, 2) + 0.5 * j_hss,
-      0.5 * j_hss, sp.generator_inertia_kg_m2;
+      refl(0.5 * 2096 * std::pow(107 * mt / 2, 2) + 0.5 * j_ims, w_ims),
+      0.5 * 101 * std::pow(26 * mt / 2, 2) + 0.5 * j_hss, 0.5 * j_hss, sp.generator_inertia_kg_m2;
   // Torsional springs, reflected to the hss: shafts GJ/L between their gears; meshes
   // k_n·cos²β_b·r_b² at the pinion (ISO 6336-1 mean stiffness, tested in test_mesh_stiffness);
   // the planetary stage at the sun: three planets, each a sun mesh in series with a ring
   // mesh through the planet's spin, on the sun's base radius: 3·(k_sp k_rp/(k_sp + k_rp))·r_bs²,
   // between the sun and the carrier's angle seen at the sun (ratio w_sun).
-  const double k_sun = refl(g_mod * polar(0.26) / (7 * sun_el), w_sun);  // sun (node 0) → g1 (node 7)
-  const double k_ims = refl(g_mod * polar(0.22) / (4 * ims_el), w_ims);  // g2 (node 2) → g3 (node 6)
-  const double k_hss = g_mod * polar(0.16) / (6 * hss_el);               // g4 (node 2) → end (node 8)
+  const double k_sun =
+      refl(g_mod * polar(0.26) / (7 * sun_el), w_sun);  // sun (node 0) → g1 (node 7)
+  const double k_ims =
+      refl(g_mod * polar(0.22) / (4 * ims_el), w_ims);      // g2 (node 2) → g3 (node 6)
+  const double k_hss = g_mod * polar(0.16) / (6 * hss_el);  // g4 (node 2) → end (node 8)
   const double a20 = 20 * kPi / 180, b10 = 10 * kPi / 180;
-  const double at = std::atan(std::tan(a20) / std::cos(b10)), bb = std::atan(std::tan(b10) * std::cos(at));
+  const double at = std::atan(std::tan(a20) / std::cos(b10)),
+               bb = std::atan(std::tan(b10) * std::cos(at));
   const double k_sp = mesh_stiffness({21, 39, false, 0.017, a20, 0.0, 0.37}).mean_n_m;
   const double k_rp = mesh_stiffness({39, 99, true, 0.017, a20, 0.0, 0.37}).mean_n_m;
   const double k_int = mesh_stiffness({21, 92, false, 0.014, a20, b10, 0.30}).mean_n_m;
   const double k_hs = mesh_stiffness({26, 107, false, 0.014, a20, b10, 0.17}).mean_n_m;
   const double rbs = rs * std::cos(a20);
   const double k_planetary = refl(3 * k_sp * k_rp / (k_sp + k_rp) * rbs * rbs, w_sun);
-  const double k_int_t = refl(k_int * std::pow(std::cos(bb) * 21 * mt / 2 * std::cos(at), 2), w_ims);
+  const double k_int_t =
+      refl(k_int * std::pow(std::cos(bb) * 21 * mt / 2 * std::cos(at), 2), w_ims);
   const double k_hs_t = k_hs * std::pow(std::cos(bb) * 26 * mt / 2 * std::cos(at), 2);
   Eigen::MatrixXd k = Eigen::MatrixXd::Zero(8, 8);
   auto spring = [&](int a, int b, double kk) {
@@ -165,7 +172,8 @@ TEST(FullModelModes, LowestTorsionalModesAgreeWithAHandAssembledTorsionalChain) 
   spring(5, 6, k_hss);
   spring(6, 7, sp.generator_coupling_nm_rad);
   spring(7, -1, sp.generator_control_nm_rad);
-  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> chain(k, j.asDiagonal().toDenseMatrix());
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> chain(k,
+                                                                  j.asDiagonal().toDenseMatrix());
   const Eigen::VectorXd chain_hz = chain.eigenvalues().cwiseSqrt() / (2 * kPi);
 
   // Act: the full model's modes whose kinetic energy is mostly torsional (θ DOFs).
@@ -193,7 +201,8 @@ TEST(FullModelModes, LowestTorsionalModesAgreeWithAHandAssembledTorsionalChain) 
   EXPECT_NEAR(torsional_hz[0] / chain_hz[0], 1.0, 0.01);
   EXPECT_NEAR(torsional_hz[1] / chain_hz[1], 1.0, 0.07);
   EXPECT_LE(torsional_hz[1], chain_hz[1] * 1.001);
-  RecordProperty("torsional_hz", std::to_string(torsional_hz[0]) + " " + std::to_string(torsional_hz[1]) + " " +
+  RecordProperty("torsional_hz", std::to_string(torsional_hz[0]) + " " +
+                                     std::to_string(torsional_hz[1]) + " " +
                                      std::to_string(torsional_hz[2]));
   RecordProperty("chain_hz", std::to_string(chain_hz[0]) + " " + std::to_string(chain_hz[1]) + " " +
                                  std::to_string(chain_hz[2]));
@@ -209,7 +218,8 @@ TEST(FullModelIntegrator, UndampedFreeVibrationConservesEnergy) {
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = model::dynamics::PeriodicTable::constant(1.0);
   NewmarkIntegrator integ(m, 1.0 / 25600);
-  Eigen::VectorXd x0 = m.stiffness.llt().solve(Eigen::VectorXd::LinSpaced(m.dofs(), -1.0, 1.0) * 1e4);
+  Eigen::VectorXd x0 =
+      m.stiffness.llt().solve(Eigen::VectorXd::LinSpaced(m.dofs(), -1.0, 1.0) * 1e4);
   integ.reset(x0, Eigen::VectorXd::Zero(m.dofs()), {10.0, 0.0});
   auto energy = [&] {
     const Eigen::VectorXd& x = integ.displacement();
@@ -241,7 +251,8 @@ TEST(FullModelIntegrator, TorqueStepRingsDownAtTheRayleighDampingRate) {
   const double wd = w * std::sqrt(1 - xi * xi);
   const double dt = 1.0 / 25600;
   NewmarkIntegrator integ(m, dt);
-  integ.reset(m.static_deflection(kPaperTorqueNm), Eigen::VectorXd::Zero(m.dofs()), {14.8, kPaperTorqueNm});
+  integ.reset(m.static_deflection(kPaperTorqueNm), Eigen::VectorXd::Zero(m.dofs()),
+              {14.8, kPaperTorqueNm});
   const double t1 = 1.23e6;
   integ.set_operating_point({14.8, t1});
   const Eigen::VectorXd x_final = m.static_deflection(t1);
@@ -254,7 +265,8 @@ TEST(FullModelIntegrator, TorqueStepRingsDownAtTheRayleighDampingRate) {
   for (int i = 1; i <= steps; ++i) {
     integ.step();
     const double t = i * dt;
-    const double expect = q0 * std::exp(-xi * w * t) * (std::cos(wd * t) + xi / std::sqrt(1 - xi * xi) * std::sin(wd * t));
+    const double expect = q0 * std::exp(-xi * w * t) *
+                          (std::cos(wd * t) + xi / std::sqrt(1 - xi * xi) * std::sin(wd * t));
     worst = std::max(worst, std::abs(phi_m.dot(integ.displacement() - x_final) - expect));
   }
 
@@ -265,7 +277,8 @@ TEST(FullModelIntegrator, TorqueStepRingsDownAtTheRayleighDampingRate) {
 
 TEST(FullModelBuild, MissingBearingIsNamedInTheError) {
   model::Drivetrain d = model::paper_2mw();
-  d.bearings.erase(std::remove_if(d.bearings.begin(), d.bearings.end(), [](const auto& b) { return b.id == "b5"; }),
+  d.bearings.erase(std::remove_if(d.bearings.begin(), d.bearings.end(),
+                                  [](const auto& b) { return b.id == "b5"; }),
                    d.bearings.end());
   std::string error;
   EXPECT_FALSE(build_full_model(d, {}, &error).has_value());

@@ -70,7 +70,8 @@ TEST(MeshStiffnessShape, SpurMeshAlternatesBetweenOneAndTwoPairsForTheContactRat
   const auto& v = k.shape.values;
   const double lo = *std::min_element(v.begin(), v.end());
   const double hi = *std::max_element(v.begin(), v.end());
-  const auto doubles = std::count_if(v.begin(), v.end(), [&](double x) { return x > 0.5 * (lo + hi); });
+  const auto doubles =
+      std::count_if(v.begin(), v.end(), [&](double x) { return x > 0.5 * (lo + hi); });
   // Assert: stiffness ratio 2:1 (rectangular single/double contact), double contact for
   // (ε_α − 1) of the cycle, and the shape has mean 1 (the ISO mean is kept).
   EXPECT_NEAR(hi / lo, 2.0, 1e-12);
@@ -87,9 +88,11 @@ TEST(MeshStiffnessShape, HelicalContactLinesAverageToTransverseContactRatioTimes
   double sum = 0.0;
   constexpr int kSamples = 4000;
   for (int i = 0; i < kSamples; ++i) {
-    sum += model::dynamics::contact_line_length_m(g, pair.face_width_m, static_cast<double>(i) / kSamples);
+    sum += model::dynamics::contact_line_length_m(g, pair.face_width_m,
+                                                  static_cast<double>(i) / kSamples);
   }
-  EXPECT_NEAR(sum / kSamples, g.transverse_contact_ratio * pair.face_width_m / std::cos(g.base_helix_angle_rad),
+  EXPECT_NEAR(sum / kSamples,
+              g.transverse_contact_ratio * pair.face_width_m / std::cos(g.base_helix_angle_rad),
               1e-3 * pair.face_width_m);
 }
 
@@ -97,7 +100,8 @@ TEST(MeshStiffnessShape, HelicalMeshVariesLessThanTheSpurMesh) {
   const auto spur = model::dynamics::mesh_stiffness(sun_planet());
   const auto helical = model::dynamics::mesh_stiffness(intermediate());
   auto range = [](const PeriodicTable& t) {
-    return *std::max_element(t.values.begin(), t.values.end()) - *std::min_element(t.values.begin(), t.values.end());
+    return *std::max_element(t.values.begin(), t.values.end()) -
+           *std::min_element(t.values.begin(), t.values.end());
   };
   EXPECT_LT(range(helical.shape), 0.25 * range(spur.shape));
   EXPECT_GT(range(helical.shape), 0.0);

@@ -48,7 +48,8 @@ TEST(Accumulator, CountsCyclesAsTimeTimesSpeedTimesContactsPerRevolution) {
   const LoadSample loads = f.channels.quasi_static_loads(1.23e6);
   // Act
   int accumulated = 0;
-  for (int i = 0; i < 36000; ++i) accumulated += acc.step(loads, 14.8, 100) == StepResult::kAccumulated;
+  for (int i = 0; i < 36000; ++i)
+    accumulated += acc.step(loads, 14.8, 100) == StepResult::kAccumulated;
   ASSERT_EQ(accumulated, 36000);
   // Assert: ISO 6336-6 n = t·n/60·contacts: rotor revs = 3600·14.8/60 = 888;
   // sun cycles = 888·3·99/21 = 12 557.71; D = n/N(σ) with σ the constant sun stress.
@@ -57,13 +58,16 @@ TEST(Accumulator, CountsCyclesAsTimeTimesSpeedTimesContactsPerRevolution) {
   const std::size_t sun = channel_index(f.channels, "sun", FailureMode::kContact);
   const double sigma = f.channels.stress(sun, 0, loads);
   const double n = 888.0 * 3.0 * 99.0 / 21.0;
-  EXPECT_NEAR(acc.damage(sun), n / f.channels.channel(sun).curve.cycles_to_failure(sigma), 1e-12 * acc.damage(sun));
+  EXPECT_NEAR(acc.damage(sun), n / f.channels.channel(sun).curve.cycles_to_failure(sigma),
+              1e-12 * acc.damage(sun));
 }
 
 TEST(Accumulator, MinerDamageIsAdditiveAndIndependentOfTheOrderOfLoadBlocks) {
   Fixture f;
-  const LoadSample low = f.channels.quasi_static_loads(0.6e6), high = f.channels.quasi_static_loads(1.3e6);
-  DamageAccumulator a(f.channels, {}), b(f.channels, {}), low_only(f.channels, {}), high_only(f.channels, {});
+  const LoadSample low = f.channels.quasi_static_loads(0.6e6),
+                   high = f.channels.quasi_static_loads(1.3e6);
+  DamageAccumulator a(f.channels, {}), b(f.channels, {}), low_only(f.channels, {}),
+      high_only(f.channels, {});
   for (int i = 0; i < 1000; ++i) a.step(low, 10.0, 100);
   for (int i = 0; i < 500; ++i) a.step(high, 14.8, 100);
   for (int i = 0; i < 500; ++i) b.step(high, 14.8, 100);
@@ -165,7 +169,8 @@ TEST(Accumulator, HistogramDamageAgreesWithTheExactSumWithinTheBinningError) {
   // most half a bin: |Δσ/σ| ≤ w/(2σ), so |ΔD/D| ≲ m'·w/(2σ) with m' = 2m − 1 = 33.07.
   Fixture f;
   DamageAccumulator acc(f.channels, {});
-  for (int i = 0; i < 2000; ++i) acc.step(f.channels.quasi_static_loads(8e5 + 200.0 * i), 14.0, 100);
+  for (int i = 0; i < 2000; ++i)
+    acc.step(f.channels.quasi_static_loads(8e5 + 200.0 * i), 14.0, 100);
   const std::size_t sun = channel_index(f.channels, "sun", FailureMode::kContact);
   const double sigma = f.channels.stress(sun, 0, f.channels.quasi_static_loads(1e6));
   const double bound = 33.07 * acc.bin_width(sun) / (2.0 * sigma);

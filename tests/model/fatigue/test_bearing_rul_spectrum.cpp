@@ -41,7 +41,8 @@ TEST(BearingLife, AccumulatedBearingDamageIsRevolutionsOverL10) {
     if (cs.channel(c).component != "b5") continue;
     const double p = cs.stress(c, 0, l);
     const double revs = 720.0 * (1 + 99.0 / 21) * (92.0 / 21) * (107.0 / 26);
-    EXPECT_NEAR(acc.damage(c), revs / (1e6 * l10_million_revs(0.62e6, p, model::BearingType::kRoller)),
+    EXPECT_NEAR(acc.damage(c),
+                revs / (1e6 * l10_million_revs(0.62e6, p, model::BearingType::kRoller)),
                 1e-9 * acc.damage(c));
   }
 }
@@ -80,7 +81,8 @@ TEST(LoadSpectrum, InterpolationReproducesTheAccumulatorOnAndBetweenGridPoints) 
   g.torque_max_nm = 1.5 * 1.23e6;
   g.speed_max_rpm = 16.0;
   std::string error;
-  const LoadSpectrum s = build_load_spectrum(cs, g, SpectrumSource::kQuasiStatic, quasi_static_simulator(cs), &error);
+  const LoadSpectrum s =
+      build_load_spectrum(cs, g, SpectrumSource::kQuasiStatic, quasi_static_simulator(cs), &error);
   ASSERT_EQ(s.channel_count, cs.channel_count()) << error;
   std::vector<double> interp(cs.channel_count());
   for (double torque : {g.torque_at(40), 1.0e6, 1.17e6}) {
@@ -105,7 +107,8 @@ TEST(LoadSpectrum, ReportsTheGridPointWhereTheSimulatorFailed) {
   g.speed_max_rpm = 15.0;
   std::string error;
   const LoadSpectrum s = build_load_spectrum(
-      cs, g, SpectrumSource::kDynamics, [](double t, double, LoadSeries&) { return t < 5e5; }, &error);
+      cs, g, SpectrumSource::kDynamics, [](double t, double, LoadSeries&) { return t < 5e5; },
+      &error);
   EXPECT_EQ(s.channel_count, 0u);
   EXPECT_NE(error.find("torque"), std::string::npos);
 }

@@ -27,7 +27,8 @@ TEST(FaceLoadFactor, SunPlanetMeshAtRatedTorqueMatchesTheMethodCHandCalculation)
   const ChannelSet cs(model::paper_2mw(), ChannelOptions{});
   ASSERT_TRUE(cs.valid()) << cs.error();
   const std::size_t slot = mesh_slot(cs, "sun-planet1");
-  const double ft_n = 1.23e6 / (1.0 + 99.0 / 21.0) / (3.0 * 0.1785);  // 401 960.78 N per planet mesh
+  const double ft_n =
+      1.23e6 / (1.0 + 99.0 / 21.0) / (3.0 * 0.1785);  // 401 960.78 N per planet mesh
 
   // Act
   const FaceLoad f = cs.mesh(slot).face_load(ft_n);
@@ -59,7 +60,8 @@ TEST(FaceLoadFactor, UnmodifiedIntermediatePinionTakesTheSquareRootBranchWithThe
   ASSERT_TRUE(cs.valid()) << cs.error();
   const std::size_t slot = mesh_slot(cs, "g1-g2");
   // Sun-shaft torque 215 250 N·m on g1 (d = 92·14/cos10° = 1307.8695 mm): F_t = 329 161.29 N.
-  const double ft_n = 1.23e6 / (1.0 + 99.0 / 21.0) / (0.5 * 92 * 14e-3 / std::cos(10 * std::numbers::pi / 180));
+  const double ft_n =
+      1.23e6 / (1.0 + 99.0 / 21.0) / (0.5 * 92 * 14e-3 / std::cos(10 * std::numbers::pi / 180));
 
   // Act
   const FaceLoad f = cs.mesh(slot).face_load(ft_n);
@@ -68,11 +70,11 @@ TEST(FaceLoadFactor, UnmodifiedIntermediatePinionTakesTheSquareRootBranchWithThe
   //  F_m/b = 329 161.29/300 = 1097.2043 N/mm; pinion d1 = 21·14/cos10° = 298.5354 mm
   //  d1/d_sh = 1.357 ≥ 1.15 → K' = 0.48; s = 0.25·1000 = 250 mm
   //  K'·l·s/d1²·(d1/d_sh)⁴ = 0.48·1000·250/298.5354²·(298.5354/220)⁴ = 4.565436
-  //  γ = (|1 + 4.565436 − 0.3| + 0.3)·(300/298.5354)² = 5.620177; f_sh = 0.023·γ·1097.2043 = 141.8291 µm
-  //  f_Hβ (wheel d = 1307.87, b = 300) = (0.07·√1307.87 + 0.45·√300 + 3)·√2 = 18.84545 µm
-  //  F_βx = 1.33·141.8291 + 18.84545 = 207.4781 µm; y_β = min(0.15·207.48, 6) = 6 µm (cap)
-  //  F_βy = 201.4781 µm; 1 + 17·201.4781/(2·1097.2043) = 2.5608 > 2 →
-  //  K_Hβ = √(2·17·201.4781/1097.2043) = 2.498674
+  //  γ = (|1 + 4.565436 − 0.3| + 0.3)·(300/298.5354)² = 5.620177; f_sh = 0.023·γ·1097.2043 =
+  //  141.8291 µm f_Hβ (wheel d = 1307.87, b = 300) = (0.07·√1307.87 + 0.45·√300 + 3)·√2 = 18.84545
+  //  µm F_βx = 1.33·141.8291 + 18.84545 = 207.4781 µm; y_β = min(0.15·207.48, 6) = 6 µm (cap) F_βy
+  //  = 201.4781 µm; 1 + 17·201.4781/(2·1097.2043) = 2.5608 > 2 → K_Hβ = √(2·17·201.4781/1097.2043)
+  //  = 2.498674
   EXPECT_NEAR(f.f_sh_um, 141.8291, 1e-4);
   EXPECT_NEAR(f.f_beta_x_um, 207.4781, 1e-4);
   EXPECT_DOUBLE_EQ(f.y_beta_um, 6.0);
@@ -84,7 +86,8 @@ TEST(FaceLoadFactor, HelixCorrectionBringsTheSameMeshBackToTheLinearBranch) {
   // y_β = 5.656308, F_βy = 32.05241, K_Hβ = 1 + 17·32.05241/(2·1097.2043) = 1.248309.
   const ChannelSet cs(model::paper_2mw(), ChannelOptions{});
   const std::size_t slot = mesh_slot(cs, "g1-g2");
-  const double ft_n = 1.23e6 / (1.0 + 99.0 / 21.0) / (0.5 * 92 * 14e-3 / std::cos(10 * std::numbers::pi / 180));
+  const double ft_n =
+      1.23e6 / (1.0 + 99.0 / 21.0) / (0.5 * 92 * 14e-3 / std::cos(10 * std::numbers::pi / 180));
   EXPECT_NEAR(cs.mesh(slot).face_load(ft_n).k_h_beta, 1.248309, 1e-6);
 }
 
@@ -99,7 +102,8 @@ TEST(FaceLoadFactor, OverrideIsUsedAtEveryLoadAndEntersTheContactStressUnderTheR
   // Act / Assert: constant at any load; σ_H ∝ √K_Hβ, so ×1.21 in K_Hβ is ×1.1 in σ_H.
   EXPECT_DOUBLE_EQ(a.mesh(slot).face_load(1e3).k_h_beta, 1.3);
   EXPECT_DOUBLE_EQ(a.mesh(slot).face_load(1e6).k_h_beta, 1.3);
-  EXPECT_NEAR(b.mesh(slot).contact_stress_mpa(4e5, 0) / a.mesh(slot).contact_stress_mpa(4e5, 0), 1.1, 1e-12);
+  EXPECT_NEAR(b.mesh(slot).contact_stress_mpa(4e5, 0) / a.mesh(slot).contact_stress_mpa(4e5, 0),
+              1.1, 1e-12);
 }
 
 TEST(FaceLoadFactor, ContactStressStillVanishesAtZeroLoadAndGrowsWithLoad) {

@@ -124,7 +124,8 @@ TEST(HelicalMesh, OverlapRatioAndHelixFactorsFollowTheHelixAngle) {
   // g1–g2: m_n = 14 mm, β = 10°, b = 300 mm: ε_β = 300·sin10°/(π·14) = 1.184441 ≥ 1,
   // so Z_ε = √(1/ε_α), Z_B = 1 and Y_β = 1 − 1·10/120 = 0.916667; Z_β = √cos10° = 0.992375.
   const model::Material steel{};
-  const PairGeometry g = pair_geometry(21, 92, 0, 0, 14e-3, 20 * kDeg, 10 * kDeg, 0.300, BasicRack{});
+  const PairGeometry g =
+      pair_geometry(21, 92, 0, 0, 14e-3, 20 * kDeg, 10 * kDeg, 0.300, BasicRack{});
   const MeshRating r = mesh_rating(g, steel, steel, 1.0, RatingSettings{});
   EXPECT_NEAR(g.eps_beta, 1.184441, 1e-6);
   EXPECT_NEAR(r.z_eps, std::sqrt(1.0 / g.eps_alpha), 1e-12);
@@ -154,7 +155,8 @@ TEST(DrivetrainChannels, PaperTurbineHasEveryGearModeAndBearingWithDerivedCycleC
     const Channel& ch = cs.channel(c);
     if (ch.component == "g4" && ch.mode == FailureMode::kContact) {
       found_g4 = true;
-      EXPECT_NEAR(ch.sources[0].cycles_per_rotor_rev, (1 + 99.0 / 21) * (92.0 / 21) * (107.0 / 26), 1e-9);
+      EXPECT_NEAR(ch.sources[0].cycles_per_rotor_rev, (1 + 99.0 / 21) * (92.0 / 21) * (107.0 / 26),
+                  1e-9);
     }
     if (ch.component == "ring") {
       EXPECT_NEAR(ch.sources[0].cycles_per_rotor_rev, 1.0, 1e-12);

@@ -18,7 +18,6 @@ SnCurve paper_sun(KneeBranch branch = KneeBranch::kHaibach) {
   return c;
 }
 
-
 TEST(SnCurve, PaperSunCurveHasItsKneeStressAtFiveTimesTenToTheSeven) {
   // σ_k = C·N0^(−1/m) = 3090.3·(5e7)^(−1/17.035) = 1091.57 MPa (hand: ln 5e7 = 17.72753,
   // /17.035 = 1.040654, e^−1.040654 = 0.353222).
@@ -30,14 +29,17 @@ TEST(SnCurve, PaperSunCurveHasItsKneeStressAtFiveTimesTenToTheSeven) {
 TEST(SnCurve, IsContinuousAtTheKneeWithSlopeMinusOneOverMBelowAndOneOver2mMinus1Above) {
   const SnCurve c = paper_sun();
   const double sk = c.knee_stress();
-  EXPECT_NEAR(c.cycles_to_failure(sk * (1 + 1e-9)) / c.cycles_to_failure(sk * (1 - 1e-9)), 1.0, 1e-6);
+  EXPECT_NEAR(c.cycles_to_failure(sk * (1 + 1e-9)) / c.cycles_to_failure(sk * (1 - 1e-9)), 1.0,
+              1e-6);
   // Below the knee (N < N0): log σ/log N slope −1/m.
   const double s1 = 1.5 * sk, s2 = 1.4 * sk;
-  const double below = std::log(s2 / s1) / std::log(c.cycles_to_failure(s2) / c.cycles_to_failure(s1));
+  const double below =
+      std::log(s2 / s1) / std::log(c.cycles_to_failure(s2) / c.cycles_to_failure(s1));
   EXPECT_NEAR(below, -1.0 / 17.035, 1e-12);
   // Above the knee: −1/(2m − 1) = −1/33.07.
   const double s3 = 0.9 * sk, s4 = 0.8 * sk;
-  const double above = std::log(s4 / s3) / std::log(c.cycles_to_failure(s4) / c.cycles_to_failure(s3));
+  const double above =
+      std::log(s4 / s3) / std::log(c.cycles_to_failure(s4) / c.cycles_to_failure(s3));
   EXPECT_NEAR(above, -1.0 / 33.07, 1e-12);
 }
 

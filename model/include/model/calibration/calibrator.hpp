@@ -69,9 +69,9 @@ inline constexpr std::size_t kCalibrationObjectives = 3 * kMeasurementPoints;
 
 /// Bounds of the decision variables.
 struct CalibrationSpace {
-  double eta_min_1_s = 0.5, eta_max_1_s = 50.0;        // [1/s] Rayleigh η
-  double zeta_min_s = 1e-6, zeta_max_s = 1e-4;         // [s] Rayleigh ζ
-  double mesh_scale_min = 0.5, mesh_scale_max = 2.0;   // [-]
+  double eta_min_1_s = 0.5, eta_max_1_s = 50.0;             // [1/s] Rayleigh η
+  double zeta_min_s = 1e-6, zeta_max_s = 1e-4;              // [s] Rayleigh ζ
+  double mesh_scale_min = 0.5, mesh_scale_max = 2.0;        // [-]
   double bearing_scale_min = 0.5, bearing_scale_max = 2.0;  // [-]
 
   /// Bounds of variable i in the optimiser's (logarithmic) coordinates.
@@ -92,7 +92,7 @@ bool needs_calibration(const PointIndicators& indicators);
 enum class CalibrationMethod : std::uint8_t {
   kPublishedMogoa,  // MOGOA as published, random initial population
   kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target
-  kTrustRegion,     // derivative-free least squares on the features (see above); warm start reuses J
+  kTrustRegion,  // derivative-free least squares on the features (see above); warm start reuses J
 };
 
 /// The trust-region method's model of the features: ∂φ/∂x at the last
@@ -101,7 +101,7 @@ using FeatureJacobian = TrustRegionLeastSquares::Jacobian;
 
 struct CalibratorConfig {
   CalibrationMethod method = CalibrationMethod::kTrustRegion;
-  MogoaConfig mogoa{};                   // population, iterations, seed (archive_size kept ≤ kMaxArchive)
+  MogoaConfig mogoa{};  // population, iterations, seed (archive_size kept ≤ kMaxArchive)
   TrustRegionConfig trust_region{};      // budget, radii, probe basis seed
   double preference_target_share = 0.5;  // [-] improved method only
   bool stop_at_threshold = false;        // finish as soon as one evaluated solution fits everywhere
@@ -110,14 +110,14 @@ struct CalibratorConfig {
 
 /// What a calibration produced; trivially copyable so that it can be published atomically.
 struct CalibrationResult {
-  std::uint32_t generation = 0;       // [-] 1 for the first published result, +1 per publication
-  bool finished = false;              // the optimiser ran to its end (or to the threshold)
+  std::uint32_t generation = 0;  // [-] 1 for the first published result, +1 per publication
+  bool finished = false;         // the optimiser ran to its end (or to the threshold)
   bool cancelled = false;
-  bool fits = false;                  // every indicator of the chosen parameters within its threshold
-  DynamicsParameters parameters{};    // chosen parameters
-  PointIndicators indicators{};       // their indicators
-  std::size_t iterations = 0;         // [-] MOGOA iterations / trust-region steps made
-  std::size_t evaluations = 0;        // [-] model evaluations made
+  bool fits = false;                // every indicator of the chosen parameters within its threshold
+  DynamicsParameters parameters{};  // chosen parameters
+  PointIndicators indicators{};     // their indicators
+  std::size_t iterations = 0;       // [-] MOGOA iterations / trust-region steps made
+  std::size_t evaluations = 0;      // [-] model evaluations made
   std::size_t evaluations_to_threshold = 0;  // [-] at the first fitting evaluation; 0: none
 };
 static_assert(std::is_trivially_copyable_v<CalibrationResult>);
@@ -130,8 +130,8 @@ class Calibrator {
   /// @param drivetrain its description (outlives the calibrator)
   /// @param features   order-tracking/feature configuration; mesh orders are
   ///                   filled here from the drivetrain (hss as reference shaft)
-  Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain, const dsp::FeatureConfig& features,
-             const CalibratorConfig& config);
+  Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain,
+             const dsp::FeatureConfig& features, const CalibratorConfig& config);
 
   /// The feature configuration to extract the measured features with.
   const dsp::FeatureConfig& feature_config() const { return features_.config(); }
@@ -139,7 +139,8 @@ class Calibrator {
   dsp::DspStatus status() const { return features_.config_status(); }
 
   /// Sets the measurement to calibrate against (measured features of point1, point2).
-  void set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured, const OperatingPoint& op);
+  void set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured,
+                       const OperatingPoint& op);
 
   /// Indicators of `params` against the measurement (one simulation).
   /// @return false when the simulation or the feature extraction failed
@@ -152,7 +153,8 @@ class Calibrator {
   /// feature Jacobian (feature_model()); when absent, the trust region reuses
   /// this calibrator's own last model if it has one and `previous` is given.
   /// Returns false for an unusable configuration.
-  bool start(const DynamicsParameters& current, const std::optional<DynamicsParameters>& previous = std::nullopt,
+  bool start(const DynamicsParameters& current,
+             const std::optional<DynamicsParameters>& previous = std::nullopt,
              const FeatureJacobian* previous_model = nullptr);
 
   /// One model evaluation (trust region) or one MOGOA iteration (the first
@@ -169,7 +171,8 @@ class Calibrator {
   std::size_t evaluations() const { return problem_.evaluations; }
   std::size_t evaluations_to_threshold() const { return problem_.evaluations_to_threshold; }
   std::size_t iteration() const;
-  /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2) of member i.
+  /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2) of
+  /// member i.
   std::size_t archive_count() const;
   double archive_objective(std::size_t i, std::size_t k) const;
   /// The trust region's feature Jacobian after the last run; false when none
@@ -209,7 +212,8 @@ class Calibrator {
   // One evaluation of x for either optimiser: indicators into f (penalties on
   // failure), log features into phi when non-null; counts and archives (trust region).
   bool evaluate_variables(const double* x, double* f, double* phi);
-  bool simulate_features(const DynamicsParameters& params, std::array<dsp::PointFeatures, kMeasurementPoints>& out);
+  bool simulate_features(const DynamicsParameters& params,
+                         std::array<dsp::PointFeatures, kMeasurementPoints>& out);
   void archive_add(const double* x, const double* f);
   void finish(bool cancelled);
   void publish(const CalibrationResult& result);

@@ -29,7 +29,8 @@ class DynamicsSimulator : public VibrationSimulator {
   /// @param model          ROM or full-order model
   /// @param sample_rate_hz [Hz] output rate (the ROM steps at it; the full model at 2× it)
   /// @param settle_s       [s] simulated and discarded before the returned waveforms
-  DynamicsSimulator(const Drivetrain& drivetrain, DynamicsModel model, double sample_rate_hz, double settle_s);
+  DynamicsSimulator(const Drivetrain& drivetrain, DynamicsModel model, double sample_rate_hz,
+                    double settle_s);
 
   bool simulate(const DynamicsParameters& params, const OperatingPoint& op, double duration_s,
                 std::array<WaveformView, kMeasurementPoints>& out) override;

@@ -40,10 +40,10 @@ inline constexpr double kF2Threshold = 0.2;
 inline constexpr double kF3Threshold = 0.2;
 
 struct Indicators {
-  double f1 = 0.0;  // [-] relative RMS error
-  double f2 = 0.0;  // [-] 1 − Pearson correlation of mesh amplitudes, in [0, 2]
-  double f3 = 0.0;  // [-] MAPE of mesh amplitudes (fraction)
-  bool valid = false;  // false when an indicator is undefined (see compute_indicators)
+  double f1 = 0.0;        // [-] relative RMS error
+  double f2 = 0.0;        // [-] 1 − Pearson correlation of mesh amplitudes, in [0, 2]
+  double f3 = 0.0;        // [-] MAPE of mesh amplitudes (fraction)
+  bool valid = false;     // false when an indicator is undefined (see compute_indicators)
   std::size_t tones = 0;  // [-] amplitudes compared by f2 and f3 (resolved in the measurement)
 };
 
@@ -55,7 +55,8 @@ inline constexpr std::size_t kMinTones = 3;
 /// large penalty (kIndicatorPenalty) so that an optimizer moves away from it:
 /// RMS_m ≤ 0, counts that differ, fewer than kMinTones resolved tones, or a
 /// constant amplitude vector (Pearson ρ undefined).
-Indicators compute_indicators(const dsp::PointFeatures& simulated, const dsp::PointFeatures& measured);
+Indicators compute_indicators(const dsp::PointFeatures& simulated,
+                              const dsp::PointFeatures& measured);
 
 inline constexpr double kIndicatorPenalty = 1e3;
 

@@ -52,14 +52,14 @@ inline DynamicsParameters with_nominal_damping(DynamicsParameters p) {
 }
 
 struct LumpedSimulatorConfig {
-  double sample_rate_hz = 8192.0;          // [Hz]
-  double max_duration_s = 16.0;            // [s] buffer capacity
-  std::size_t harmonics = 3;               // [-] TE harmonics per mesh
-  double te_amplitude_m = 5e-6;            // [m] fundamental TE at rated torque
+  double sample_rate_hz = 8192.0;                 // [Hz]
+  double max_duration_s = 16.0;                   // [s] buffer capacity
+  std::size_t harmonics = 3;                      // [-] TE harmonics per mesh
+  double te_amplitude_m = 5e-6;                   // [m] fundamental TE at rated torque
   double mesh_stiffness_per_width_n_m2 = 2.0e10;  // [N/m per m face width] c_γ
-  double noise_relative = 0.0;             // [-] white noise added, RMS as a fraction of each
-                                           //     point's noise-free RMS (synthetic recordings only)
-  std::uint64_t noise_seed = 1;           // the same noise sequence on every simulate() call
+  double noise_relative = 0.0;   // [-] white noise added, RMS as a fraction of each
+                                 //     point's noise-free RMS (synthetic recordings only)
+  std::uint64_t noise_seed = 1;  // the same noise sequence on every simulate() call
 };
 
 class LumpedSimulator : public VibrationSimulator {

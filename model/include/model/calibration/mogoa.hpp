@@ -50,10 +50,10 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxVariables = 32;    // ZDT1–3 use 30
-inline constexpr std::size_t kMaxObjectives = 6;    // 3 indicators × 2 measurement points
-inline constexpr std::size_t kMaxPopulation = 64;   // grasshoppers
-inline constexpr std::size_t kMaxArchive = 128;     // Pareto archive capacity
+inline constexpr std::size_t kMaxVariables = 32;   // ZDT1–3 use 30
+inline constexpr std::size_t kMaxObjectives = 6;   // 3 indicators × 2 measurement points
+inline constexpr std::size_t kMaxPopulation = 64;  // grasshoppers
+inline constexpr std::size_t kMaxArchive = 128;    // Pareto archive capacity
 
 /// A box-bounded problem with objectives to minimise.
 class MultiObjectiveProblem {
@@ -77,20 +77,22 @@ struct MogoaConfig {
   std::size_t archive_size = 100;   // [-] ≤ kMaxArchive
   double c_max = 1.0;
   double c_min = 0.00004;
-  double attraction_f = 0.5;        // f of s(r)
-  double length_scale_l = 1.5;      // l of s(r)
+  double attraction_f = 0.5;    // f of s(r)
+  double length_scale_l = 1.5;  // l of s(r)
   std::uint64_t seed = 1;
   double preference_target_share = 0.0;  // [0, 1]; 0 = published roulette target
 };
 
 class Mogoa {
  public:
-  using PopulationX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPopulation, kMaxVariables>;
-  using PopulationF = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPopulation, kMaxObjectives>;
-  using ArchiveX =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxArchive + kMaxPopulation, kMaxVariables>;
-  using ArchiveF =
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxArchive + kMaxPopulation, kMaxObjectives>;
+  using PopulationX =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPopulation, kMaxVariables>;
+  using PopulationF =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxPopulation, kMaxObjectives>;
+  using ArchiveX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0,
+                                 kMaxArchive + kMaxPopulation, kMaxVariables>;
+  using ArchiveF = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0,
+                                 kMaxArchive + kMaxPopulation, kMaxObjectives>;
 
   /// Sizes are checked here; config_ok() is false (and step() does nothing)
   /// when a size exceeds its maximum or is zero.
@@ -113,7 +115,9 @@ class Mogoa {
   std::size_t archive_count() const { return archive_count_; }
   /// Archive member i in the problem's units / its objectives.
   void archive_member(std::size_t i, double* x, double* f) const;
-  double archive_objective(std::size_t i, std::size_t k) const { return archive_f_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)); }
+  double archive_objective(std::size_t i, std::size_t k) const {
+    return archive_f_(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k));
+  }
 
   /// Social force s(r) = f·e^(−r/l) − e^(−r) (GOA eq. 2.3).
   static double social_force(double r, double f, double l);
@@ -139,7 +143,7 @@ class Mogoa {
   std::size_t seeded_ = 0;
 
   Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxVariables, 1> lower_, span_;
-  PopulationX x_;       // normalised positions in [0, 1]
+  PopulationX x_;  // normalised positions in [0, 1]
   PopulationX x_next_;
   PopulationF f_;
   ArchiveX archive_x_;  // normalised

@@ -25,7 +25,7 @@ struct OperatingPoint {
 struct WaveformView {
   const double* samples = nullptr;  // [m/s²] radial acceleration
   std::size_t count = 0;
-  double sample_rate_hz = 0.0;      // [Hz]
+  double sample_rate_hz = 0.0;  // [Hz]
 };
 
 class VibrationSimulator {
@@ -36,8 +36,8 @@ class VibrationSimulator {
   /// order-tracked with a constant speed).
   /// @return false when the model cannot produce a waveform (diverged, bad
   ///         parameters); `out` is then unspecified
-  virtual bool simulate(const DynamicsParameters& params, const OperatingPoint& op, double duration_s,
-                        std::array<WaveformView, kMeasurementPoints>& out) = 0;
+  virtual bool simulate(const DynamicsParameters& params, const OperatingPoint& op,
+                        double duration_s, std::array<WaveformView, kMeasurementPoints>& out) = 0;
 };
 
 }  // namespace model::calibration

@@ -56,8 +56,8 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxLsqVariables = 8;   // the calibration's decision variables
-inline constexpr std::size_t kMaxLsqFeatures = 42;   // 2 points × (RMS + 4 meshes × 5 harmonics)
+inline constexpr std::size_t kMaxLsqVariables = 8;  // the calibration's decision variables
+inline constexpr std::size_t kMaxLsqFeatures = 42;  // 2 points × (RMS + 4 meshes × 5 harmonics)
 
 /// A box-bounded map x → φ(x) (the model's feature vector).
 class FeatureMap {
@@ -79,7 +79,7 @@ struct TrustRegionConfig {
   double restart_radius = 0.5;       // [units of x]
   double max_radius = 2.0;           // [units of x]
   std::size_t refresh_after_failures = 3;  // [-] consecutive unsuccessful steps before re-probing
-  std::uint64_t seed = 0;            // 0: probe along the coordinate axes; else a random orthonormal basis
+  std::uint64_t seed = 0;  // 0: probe along the coordinate axes; else a random orthonormal basis
 };
 
 class TrustRegionLeastSquares {

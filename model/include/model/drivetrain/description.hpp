@@ -18,20 +18,23 @@ namespace model {
 
 /// Gear material and its fatigue data (ISO 6336-5 / -6).
 struct Material {
-  std::string id;                      // e.g. "17CrNiMo6"
-  double youngs_modulus_pa = 206e9;    // [Pa]
-  double poisson_ratio = 0.3;          // [-]
-  double density_kg_m3 = 7850.0;       // [kg/m³]
-  double sigma_hlim_mpa = 1500.0;      // [MPa] allowable contact stress number, ISO 6336-5
-  double sigma_flim_mpa = 500.0;       // [MPa] nominal bending stress number, ISO 6336-5
+  std::string id;                    // e.g. "17CrNiMo6"
+  double youngs_modulus_pa = 206e9;  // [Pa]
+  double poisson_ratio = 0.3;        // [-]
+  double density_kg_m3 = 7850.0;     // [kg/m³]
+  double sigma_hlim_mpa = 1500.0;    // [MPa] allowable contact stress number, ISO 6336-5
+  double sigma_flim_mpa = 500.0;     // [MPa] nominal bending stress number, ISO 6336-5
   // S-N curves N = (C/σ)^m below the knee (ISO 6336-6 / paper eq. for the sun gear).
-  double sn_contact_m = 17.035;        // [-]
-  double sn_contact_c_mpa = 3090.3;    // [MPa]
-  double sn_bending_m = 8.738;         // [-]
-  double sn_bending_c_mpa = 5512.0;    // [MPa] σ_FE = 2·σ_Flim = 1000 MPa at the knee 3e6 (ISO 6336-3 Y_NT)
-  double sn_contact_knee_cycles = 5e7; // [-] N0, ISO 6336-2 Z_NT knee (case-hardened, some pitting allowed)
-  double sn_bending_knee_cycles = 3e6; // [-] N0, ISO 6336-3 Y_NT knee (case-hardened)
-  double reversed_bending_factor = 0.7;// [-] Y_M for fully reversed root stress (idler / planet), ISO 6336-3 Annex B
+  double sn_contact_m = 17.035;      // [-]
+  double sn_contact_c_mpa = 3090.3;  // [MPa]
+  double sn_bending_m = 8.738;       // [-]
+  double sn_bending_c_mpa =
+      5512.0;  // [MPa] σ_FE = 2·σ_Flim = 1000 MPa at the knee 3e6 (ISO 6336-3 Y_NT)
+  double sn_contact_knee_cycles =
+      5e7;  // [-] N0, ISO 6336-2 Z_NT knee (case-hardened, some pitting allowed)
+  double sn_bending_knee_cycles = 3e6;  // [-] N0, ISO 6336-3 Y_NT knee (case-hardened)
+  double reversed_bending_factor =
+      0.7;  // [-] Y_M for fully reversed root stress (idler / planet), ISO 6336-3 Annex B
 };
 
 /// Knots of a tabulated Cp(λ) curve (CpSurface::table_cp).
@@ -39,14 +42,14 @@ inline constexpr std::size_t kCpTableKnots = 12;
 
 /// Power coefficient surface Cp(λ, β): the form is defined in model/wind.
 struct CpSurface {
-  std::array<double, 6> c{};  // [-] surface coefficients c1..c6 (see model/wind/cp_surface.hpp)
-  double lambda_i_beta = 0.08;   // [-] λ_i coupling to pitch
-  double lambda_i_cubic = 0.035; // [-] λ_i pitch cubic term
-  double lambda_scale = 1.0;     // [-] s: the surface is evaluated at s·λ (places λ_opt)
+  std::array<double, 6> c{};      // [-] surface coefficients c1..c6 (see model/wind/cp_surface.hpp)
+  double lambda_i_beta = 0.08;    // [-] λ_i coupling to pitch
+  double lambda_i_cubic = 0.035;  // [-] λ_i pitch cubic term
+  double lambda_scale = 1.0;      // [-] s: the surface is evaluated at s·λ (places λ_opt)
   // Optional tabulated Cp(λ, 0) on kCpTableKnots equally spaced λ from table_lambda_min
   // to table_lambda_max (used when max > min; model/wind/cp_surface.hpp).
-  double table_lambda_min = 0.0;          // [-]
-  double table_lambda_max = 0.0;          // [-]
+  double table_lambda_min = 0.0;                 // [-]
+  double table_lambda_max = 0.0;                 // [-]
   std::array<double, kCpTableKnots> table_cp{};  // [-] Cp at the knots, each in [0, 16/27]
 };
 
@@ -74,8 +77,8 @@ struct Turbine {
   double lambda_opt = 0.0;             // [-] tip-speed ratio of cp_max
   CpSurface cp;                        // Cp(λ, β)
   double drivetrain_efficiency = 1.0;  // [-] rotor (aerodynamic) power → electrical power
-  double site_altitude_m = 0.0;        // [m] above sea level: pressure for ρ from a measured temperature
-  TurbineCorrections corrections;      // SCADA → rotor → grid (defaults: none)
+  double site_altitude_m = 0.0;  // [m] above sea level: pressure for ρ from a measured temperature
+  TurbineCorrections corrections;  // SCADA → rotor → grid (defaults: none)
 };
 
 enum class StageType { kPlanetary, kParallel };
@@ -83,32 +86,32 @@ enum class StageType { kPlanetary, kParallel };
 /// One gear wheel. `id` is a component id (sun, planet, ring, g1..g4 for paper-2mw).
 struct Gear {
   std::string id;
-  std::string shaft;              // shaft id the gear sits on ("" for the fixed ring, planet pins)
-  int teeth = 0;                  // [-] z (ring: internal teeth)
-  double face_width_m = 0.0;      // [m] b
-  double mass_kg = 0.0;           // [kg]
-  double profile_shift = 0.0;     // [-] x
-  std::string material;           // Material::id
+  std::string shaft;           // shaft id the gear sits on ("" for the fixed ring, planet pins)
+  int teeth = 0;               // [-] z (ring: internal teeth)
+  double face_width_m = 0.0;   // [m] b
+  double mass_kg = 0.0;        // [kg]
+  double profile_shift = 0.0;  // [-] x
+  std::string material;        // Material::id
 };
 
 /// A gear stage. Planetary: gears = {sun, planet, ring}, carrier = input, ring fixed,
 /// sun = output. Parallel: gears = {wheel (input shaft), pinion (output shaft)}.
 struct GearStage {
-  std::string id;                 // "planetary", "intermediate", "high_speed"
+  std::string id;  // "planetary", "intermediate", "high_speed"
   StageType type = StageType::kParallel;
-  double normal_module_m = 0.0;   // [m] m_n
-  double pressure_angle_rad = 0.0;// [rad] α_n
-  double helix_angle_rad = 0.0;   // [rad] β
-  int planets = 0;                // [-] planetary only
-  std::vector<std::string> gears; // Gear ids, order as above
-  std::string input_shaft;        // shaft id driving the stage
-  std::string output_shaft;       // shaft id driven by the stage
+  double normal_module_m = 0.0;     // [m] m_n
+  double pressure_angle_rad = 0.0;  // [rad] α_n
+  double helix_angle_rad = 0.0;     // [rad] β
+  int planets = 0;                  // [-] planetary only
+  std::vector<std::string> gears;   // Gear ids, order as above
+  std::string input_shaft;          // shaft id driving the stage
+  std::string output_shaft;         // shaft id driven by the stage
 };
 
 struct Shaft {
-  std::string id;                 // lss, sun_shaft, ims, hss
-  double length_m = 0.0;          // [m] between the bearings
-  double diameter_m = 0.0;        // [m] mean solid diameter
+  std::string id;           // lss, sun_shaft, ims, hss
+  double length_m = 0.0;    // [m] between the bearings
+  double diameter_m = 0.0;  // [m] mean solid diameter
   std::string material;
 };
 
@@ -116,33 +119,33 @@ enum class BearingType { kBall, kRoller };
 
 /// A rolling bearing: geometry fixed by the reference; rating and stiffness are model data.
 struct Bearing {
-  std::string id;                  // b1..b6, pb
-  std::string shaft;               // shaft id ("planet" for the planet bearings)
-  std::string position;            // free text, e.g. "rotor side"
-  int elements = 0;                // [-] Nb per row
-  int rows = 1;                    // [-]
-  double element_diameter_m = 0.0; // [m] d
-  double pitch_diameter_m = 0.0;   // [m] Dp
-  double contact_angle_rad = 0.0;  // [rad] φ
+  std::string id;                   // b1..b6, pb
+  std::string shaft;                // shaft id ("planet" for the planet bearings)
+  std::string position;             // free text, e.g. "rotor side"
+  int elements = 0;                 // [-] Nb per row
+  int rows = 1;                     // [-]
+  double element_diameter_m = 0.0;  // [m] d
+  double pitch_diameter_m = 0.0;    // [m] Dp
+  double contact_angle_rad = 0.0;   // [rad] φ
   BearingType type = BearingType::kRoller;
-  double dynamic_rating_n = 0.0;   // [N] C, ISO 281
-  double radial_stiffness_n_m = 0.0; // [N/m] mean radial stiffness k_a
+  double dynamic_rating_n = 0.0;      // [N] C, ISO 281
+  double radial_stiffness_n_m = 0.0;  // [N/m] mean radial stiffness k_a
 };
 
 /// A CMS measurement channel: where the accelerometer sits.
 struct MeasurementPoint {
-  std::string channel;             // "point1"
-  std::string location;            // component id, e.g. "b5"
-  std::string direction;           // "radial"
+  std::string channel;    // "point1"
+  std::string location;   // component id, e.g. "b5"
+  std::string direction;  // "radial"
 };
 
 /// Parameters of the dynamics model that are not geometry; the calibrator moves these.
 struct DynamicsParameters {
-  double rayleigh_eta = 0.0;                  // [1/s] mass-proportional damping η (C = ηM + ζK)
-  double rayleigh_zeta = 0.0;                 // [s] stiffness-proportional damping ζ
-  std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};  // [-] per stage
+  double rayleigh_eta = 0.0;   // [1/s] mass-proportional damping η (C = ηM + ζK)
+  double rayleigh_zeta = 0.0;  // [s] stiffness-proportional damping ζ
+  std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};     // [-] per stage
   std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
-  double bearing_stiffness_fluctuation = 0.1; // [-] k_θ / k_a
+  double bearing_stiffness_fluctuation = 0.1;                    // [-] k_θ / k_a
 };
 
 struct Drivetrain {

@@ -56,10 +56,10 @@ class Kinematics {
   const Drivetrain* drivetrain_;
   std::size_t stage_count_ = 0;
   std::array<double, kMaxStages> stage_ratio_{};
-  std::array<double, kMaxStages> input_ratio_{};   // stage input speed / rotor speed
-  std::array<double, kMaxStages> mesh_order_{};    // mesh frequency / rotor frequency
+  std::array<double, kMaxStages> input_ratio_{};  // stage input speed / rotor speed
+  std::array<double, kMaxStages> mesh_order_{};   // mesh frequency / rotor frequency
   std::array<int, kMaxStages> planets_{};
-  double planet_ratio_ = 0.0;                      // planet speed rel. carrier / rotor speed
+  double planet_ratio_ = 0.0;  // planet speed rel. carrier / rotor speed
   double overall_ratio_ = 1.0;
 };
 

@@ -23,27 +23,28 @@ inline constexpr std::size_t kMaxAmplitudes = kMaxMeshes * kMaxHarmonics;
 struct FeatureConfig {
   std::size_t samples_per_rev = 1024;  // [-] angle-domain samples per reference-shaft revolution
   std::size_t revolutions = 64;        // [-] revolutions per block (order resolution 1/revolutions)
-  std::size_t harmonics = 3;           // [-] fundamental + (harmonics − 1) per mesh, ≤ kMaxHarmonics
+  std::size_t harmonics = 3;  // [-] fundamental + (harmonics − 1) per mesh, ≤ kMaxHarmonics
   std::array<double, kMaxMeshes> mesh_orders{};  // [-] mesh frequency / reference-shaft frequency
-  std::size_t mesh_count = 0;          // [-] ≤ kMaxMeshes
-  std::size_t lobe_half_width = 2;     // [lines] Hann main lobe summed per tone
-  std::size_t noise_half_width = 24;   // [lines] neighbourhood of a tone whose median is its noise floor
-  double resolved_ratio = 2.0;         // [-] tone resolved when amplitude ≥ ratio × noise floor
-  double flat_threshold = 1e-12;       // [unit of x] smallest peak-to-peak accepted
-  std::size_t max_pulses = 4096;       // [-] tacho pulse capacity
+  std::size_t mesh_count = 0;                    // [-] ≤ kMaxMeshes
+  std::size_t lobe_half_width = 2;               // [lines] Hann main lobe summed per tone
+  std::size_t noise_half_width =
+      24;                         // [lines] neighbourhood of a tone whose median is its noise floor
+  double resolved_ratio = 2.0;    // [-] tone resolved when amplitude ≥ ratio × noise floor
+  double flat_threshold = 1e-12;  // [unit of x] smallest peak-to-peak accepted
+  std::size_t max_pulses = 4096;  // [-] tacho pulse capacity
 };
 
 /// Features of one measurement point.
 struct PointFeatures {
-  double rms = 0.0;                                  // [unit of x] of the whole waveform, mean removed
-  std::array<double, kMaxAmplitudes> amplitude{};    // [unit of x] index mesh·harmonics + (h − 1)
+  double rms = 0.0;  // [unit of x] of the whole waveform, mean removed
+  std::array<double, kMaxAmplitudes> amplitude{};  // [unit of x] index mesh·harmonics + (h − 1)
   /// [unit of x] what noise alone would read as this tone's amplitude: the
   /// median line of the tone's neighbourhood (main lobe excluded) × sqrt((2w+1)/ENBW).
   std::array<double, kMaxAmplitudes> noise_floor{};
   /// amplitude ≥ resolved_ratio × noise_floor: the tone stands out of the noise.
   /// Indicators use only tones the measurement resolves (see indicators.hpp).
   std::array<bool, kMaxAmplitudes> resolved{};
-  std::size_t count = 0;                             // [-] mesh_count · harmonics
+  std::size_t count = 0;  // [-] mesh_count · harmonics
   std::size_t resolved_count() const {
     std::size_t n = 0;
     for (std::size_t i = 0; i < count; ++i) n += resolved[i] ? 1 : 0;

@@ -21,12 +21,12 @@ inline constexpr std::size_t kMaxFftSize = std::size_t{1} << 17;
 /// Outcome of a signal-processing call; the text of each is in to_string().
 enum class DspStatus : std::uint8_t {
   kOk,
-  kBadConfig,      // analyzer/extractor configured with an impossible size
-  kTooShort,       // fewer revolutions than the frequency resolution needs
-  kFlat,           // no variation: sensor or cable dead
-  kClipped,        // the waveform saturates (flat tops at its extreme values)
-  kNonFinite,      // NaN or Inf in the samples
-  kNoSpeed,        // no usable speed reference (tacho pulses, speed, mesh line)
+  kBadConfig,  // analyzer/extractor configured with an impossible size
+  kTooShort,   // fewer revolutions than the frequency resolution needs
+  kFlat,       // no variation: sensor or cable dead
+  kClipped,    // the waveform saturates (flat tops at its extreme values)
+  kNonFinite,  // NaN or Inf in the samples
+  kNoSpeed,    // no usable speed reference (tacho pulses, speed, mesh line)
 };
 
 /// A short English description of `status` (static storage).
@@ -72,9 +72,9 @@ class SpectrumAnalyzer {
   struct Plan;
   std::size_t nfft_ = 0;
   std::unique_ptr<Plan> plan_;
-  std::vector<double> window_;     // [-] Hann window, nfft
-  std::vector<double> windowed_;   // work buffer, nfft
-  double amplitude_gain_ = 0.0;    // [-] 2/Σw
+  std::vector<double> window_;    // [-] Hann window, nfft
+  std::vector<double> windowed_;  // work buffer, nfft
+  double amplitude_gain_ = 0.0;   // [-] 2/Σw
 };
 
 /// RMS of x[0..n) about its mean: sqrt(1/n·Σ(x − x̄)²). 0 for n = 0.

@@ -72,7 +72,8 @@ struct StructuralParameters {
   double generator_control_nm_rad = 2.0e4;          // [N·m/rad] converter speed loop about nominal
   double ims_axis_angle_rad = 0.0;                  // [rad] sun-shaft → ims centre line, from +x
   double hss_axis_angle_rad = 1.5707963267948966;   // [rad] ims → hss centre line, from +x
-  double sensor_angle_rad = 1.5707963267948966;     // [rad] radial sensor direction, from +x (+y: vertical)
+  double sensor_angle_rad =
+      1.5707963267948966;  // [rad] radial sensor direction, from +x (+y: vertical)
 };
 
 /// A time-varying stiffness: restoring force −k(t)·Σ_c u_c (u_cᵀ x),
@@ -92,13 +93,13 @@ struct VaryingStiffness {
 /// An external force: f(t) = amplitude·shape(order·N_rotor + phase)·pattern, the
 /// amplitude multiplied by the input torque [N·m] when `per_newton_metre`.
 struct ForceTerm {
-  std::string id;              // "input_torque", ...
-  Eigen::VectorXd pattern;     // [N or N·m per unit amplitude]
-  double amplitude = 1.0;      // [-]
+  std::string id;           // "input_torque", ...
+  Eigen::VectorXd pattern;  // [N or N·m per unit amplitude]
+  double amplitude = 1.0;   // [-]
   bool per_newton_metre = false;
   PeriodicTable shape = PeriodicTable::constant(1.0);
-  double order = 0.0;          // [cycles per rotor revolution]
-  double phase_cycles = 0.0;   // [cycles]
+  double order = 0.0;         // [cycles per rotor revolution]
+  double phase_cycles = 0.0;  // [cycles]
   double scale(double rotor_revolutions, double input_torque_nm) const {
     const double a = per_newton_metre ? amplitude * input_torque_nm : amplitude;
     return a * shape.value(order * rotor_revolutions + phase_cycles);
@@ -125,16 +126,16 @@ struct MeshInfo {
 };
 
 struct FullModel {
-  std::vector<std::string> dof_names;       // "carrier.x", "sun_shaft.3.theta", "seat.b5.y", ...
-  Eigen::VectorXd mass;                     // [kg or kg·m²] lumped (diagonal) mass matrix
-  Eigen::MatrixXd stiffness;                // [N/m ...] K̄: constant part incl. the varying elements' means
-  double rayleigh_eta = 0.0;                // [1/s]
-  double rayleigh_zeta = 0.0;               // [s]
-  std::vector<VaryingStiffness> meshes;     // 3 sun–planet, 3 ring–planet, intermediate, high_speed
-  std::vector<MeshInfo> mesh_info;          // parallel to `meshes`
-  std::vector<VaryingStiffness> bearings;   // b1..b6
-  std::vector<ForceTerm> forces;            // input torque first
-  std::vector<Sensor> sensors;              // point1, point2
+  std::vector<std::string> dof_names;  // "carrier.x", "sun_shaft.3.theta", "seat.b5.y", ...
+  Eigen::VectorXd mass;                // [kg or kg·m²] lumped (diagonal) mass matrix
+  Eigen::MatrixXd stiffness;   // [N/m ...] K̄: constant part incl. the varying elements' means
+  double rayleigh_eta = 0.0;   // [1/s]
+  double rayleigh_zeta = 0.0;  // [s]
+  std::vector<VaryingStiffness> meshes;  // 3 sun–planet, 3 ring–planet, intermediate, high_speed
+  std::vector<MeshInfo> mesh_info;       // parallel to `meshes`
+  std::vector<VaryingStiffness> bearings;  // b1..b6
+  std::vector<ForceTerm> forces;           // input torque first
+  std::vector<Sensor> sensors;             // point1, point2
 
   int dofs() const { return static_cast<int>(mass.size()); }
   /// Index of a named DOF, −1 if absent.

@@ -34,18 +34,18 @@ struct GearPair {
 
 /// Derived geometry (ISO 21771). Radii are transverse.
 struct MeshGeometry {
-  double transverse_module_m = 0.0;          // [m] m_t = m_n / cos β
-  double transverse_pressure_angle_rad = 0.0;// [rad] α_t = atan(tan α_n / cos β)
-  double base_helix_angle_rad = 0.0;         // [rad] β_b = atan(tan β · cos α_t)
+  double transverse_module_m = 0.0;                     // [m] m_t = m_n / cos β
+  double transverse_pressure_angle_rad = 0.0;           // [rad] α_t = atan(tan α_n / cos β)
+  double base_helix_angle_rad = 0.0;                    // [rad] β_b = atan(tan β · cos α_t)
   double pitch_radius1_m = 0.0, pitch_radius2_m = 0.0;  // [m]
   double base_radius1_m = 0.0, base_radius2_m = 0.0;    // [m]
   double tip_radius1_m = 0.0, tip_radius2_m = 0.0;      // [m] (ring: inner tip radius)
-  double centre_distance_m = 0.0;            // [m]
-  double base_pitch_m = 0.0;                 // [m] transverse base pitch p_bt
-  double path_of_contact_m = 0.0;            // [m] g_α, length of the path of contact
-  double pitch_point_m = 0.0;                // [m] position of the pitch point on the path, from its start
-  double transverse_contact_ratio = 0.0;     // [-] ε_α = g_α / p_bt
-  double overlap_ratio = 0.0;                // [-] ε_β = b sin β / (π m_n)
+  double centre_distance_m = 0.0;                       // [m]
+  double base_pitch_m = 0.0;                            // [m] transverse base pitch p_bt
+  double path_of_contact_m = 0.0;                       // [m] g_α, length of the path of contact
+  double pitch_point_m = 0.0;  // [m] position of the pitch point on the path, from its start
+  double transverse_contact_ratio = 0.0;  // [-] ε_α = g_α / p_bt
+  double overlap_ratio = 0.0;             // [-] ε_β = b sin β / (π m_n)
   double total_contact_ratio() const { return transverse_contact_ratio + overlap_ratio; }
 };
 

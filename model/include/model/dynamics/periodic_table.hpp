@@ -49,9 +49,9 @@ struct PeriodicTable {
   static PeriodicTable cosine(double relative_amplitude) noexcept {
     PeriodicTable t;
     for (std::size_t i = 0; i < kSize; ++i) {
-      t.values[i] = 1.0 + relative_amplitude *
-                              std::cos(2.0 * 3.14159265358979323846 * static_cast<double>(i) /
-                                       static_cast<double>(kSize));
+      t.values[i] =
+          1.0 + relative_amplitude * std::cos(2.0 * 3.14159265358979323846 *
+                                              static_cast<double>(i) / static_cast<double>(kSize));
     }
     return t;
   }

@@ -27,7 +27,8 @@
 // which holds for k_θ/k_a < 1 because no bearing's fluctuation can exceed the modal
 // stiffness it contributes to (checked by build_rom()). Accuracy, not stability, sets
 // Δt: the force is interpolated linearly over a step, which scales a forcing harmonic
-// at f by sinc²(π·f·Δt), sinc x = sin x / x — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25 600 s.
+// at f by sinc²(π·f·Δt), sinc x = sin x / x — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25
+// 600 s.
 //
 // How a step is computed (model/src/dynamics/rom_kernel.cpp; same equations, only the
 // rounding differs): the table look-ups, then (I + diag(Δk_mesh)·G)⁻¹ by Gauss–Jordan
@@ -73,11 +74,11 @@ inline constexpr double kRomDefaultCutoffHz = 2200.0;
 /// multiple of the SIMD width. build_rom() refuses a model that does not fit (it names
 /// the count: lower the cut-off or raise this constant); unused slots are inert (zero).
 inline constexpr int kRomDofs = 64;
-inline constexpr int kRomMeshes = 8;        // 3 sun–planet, 3 ring–planet, 2 parallel
-inline constexpr int kRomBearings = 6;      // b1..b6
+inline constexpr int kRomMeshes = 8;    // 3 sun–planet, 3 ring–planet, 2 parallel
+inline constexpr int kRomBearings = 6;  // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
-inline constexpr int kRomForces = 2;        // input torque + one plug-in force
-inline constexpr int kRomSensors = 2;       // point1, point2
+inline constexpr int kRomForces = 2;   // input torque + one plug-in force
+inline constexpr int kRomSensors = 2;  // point1, point2
 /// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
 /// padded with zeros to whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
@@ -85,18 +86,18 @@ inline constexpr int kRomReadoutRows = 24;
 /// Everything a ROM step reads: immutable after build_rom(), fixed size.
 struct RomData {
   using Vec = Eigen::Matrix<double, kRomDofs, 1>;
-  double dt_s = 0.0;             // [s] fixed time step
-  double cutoff_hz = 0.0;        // [Hz] every full-model mode up to here is retained
-  int eigenmodes = 0;            // [-] retained full-model modes
-  int correction_vectors = 0;    // [-] static correction vectors
+  double dt_s = 0.0;           // [s] fixed time step
+  double cutoff_hz = 0.0;      // [Hz] every full-model mode up to here is retained
+  int eigenmodes = 0;          // [-] retained full-model modes
+  int correction_vectors = 0;  // [-] static correction vectors
   int mesh_count = 0, bearing_count = 0, force_count = 0, sensor_count = 0;
 
   // The arrays step() streams are cache-line aligned (alignas(64)): the AVX-512 kernel
   // then never splits a load across two lines. Matrices are stored so that the kernel
   // reads contiguous columns of kRomDofs values (sensor_rows and readout row-major).
-  alignas(64) Vec omega_rad_s = Vec::Zero();   // [rad/s] Ritz frequencies (0: unused slot)
-  alignas(64) Vec damping_1_s = Vec::Zero();   // [1/s] η + ζω²
-  alignas(64) Vec omega2 = Vec::Zero();        // [1/s²]
+  alignas(64) Vec omega_rad_s = Vec::Zero();  // [rad/s] Ritz frequencies (0: unused slot)
+  alignas(64) Vec damping_1_s = Vec::Zero();  // [1/s] η + ζω²
+  alignas(64) Vec omega2 = Vec::Zero();       // [1/s²]
   // First-order-hold propagators: q⁺ = pqq q + pqv v + b0q g + b1q g⁺ (same for v).
   alignas(64) Vec pqq = Vec::Zero();
   alignas(64) Vec pqv = Vec::Zero();
@@ -108,20 +109,26 @@ struct RomData {
   alignas(64) Vec b1v = Vec::Zero();
 
   alignas(64) Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
-  Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh = decltype(g_mesh)::Zero();  // Wᵀ diag(b1q) W
-  alignas(64) Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing = decltype(w_bearing)::Zero();
+  Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh =
+      decltype(g_mesh)::Zero();  // Wᵀ diag(b1q) W
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing =
+      decltype(w_bearing)::Zero();
   // [W W_b]ᵀ stored row-major: both read-outs of a modal vector in one pass.
   Eigen::Matrix<double, kRomMeshes + kRomBearingRank, kRomDofs, Eigen::RowMajor> readout =
       decltype(readout)::Zero();
   // The same read-out by columns, zero-padded to kRomReadoutRows: the layout step()
   // streams (z = Σ_i r_i·column_i, one column per modal coordinate).
-  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomDofs> readout_by_dof = decltype(readout_by_dof)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomDofs> readout_by_dof =
+      decltype(readout_by_dof)::Zero();
   // [G; H] = [W W_b]ᵀ diag(b1q) W, zero-padded like readout_by_dof: the implicit mesh
   // correction of the read-out (z⁺ = z − [G; H] y).
-  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomMeshes> readout_correction = decltype(readout_correction)::Zero();
-  Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh = decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
+  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomMeshes> readout_correction =
+      decltype(readout_correction)::Zero();
+  Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh =
+      decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
   alignas(64) Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
-  alignas(64) Eigen::Matrix<double, kRomSensors, kRomDofs, Eigen::RowMajor> sensor_rows = decltype(sensor_rows)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomSensors, kRomDofs, Eigen::RowMajor> sensor_rows =
+      decltype(sensor_rows)::Zero();
 
   std::array<RomStiffnessTerm, kRomMeshes> meshes{};
   std::array<RomStiffnessTerm, kRomBearings> bearings{};
@@ -154,10 +161,10 @@ struct RomInputs {
 
 /// Outputs at the end of a step.
 struct RomOutputs {
-  std::array<double, kRomMeshes> mesh_force_n{};          // [N] compression > 0
-  std::array<double, kRomBearings> bearing_force_x_n{};   // [N]
-  std::array<double, kRomBearings> bearing_force_y_n{};   // [N]
-  std::array<double, kRomSensors> acceleration_m_s2{};    // [m/s²] point1, point2
+  std::array<double, kRomMeshes> mesh_force_n{};         // [N] compression > 0
+  std::array<double, kRomBearings> bearing_force_x_n{};  // [N]
+  std::array<double, kRomBearings> bearing_force_y_n{};  // [N]
+  std::array<double, kRomSensors> acceleration_m_s2{};   // [m/s²] point1, point2
 };
 
 class Rom {
@@ -171,7 +178,9 @@ class Rom {
   void step(const RomInputs& in, RomOutputs& out) noexcept;
 
   /// Non-RT: hand a new model to the RT thread (adopted at the start of its next step).
-  void request_swap(const RomData* next) noexcept { pending_.store(next, std::memory_order_release); }
+  void request_swap(const RomData* next) noexcept {
+    pending_.store(next, std::memory_order_release);
+  }
   bool swap_pending() const noexcept { return pending_.load(std::memory_order_acquire) != nullptr; }
 
   const RomData& data() const noexcept { return *data_; }

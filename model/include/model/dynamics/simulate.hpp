@@ -28,34 +28,40 @@ struct SimulationSettings {
   double seconds = 2.0;           // [s] simulated time
   double sample_rate_hz = 25600;  // [Hz] output rate; the ROM steps at this rate
   int full_substeps = 2;          // full model: Newmark steps per output sample
-  double rom_cutoff_hz = 2200.0;  // [Hz] ROM: keep every mode up to here (+ static correction); rom.hpp
+  double rom_cutoff_hz =
+      2200.0;  // [Hz] ROM: keep every mode up to here (+ static correction); rom.hpp
 };
 
 /// Time series, one value per output sample (sample i at t = (i+1)/sample_rate_hz).
 struct SimulationOutputs {
-  double sample_rate_hz = 0.0;                        // [Hz]
-  std::vector<std::string> mesh_ids;                  // sun_planet_1..3, ring_planet_1..3, intermediate, high_speed
-  std::vector<std::vector<double>> mesh_force_n;      // [mesh][sample] [N] along the line of action, compression > 0
-  std::vector<std::string> bearing_ids;               // b1..b6
-  std::vector<std::vector<double>> bearing_force_x_n; // [bearing][sample] [N] (see below)
-  std::vector<std::vector<double>> bearing_force_y_n; // [bearing][sample] [N]
-  std::vector<std::string> sensor_channels;           // point1, point2
-  std::vector<std::vector<double>> acceleration_m_s2; // [sensor][sample] [m/s²] radial seat acceleration
-  std::vector<double> hss_revolutions;                // [sample] nominal hss angle / 2π (for a tacho)
+  double sample_rate_hz = 0.0;        // [Hz]
+  std::vector<std::string> mesh_ids;  // sun_planet_1..3, ring_planet_1..3, intermediate, high_speed
+  std::vector<std::vector<double>>
+      mesh_force_n;  // [mesh][sample] [N] along the line of action, compression > 0
+  std::vector<std::string> bearing_ids;                // b1..b6
+  std::vector<std::vector<double>> bearing_force_x_n;  // [bearing][sample] [N] (see below)
+  std::vector<std::vector<double>> bearing_force_y_n;  // [bearing][sample] [N]
+  std::vector<std::string> sensor_channels;            // point1, point2
+  std::vector<std::vector<double>>
+      acceleration_m_s2;                // [sensor][sample] [m/s²] radial seat acceleration
+  std::vector<double> hss_revolutions;  // [sample] nominal hss angle / 2π (for a tacho)
 };
 // Bearing forces are k(t)·(shaft − seat) deflection: the force the shaft exerts on
 // the bearing (and the housing), in the housing frame's x and y.
 
 /// Reduced-order model. false with `error` set on bad parameters or inputs.
-bool simulate_rom(const Drivetrain& drivetrain, const OperatingPoint& op, const SimulationSettings& settings,
-                  SimulationOutputs& out, std::string* error = nullptr);
+bool simulate_rom(const Drivetrain& drivetrain, const OperatingPoint& op,
+                  const SimulationSettings& settings, SimulationOutputs& out,
+                  std::string* error = nullptr);
 
 /// Full-order reference model (Newmark average acceleration, `full_substeps` per sample).
-bool simulate_full(const Drivetrain& drivetrain, const OperatingPoint& op, const SimulationSettings& settings,
-                   SimulationOutputs& out, std::string* error = nullptr);
+bool simulate_full(const Drivetrain& drivetrain, const OperatingPoint& op,
+                   const SimulationSettings& settings, SimulationOutputs& out,
+                   std::string* error = nullptr);
 
 /// Checks an operating point and settings: finite, speed > 0, torque ≥ 0, seconds > 0,
 /// sample rate > 0. false with `error` naming the field.
-bool check_simulation_inputs(const OperatingPoint& op, const SimulationSettings& settings, std::string* error);
+bool check_simulation_inputs(const OperatingPoint& op, const SimulationSettings& settings,
+                             std::string* error);
 
 }  // namespace model::dynamics

@@ -29,13 +29,13 @@
 
 namespace model::fatigue {
 
-inline constexpr std::size_t kMaxBins = 256;           // stress bins per channel (+1 overflow)
+inline constexpr std::size_t kMaxBins = 256;  // stress bins per channel (+1 overflow)
 inline constexpr std::uint32_t kAccumulatorStateVersion = 1;
 inline constexpr double kRevQuantum = 1.0 / 4294967296.0;  // [rev] 2^-32
 
 struct AccumulatorConfig {
-  double tick_s = 1e-3;                 // [s] duration of one tick
-  std::uint32_t bins = 200;             // [-] ≤ kMaxBins, uniform bins on [0, full_scale)
+  double tick_s = 1e-3;      // [s] duration of one tick
+  std::uint32_t bins = 200;  // [-] ≤ kMaxBins, uniform bins on [0, full_scale)
   std::array<double, kMaxChannels> full_scale{};  // [MPa or N] per channel; 0 → ChannelSet default
 };
 
@@ -45,12 +45,12 @@ struct AccumulatorState {
   std::uint32_t channel_count = 0;
   std::uint32_t bins = 0;
   std::uint32_t reserved = 0;
-  std::uint64_t config_hash = 0;        // FNV-1a of channel ids, bins, ranges, tick
-  std::uint64_t elapsed_ticks = 0;      // valid steps only
-  std::uint64_t rotor_rev_q = 0;        // [2^-32 rev]
+  std::uint64_t config_hash = 0;    // FNV-1a of channel ids, bins, ranges, tick
+  std::uint64_t elapsed_ticks = 0;  // valid steps only
+  std::uint64_t rotor_rev_q = 0;    // [2^-32 rev]
   std::uint64_t valid_steps = 0;
-  std::uint64_t bad_load_steps = 0;     // a non-finite mesh force or bearing load
-  std::uint64_t bad_speed_steps = 0;    // non-finite or negative rotor speed
+  std::uint64_t bad_load_steps = 0;   // a non-finite mesh force or bearing load
+  std::uint64_t bad_speed_steps = 0;  // non-finite or negative rotor speed
   std::uint64_t zero_dt_steps = 0;
   std::array<std::array<std::uint64_t, kMaxBins + 1>, kMaxChannels> bin_ticks{};
   std::array<std::array<std::uint64_t, kMaxBins + 1>, kMaxChannels> bin_rev_q{};
@@ -76,7 +76,9 @@ class DamageAccumulator {
   /// Width of the stress bins of channel c [MPa or N].
   double bin_width(std::size_t c) const { return width_[c]; }
   double elapsed_s() const { return static_cast<double>(state_->elapsed_ticks) * config_.tick_s; }
-  double rotor_revolutions() const { return static_cast<double>(state_->rotor_rev_q) * kRevQuantum; }
+  double rotor_revolutions() const {
+    return static_cast<double>(state_->rotor_rev_q) * kRevQuantum;
+  }
 
   const AccumulatorState& state() const { return *state_; }
   /// Resumes from a persisted state; false (state unchanged) if version, channel count,
@@ -89,7 +91,7 @@ class DamageAccumulator {
  private:
   const ChannelSet* channels_;
   AccumulatorConfig config_;
-  std::array<double, kMaxChannels> width_{};      // [MPa or N] bin width
+  std::array<double, kMaxChannels> width_{};  // [MPa or N] bin width
   std::array<double, kMaxChannels> inv_width_{};
   std::unique_ptr<AccumulatorState> state_;
   std::uint64_t config_hash_ = 0;

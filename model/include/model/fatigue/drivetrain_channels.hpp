@@ -49,34 +49,35 @@ inline constexpr std::size_t kMaxSources = 8;    // meshes feeding one channel (
 
 /// Loads of one model step (real-time input). Slots as in ChannelSet::mesh_id / bearing_id.
 struct LoadSample {
-  std::array<double, kMaxMeshes> mesh_force_n{};       // [N] F_t, transverse tangential at the reference circle
-  std::array<double, kMaxBearings> bearing_radial_n{}; // [N] F_r radial reaction
-  std::array<double, kMaxBearings> bearing_axial_n{};  // [N] F_a axial reaction
+  std::array<double, kMaxMeshes>
+      mesh_force_n{};  // [N] F_t, transverse tangential at the reference circle
+  std::array<double, kMaxBearings> bearing_radial_n{};  // [N] F_r radial reaction
+  std::array<double, kMaxBearings> bearing_axial_n{};   // [N] F_a axial reaction
 };
 
 enum class FailureMode : std::uint8_t { kContact, kBending, kBearing };
 const char* failure_mode_name(FailureMode mode);
 
 struct Source {
-  std::uint8_t slot = 0;          // mesh slot (gears) or bearing slot (bearings)
-  std::uint8_t gear = 0;          // 0 = pinion, 1 = wheel of the mesh (gears only)
+  std::uint8_t slot = 0;              // mesh slot (gears) or bearing slot (bearings)
+  std::uint8_t gear = 0;              // 0 = pinion, 1 = wheel of the mesh (gears only)
   double cycles_per_rotor_rev = 0.0;  // [-]
 };
 
 struct Channel {
-  std::string component;          // "sun", "planet1", "ring", "g1", "b3", "pb2"
-  std::string detail;             // "sun-side flank", "ring-side flank", ... (may be empty)
+  std::string component;  // "sun", "planet1", "ring", "g1", "b3", "pb2"
+  std::string detail;     // "sun-side flank", "ring-side flank", ... (may be empty)
   FailureMode mode = FailureMode::kContact;
-  SnCurve curve;                  // stress [MPa] (gears) or P [N] (bearings)
+  SnCurve curve;  // stress [MPa] (gears) or P [N] (bearings)
   std::array<Source, kMaxSources> sources{};
   std::size_t source_count = 0;
-  double stress_full_scale = 0.0; // [MPa or N] suggested histogram range (start-up default)
+  double stress_full_scale = 0.0;  // [MPa or N] suggested histogram range (start-up default)
 };
 
 struct ChannelOptions {
   RatingSettings rating{};
-  double k_a = 1.0;                           // [-] application factor (1 for dynamic loads)
-  KneeBranch branch = KneeBranch::kHaibach;   // S-N beyond the knee
+  double k_a = 1.0;                          // [-] application factor (1 for dynamic loads)
+  KneeBranch branch = KneeBranch::kHaibach;  // S-N beyond the knee
 };
 
 class ChannelSet {
@@ -114,11 +115,11 @@ class ChannelSet {
   std::size_t mesh_count_ = 0, bearing_count_ = 0, channel_count_ = 0;
   std::array<std::string, kMaxMeshes> mesh_ids_{};
   std::array<MeshRating, kMaxMeshes> meshes_{};
-  std::array<double, kMaxMeshes> torque_to_ft_per_nm_{};      // [1/m] F_t per rotor torque
+  std::array<double, kMaxMeshes> torque_to_ft_per_nm_{};  // [1/m] F_t per rotor torque
   std::array<std::string, kMaxBearings> bearing_ids_{};
   std::array<Bearing, kMaxBearings> bearings_{};
-  std::array<double, kMaxBearings> torque_to_radial_per_nm_{}; // [1/m] F_r per rotor torque
-  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};  // [1/m] F_a per rotor torque
+  std::array<double, kMaxBearings> torque_to_radial_per_nm_{};  // [1/m] F_r per rotor torque
+  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};   // [1/m] F_a per rotor torque
   std::array<Channel, kMaxChannels> channels_{};
 };
 

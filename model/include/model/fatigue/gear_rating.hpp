@@ -64,22 +64,23 @@ std::optional<LeadModification> parse_lead_modification(std::string_view name);
 /// of the pinion shaft (K' per ISO 6336-1 Figure 13); 0 for a sun, whose equally spaced
 /// planets balance their radial forces.
 struct PinionShaft {
-  double torsion_meshes = 1.0;   // [-] T above
-  double k_prime = 0.0;          // [-] K', ISO 6336-1 Figure 13
-  double bearing_span_m = 0.0;   // [m] l
-  double offset_m = 0.0;         // [m] s, pinion mid-face to the middle of the span
-  double shaft_diameter_m = 0.0; // [m] d_sh, outer diameter of the shaft where it bends
-  /// The bracket of the f_sh formula times (b/d1)², for a pinion of reference diameter d1 and face width b.
+  double torsion_meshes = 1.0;    // [-] T above
+  double k_prime = 0.0;           // [-] K', ISO 6336-1 Figure 13
+  double bearing_span_m = 0.0;    // [m] l
+  double offset_m = 0.0;          // [m] s, pinion mid-face to the middle of the span
+  double shaft_diameter_m = 0.0;  // [m] d_sh, outer diameter of the shaft where it bends
+  /// The bracket of the f_sh formula times (b/d1)², for a pinion of reference diameter d1 and face
+  /// width b.
   double gamma(double d1_m, double b_m) const;
 };
 
 /// Inputs of ISO 6336-1 method C that the drivetrain description does not hold.
 struct FaceLoadSettings {
   LeadModification lead = LeadModification::kHelixCorrection;  // wind gearboxes are lead-corrected
-  double f_ma_factor = 1.0;      // [-] f_ma = factor·f_Hβ: 1 with no provision for adjustment,
-                                 //     0.5 with lapping / adjustable bearings (ISO 6336-1 §7.5)
-  bool case_hardened = true;     // [-] running-in y_β: case-hardened/nitrided 0.15·F_βx ≤ 6 µm,
-                                 //     else 320/σ_Hlim·F_βx (no speed-dependent cap here)
+  double f_ma_factor = 1.0;   // [-] f_ma = factor·f_Hβ: 1 with no provision for adjustment,
+                              //     0.5 with lapping / adjustable bearings (ISO 6336-1 §7.5)
+  bool case_hardened = true;  // [-] running-in y_β: case-hardened/nitrided 0.15·F_βx ≤ 6 µm,
+                              //     else 320/σ_Hlim·F_βx (no speed-dependent cap here)
   double pinion_offset_ratio = 0.25;  // [-] s/l of parallel-stage pinions (gear positions are
                                       //     not in the description; 0.25 = the intermediate
                                       //     pinion's place on its shaft in the dynamics model)
@@ -87,33 +88,35 @@ struct FaceLoadSettings {
 
 /// Settings of the rating that the description does not hold.
 struct RatingSettings {
-  double k_h_beta_override = 0.0; // [-] > 0: use this constant K_Hβ instead of method C
+  double k_h_beta_override = 0.0;  // [-] > 0: use this constant K_Hβ instead of method C
   FaceLoadSettings face_load{};
-  int accuracy_grade = 6;     // [-] ISO 1328-1 flank tolerance class A, for K_Hα (ISO 6336-1 method B) and f_Hβ
-  double c_gamma_n_mm_um = 20.0;  // [N/(mm·µm)] mesh stiffness c_γα, ISO 6336-1 §9 typical steel value
+  int accuracy_grade =
+      6;  // [-] ISO 1328-1 flank tolerance class A, for K_Hα (ISO 6336-1 method B) and f_Hβ
+  double c_gamma_n_mm_um =
+      20.0;  // [N/(mm·µm)] mesh stiffness c_γα, ISO 6336-1 §9 typical steel value
   BasicRack rack{};
 };
 
 /// Geometry of one gear pair (ISO 21771). Index 0 = pinion (the smaller external gear),
 /// 1 = wheel. z of an internal gear is negative, as in ISO 21771, and so are its diameters.
 struct PairGeometry {
-  double z[2] = {0, 0};                 // [-] tooth numbers (signed)
-  double x[2] = {0, 0};                 // [-] profile shift coefficients
-  double m_n_m = 0.0;                   // [m] normal module
-  double alpha_n_rad = 0.0;             // [rad] normal pressure angle
-  double beta_rad = 0.0;                // [rad] helix angle at the reference circle
-  double b_m = 0.0;                     // [m] common face width
+  double z[2] = {0, 0};      // [-] tooth numbers (signed)
+  double x[2] = {0, 0};      // [-] profile shift coefficients
+  double m_n_m = 0.0;        // [m] normal module
+  double alpha_n_rad = 0.0;  // [rad] normal pressure angle
+  double beta_rad = 0.0;     // [rad] helix angle at the reference circle
+  double b_m = 0.0;          // [m] common face width
   // Derived:
-  double alpha_t_rad = 0.0;             // [rad] transverse pressure angle
-  double alpha_wt_rad = 0.0;            // [rad] working transverse pressure angle
-  double beta_b_rad = 0.0;              // [rad] base helix angle
-  double d_m[2] = {0, 0};               // [m] reference diameters (signed)
-  double da_m[2] = {0, 0};              // [m] tip diameters (signed)
-  double db_m[2] = {0, 0};              // [m] base diameters (signed)
-  double a_w_m = 0.0;                   // [m] working centre distance (signed)
-  double eps_alpha = 0.0;               // [-] transverse contact ratio ε_α
-  double eps_beta = 0.0;                // [-] overlap ratio ε_β
-  double u = 0.0;                       // [-] gear ratio z2/z1 (negative for an internal pair)
+  double alpha_t_rad = 0.0;   // [rad] transverse pressure angle
+  double alpha_wt_rad = 0.0;  // [rad] working transverse pressure angle
+  double beta_b_rad = 0.0;    // [rad] base helix angle
+  double d_m[2] = {0, 0};     // [m] reference diameters (signed)
+  double da_m[2] = {0, 0};    // [m] tip diameters (signed)
+  double db_m[2] = {0, 0};    // [m] base diameters (signed)
+  double a_w_m = 0.0;         // [m] working centre distance (signed)
+  double eps_alpha = 0.0;     // [-] transverse contact ratio ε_α
+  double eps_beta = 0.0;      // [-] overlap ratio ε_β
+  double u = 0.0;             // [-] gear ratio z2/z1 (negative for an internal pair)
   bool internal = false;
 };
 
@@ -124,12 +127,12 @@ PairGeometry pair_geometry(double z1, double z2, double x1, double x2, double m_
 /// ISO 6336-3:2006 method B form and stress-correction factors of one external gear
 /// (load at the outer point of single pair tooth contact).
 struct BendingFormFactors {
-  double y_f = 0.0;           // [-] Y_F tooth form factor
-  double y_s = 0.0;           // [-] Y_S stress correction factor
-  double s_fn_m = 0.0;        // [m] s_Fn root chord at the 30° tangent
-  double h_fe_m = 0.0;        // [m] h_Fe bending moment arm
-  double rho_f_m = 0.0;       // [m] ρ_F root fillet radius
-  double alpha_fen_rad = 0.0; // [rad] α_Fen load direction angle
+  double y_f = 0.0;            // [-] Y_F tooth form factor
+  double y_s = 0.0;            // [-] Y_S stress correction factor
+  double s_fn_m = 0.0;         // [m] s_Fn root chord at the 30° tangent
+  double h_fe_m = 0.0;         // [m] h_Fe bending moment arm
+  double rho_f_m = 0.0;        // [m] ρ_F root fillet radius
+  double alpha_fen_rad = 0.0;  // [rad] α_Fen load direction angle
 };
 /// @param gear 0 = pinion, 1 = wheel of `pair`; nullopt for an internal gear.
 std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& pair, int gear,
@@ -150,9 +153,9 @@ struct FaceLoad {
 struct MeshRating {
   PairGeometry geometry;
   double z_h = 0.0, z_e_sqrt_mpa = 0.0, z_eps = 0.0, z_beta = 0.0;  // ISO 6336-2
-  double z_b = 1.0, z_d = 1.0;                                       // pinion / wheel
-  double k_a = 1.0, k_v = 1.0;                                       // ISO 6336-1
-  double y_beta = 1.0;                                               // ISO 6336-3
+  double z_b = 1.0, z_d = 1.0;                                      // pinion / wheel
+  double k_a = 1.0, k_v = 1.0;                                      // ISO 6336-1
+  double y_beta = 1.0;                                              // ISO 6336-3
   BendingFormFactors bending[2]{};  // per gear; y_f == 0 when not rated (internal gear)
   bool bending_rated[2] = {false, false};
   // K_Hα inputs (ISO 6336-1 method B): c_γα·(f_pb − y_α) [N/mm] and the limits.
@@ -162,13 +165,13 @@ struct MeshRating {
   // K_Hβ inputs (ISO 6336-1 method C), fixed at start-up:
   double k_h_beta_fixed = 0.0;      // [-] > 0: the override, constant
   double f_sh_per_line_load = 0.0;  // [µm/(N/mm)] f_sh/(F_m/b) = 0.023·γ
-  double f_h_beta_um = 0.0;         // [µm] helix slope tolerance f_Hβ (ISO 1328-1, accuracy grade)
-  double f_ma_um = 0.0;             // [µm] mesh misalignment from manufacturing
-  double b1 = 1.0, b2 = 1.0;        // [-] lead modification constants
-  double c_gamma_beta = 0.0;        // [N/(mm·µm)] c_γβ = 0.85·c_γα
-  double y_beta_factor = 0.15;      // [-] y_β = factor·F_βx
-  double y_beta_max_um = 6.0;       // [µm] cap of y_β (case-hardened), infinity otherwise
-  double n_f = 1.0;                 // [-] K_Fβ = K_Hβ^N_F (ISO 6336-1 eq. 73–74)
+  double f_h_beta_um = 0.0;     // [µm] helix slope tolerance f_Hβ (ISO 1328-1, accuracy grade)
+  double f_ma_um = 0.0;         // [µm] mesh misalignment from manufacturing
+  double b1 = 1.0, b2 = 1.0;    // [-] lead modification constants
+  double c_gamma_beta = 0.0;    // [N/(mm·µm)] c_γβ = 0.85·c_γα
+  double y_beta_factor = 0.15;  // [-] y_β = factor·F_βx
+  double y_beta_max_um = 6.0;   // [µm] cap of y_β (case-hardened), infinity otherwise
+  double n_f = 1.0;             // [-] K_Fβ = K_Hβ^N_F (ISO 6336-1 eq. 73–74)
 
   /// ISO 6336-1 method C face load factors at tangential force F_t [N] (override: constant).
   FaceLoad face_load(double ft_n) const;
@@ -185,7 +188,7 @@ struct MeshRating {
 /// Rates a pair of materials and geometry. `k_a` is the application factor (1 for
 /// dynamic loads). E, ν from the materials; `pinion` is the pinion's body and shaft for
 /// K_Hβ (the default: a pinion carrying its one mesh's torque, no shaft bending).
-MeshRating mesh_rating(const PairGeometry& pair, const Material& m1, const Material& m2,
-                       double k_a, const RatingSettings& settings, const PinionShaft& pinion = {});
+MeshRating mesh_rating(const PairGeometry& pair, const Material& m1, const Material& m2, double k_a,
+                       const RatingSettings& settings, const PinionShaft& pinion = {});
 
 }  // namespace model::fatigue

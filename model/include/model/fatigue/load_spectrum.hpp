@@ -35,20 +35,20 @@ enum class SpectrumSource : std::uint8_t { kQuasiStatic, kDynamics };
 const char* spectrum_source_name(SpectrumSource source);
 
 struct SpectrumGrid {
-  double torque_max_nm = 0.0;       // [N·m] grid spans [0, torque_max]
-  std::uint32_t torque_points = 61; // [-] ≥ 2
-  double speed_min_rpm = 0.5;       // [rpm] > 0 (damage per revolution is undefined at 0)
-  double speed_max_rpm = 0.0;       // [rpm]
-  std::uint32_t speed_points = 12;  // [-] ≥ 2
+  double torque_max_nm = 0.0;        // [N·m] grid spans [0, torque_max]
+  std::uint32_t torque_points = 61;  // [-] ≥ 2
+  double speed_min_rpm = 0.5;        // [rpm] > 0 (damage per revolution is undefined at 0)
+  double speed_max_rpm = 0.0;        // [rpm]
+  std::uint32_t speed_points = 12;   // [-] ≥ 2
   double torque_at(std::uint32_t i) const;
   double speed_at(std::uint32_t j) const;
 };
 
 /// One operating point's load history, at constant mean rotor torque and speed.
 struct LoadSeries {
-  double dt_s = 0.0;                 // [s] sample period
+  double dt_s = 0.0;  // [s] sample period
   std::vector<LoadSample> samples;
-  std::vector<double> rotor_rpm;     // [rpm] per sample
+  std::vector<double> rotor_rpm;  // [rpm] per sample
 };
 
 /// Fills `out` for (rotor torque [N·m], rotor speed [rpm]); false on failure.

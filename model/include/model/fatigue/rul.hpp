@@ -23,15 +23,15 @@ namespace model::fatigue {
 inline constexpr std::size_t kMaxRateIntervals = 4096;  // 11 years of days
 
 struct RulEstimate {
-  double damage = 0.0;                 // [-] D now
-  double long_term_rate_per_s = 0.0;   // [1/s]
-  double short_term_rate_per_s = 0.0;  // [1/s]
-  double rate_p10_per_s = 0.0;         // [1/s]
-  double rate_p90_per_s = 0.0;         // [1/s]
-  double rul_s = std::numeric_limits<double>::infinity();          // [s] central (long-term rate)
+  double damage = 0.0;                                     // [-] D now
+  double long_term_rate_per_s = 0.0;                       // [1/s]
+  double short_term_rate_per_s = 0.0;                      // [1/s]
+  double rate_p10_per_s = 0.0;                             // [1/s]
+  double rate_p90_per_s = 0.0;                             // [1/s]
+  double rul_s = std::numeric_limits<double>::infinity();  // [s] central (long-term rate)
   double rul_short_term_s = std::numeric_limits<double>::infinity();  // [s]
-  double rul_low_s = std::numeric_limits<double>::infinity();      // [s] at the p90 rate
-  double rul_high_s = std::numeric_limits<double>::infinity();     // [s] at the p10 rate
+  double rul_low_s = std::numeric_limits<double>::infinity();         // [s] at the p90 rate
+  double rul_high_s = std::numeric_limits<double>::infinity();        // [s] at the p10 rate
 };
 
 /// (1 − D)/rate [s]; 0 when D ≥ 1; +inf when rate ≤ 0.

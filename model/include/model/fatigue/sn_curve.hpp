@@ -1,8 +1,8 @@
 #pragma once
 // S-N (Wöhler) curves for Palmgren–Miner damage.
 //
-//   N(σ) = N_ref·(C/σ)^m                      for N ≤ N0 (below the knee: slope −1/m in log σ–log N)
-//   beyond the knee N0, σ_k = C·(N0/N_ref)^(−1/m):
+//   N(σ) = N_ref·(C/σ)^m                      for N ≤ N0 (below the knee: slope −1/m in log σ–log
+//   N) beyond the knee N0, σ_k = C·(N0/N_ref)^(−1/m):
 //     kHaibach:      N = N0·(σ_k/σ)^(2m−1)    (ISO 6336-6 Annex / paper: slope −1/(2m−1))
 //     kIsoLifeLine:  N = N0·(σ_k/σ)^(1/k), k = ln(1/0.85)/ln(1e10/N0): the ISO 6336-2/-3 life
 //                    factor line (Z_NT, Y_NT falling to 0.85 at 1e10), extrapolated beyond 1e10
@@ -19,9 +19,9 @@ namespace model::fatigue {
 enum class KneeBranch { kHaibach, kIsoLifeLine, kNone };
 
 struct SnCurve {
-  double m = 0.0;                 // [-] slope exponent below the knee
-  double c = 0.0;                 // [MPa or N] strength at N_ref cycles
-  double n_ref = 1.0;             // [-] cycles at which σ = C
+  double m = 0.0;      // [-] slope exponent below the knee
+  double c = 0.0;      // [MPa or N] strength at N_ref cycles
+  double n_ref = 1.0;  // [-] cycles at which σ = C
   double knee_cycles = std::numeric_limits<double>::infinity();  // [-] N0
   KneeBranch branch = KneeBranch::kHaibach;
 
