@@ -12,7 +12,7 @@ fi
 # Host toolchain, libraries and test tools.
 host_pkgs=(
   build-essential cmake ninja-build pkg-config file git
-  g++ clang libclang-rt-14-dev
+  g++ clang libclang-rt-14-dev clang-format clang-tidy
   googletest libgtest-dev libgmock-dev libbenchmark-dev valgrind
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
   libkissfft-dev libboost-dev libcpp-httplib-dev libmatio-dev libpagmo-dev
