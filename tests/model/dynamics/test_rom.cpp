@@ -2,7 +2,8 @@
 // natural frequencies, statics, energy conservation of its integrator, no heap
 // allocation in step(), capacity checks and the hand-over of a rebuilt model.
 // Short runs: these also run under qemu-aarch64 and the sanitizers.
-// EIGEN_RUNTIME_NO_MALLOC is defined for the whole binary (CMakeLists.txt).
+// EIGEN_RUNTIME_NO_MALLOC is defined for this file (CMakeLists.txt); step() itself has no
+// Eigen (rom_kernel.cpp), so the counting operator new below is the allocation check.
 // GCC 12 (with ASan) inlines the replaced operator delete below into gtest's
 // code and then mistakes free() on operator new's malloc() for a mismatch;
 // both are ours and match.
