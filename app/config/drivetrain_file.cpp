@@ -138,6 +138,7 @@ const std::vector<Key<Bearing>> kBearingKeys{
     {"contact_angle_deg", &Bearing::contact_angle_rad, Range::kNonNegative, kDeg},
     {"type", &Bearing::type},
     {"dynamic_rating_n", &Bearing::dynamic_rating_n, Range::kNonNegative},
+    {"roller_effective_length_m", &Bearing::roller_effective_length_m, Range::kNonNegative},
     {"radial_stiffness_n_m", &Bearing::radial_stiffness_n_m, Range::kNonNegative},
 };
 const std::vector<Key<MeasurementPoint>> kPointKeys{

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "model/drivetrain/kinematics.hpp"
+#include "model/fatigue/bearing_rating.hpp"
 
 namespace model::fatigue {
 namespace {
@@ -294,13 +295,17 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       bearings_[slot] = b;
       torque_to_radial_per_nm_[slot] = radial;
       torque_to_axial_per_nm_[slot] = axial;
-      if (!(b.dynamic_rating_n > 0.0)) {
-        fail("bearing '" + b.id + "': dynamic rating C must be > 0");
+      // C from the description, else from the geometry (ISO 281:2007, bearing_rating.hpp).
+      const BearingRating rating = effective_dynamic_rating(b);
+      if (!(rating.c_n > 0.0)) {
+        fail("bearing '" + b.id +
+             "': no dynamic_rating_n given and none from geometry: " + rating.error);
         break;
       }
+      bearings_[slot].dynamic_rating_n = rating.c_n;
       Channel c{bearing_ids_[slot], "", FailureMode::kBearing, {}, {}, 1, 0.0};
       c.curve.m = iso281_exponent(b.type);
-      c.curve.c = b.dynamic_rating_n;
+      c.curve.c = rating.c_n;
       c.curve.n_ref = 1e6;
       c.curve.branch = KneeBranch::kNone;
       c.sources[0] = {static_cast<std::uint8_t>(slot), 0, rev};

@@ -100,6 +100,7 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
     expect_same(x.contact_angle_rad, y.contact_angle_rad, "phi " + x.id);
     EXPECT_EQ(x.type, y.type);
     expect_same(x.dynamic_rating_n, y.dynamic_rating_n, "C " + x.id);
+    expect_same(x.roller_effective_length_m, y.roller_effective_length_m, "L_we " + x.id);
     expect_same(x.radial_stiffness_n_m, y.radial_stiffness_n_m, "k " + x.id);
   }
   ASSERT_EQ(a.measurement_points.size(), b.measurement_points.size());

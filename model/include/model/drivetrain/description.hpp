@@ -128,8 +128,10 @@ struct Bearing {
   double pitch_diameter_m = 0.0;    // [m] Dp
   double contact_angle_rad = 0.0;   // [rad] φ
   BearingType type = BearingType::kRoller;
-  double dynamic_rating_n = 0.0;      // [N] C, ISO 281
-  double radial_stiffness_n_m = 0.0;  // [N/m] mean radial stiffness k_a
+  // [N] C, ISO 281; 0: computed from the geometry above (model/fatigue/bearing_rating.hpp).
+  double dynamic_rating_n = 0.0;
+  double roller_effective_length_m = 0.0;  // [m] L_we of a roller, for C from geometry
+  double radial_stiffness_n_m = 0.0;       // [N/m] mean radial stiffness k_a
 };
 
 /// A CMS measurement channel: where the accelerometer sits.

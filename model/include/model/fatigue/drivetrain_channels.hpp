@@ -96,6 +96,8 @@ class ChannelSet {
   const std::string& mesh_id(std::size_t slot) const { return mesh_ids_[slot]; }
   const MeshRating& mesh(std::size_t slot) const { return meshes_[slot]; }
   const std::string& bearing_id(std::size_t slot) const { return bearing_ids_[slot]; }
+  /// The bearing of `slot`; its dynamic_rating_n is the rating in use (the description's, or
+  /// the one computed from the geometry when the description gives none).
   const Bearing& bearing(std::size_t slot) const { return bearings_[slot]; }
   const Channel& channel(std::size_t i) const { return channels_[i]; }
   const ChannelOptions& options() const { return options_; }
