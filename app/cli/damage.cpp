@@ -54,6 +54,7 @@ struct DamageArgs {
   double k_a = 1.0;
   double k_h_beta = 0.0;  // 0: ISO 6336-1 method C
   std::string lead = "helix";
+  std::string contact_pattern = "unverified";
   double f_ma_factor = 1.0;
   double pinion_offset = 0.25;
   int accuracy_grade = 6;
@@ -146,6 +147,11 @@ void run(const DamageArgs& args) {
   }
   options.rating.face_load.lead = *lead;
   options.rating.face_load.f_ma_factor = args.f_ma_factor;
+  if (args.contact_pattern != "unverified" && args.contact_pattern != "verified") {
+    throw CommandError("--contact-pattern: '" + args.contact_pattern +
+                       "' is not one of unverified, verified");
+  }
+  options.rating.face_load.contact_pattern_verified = args.contact_pattern == "verified";
   options.rating.face_load.pinion_offset_ratio = args.pinion_offset;
   options.rating.accuracy_grade = args.accuracy_grade;
   if (args.sn == "haibach") {
@@ -307,15 +313,21 @@ void run(const DamageArgs& args) {
   } else {
     std::printf(
         "# K_Hβ: ISO 6336-1 method C per load (lead modification %s, f_ma = %.2f·f_Hβ, pinion s/l "
-        "= %.2f); "
-        "at rated torque:",
-        args.lead.c_str(), args.f_ma_factor, args.pinion_offset);
+        "= %.2f, contact pattern %s: F_βx by eq. %s); at rated torque:",
+        args.lead.c_str(), args.f_ma_factor, args.pinion_offset, args.contact_pattern.c_str(),
+        options.rating.face_load.contact_pattern_verified ? "(53) Cor.1" : "(52)");
     for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
       std::printf(" %s %.3f", channels.mesh_id(m).c_str(),
                   channels.mesh(m).face_load(rated_loads.mesh_force_n[m]).k_h_beta);
     }
     std::printf("\n");
   }
+  std::printf("# bearing ratings C [kN] (the description's, else ISO 281:2007 from geometry):");
+  for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
+    std::printf(" %s %.0f", channels.bearing_id(b).c_str(),
+                channels.bearing(b).dynamic_rating_n / 1e3);
+  }
+  std::printf("\n");
   std::printf(
       "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu), no "
       "data %zu; "
@@ -416,6 +428,7 @@ void run(const DamageArgs& args) {
     j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta)
                                                     : nlohmann::json("iso6336-1-method-c")},
                    {"lead_modification", args.lead},
+                   {"contact_pattern", args.contact_pattern},
                    {"f_ma_factor", args.f_ma_factor},
                    {"pinion_offset_ratio", args.pinion_offset},
                    {"accuracy_grade", args.accuracy_grade},
@@ -423,6 +436,9 @@ void run(const DamageArgs& args) {
     for (std::size_t m = 0; m < channels.mesh_count(); ++m) {
       const mf::FaceLoad f = channels.mesh(m).face_load(rated_loads.mesh_force_n[m]);
       j["rating"]["k_h_beta_at_rated"][channels.mesh_id(m)] = f.k_h_beta;
+    }
+    for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
+      j["rating"]["bearing_c_n"][channels.bearing_id(b)] = channels.bearing(b).dynamic_rating_n;
     }
     j["rows"] = {{"total", h.rows},
                  {"used", h.rows_used},
@@ -522,6 +538,11 @@ void setup(CLI::App& sub) {
   sub.add_option("--lead", args->lead,
                  "Lead modification for K_Hbeta method C: none, helix, helix-crowning, crowning, "
                  "end-relief")
+      ->capture_default_str();
+  sub.add_option(
+         "--contact-pattern", args->contact_pattern,
+         "K_Hbeta method C: unverified (ISO 6336-1 eq. 52) | verified (a favourable contact "
+         "pattern under load has been checked: eq. 53 of Cor.1:2008)")
       ->capture_default_str();
   sub.add_option("--f-ma", args->f_ma_factor,
                  "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")

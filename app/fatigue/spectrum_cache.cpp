@@ -66,7 +66,8 @@ std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
                       static_cast<int>(g.speed_points),
                       static_cast<int>(source),
                       static_cast<int>(o.rating.face_load.lead),
-                      o.rating.face_load.case_hardened ? 1 : 0};
+                      o.rating.face_load.case_hardened ? 1 : 0,
+                      o.rating.face_load.contact_pattern_verified ? 1 : 0};
   return fnv1a(h, ints, sizeof ints);
 }
 

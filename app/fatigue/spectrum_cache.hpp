@@ -28,7 +28,9 @@ namespace app::fatigue {
 /// every cached spectrum then misses and is rebuilt.
 ///   5: K_Hβ/K_Fβ from ISO 6336-1 method C (load-dependent) instead of a constant 1.15.
 ///   6: dynamics spectrum ROM cut-off 2200 Hz (was 2500 Hz, which no longer fits kRomDofs).
-inline constexpr std::uint32_t kSpectrumCodeVersion = 6;
+///   7: bearing ratings C from the geometry (ISO 281:2007) when the description gives none;
+///      K_Hβ eq. (53) of ISO 6336-1 Cor.1 selectable (--contact-pattern verified).
+inline constexpr std::uint32_t kSpectrumCodeVersion = 7;
 
 /// The cache key of a spectrum (see the file comment). `code_version` is a parameter only so
 /// that tests can show a changed version misses.

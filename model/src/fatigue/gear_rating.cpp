@@ -206,8 +206,9 @@ MeshRating mesh_rating(const PairGeometry& p, const Material& m1, const Material
   // Helix slope tolerance, ISO 1328-1:2013 §5.3 (= 1995 edition f_Hβ): grade 5 value
   // (0.07·√d + 0.45·√b + 3) µm, d and b in mm, times √2 per grade; the larger gear's d.
   const double d_big_mm = std::max(std::abs(p.d_m[0]), std::abs(p.d_m[1])) * kMm;
-  r.f_h_beta_um = (0.07 * std::sqrt(d_big_mm) + 0.45 * std::sqrt(b_mm) + 3.0) *
-                  std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
+  r.f_h_beta5_um = 0.07 * std::sqrt(d_big_mm) + 0.45 * std::sqrt(b_mm) + 3.0;
+  r.f_h_beta_um = r.f_h_beta5_um * std::pow(std::sqrt(2.0), s.accuracy_grade - 5);
+  r.contact_pattern_verified = s.face_load.contact_pattern_verified;
   r.f_ma_um = s.face_load.f_ma_factor * r.f_h_beta_um;
   switch (s.face_load.lead) {
     case LeadModification::kNone:
@@ -273,9 +274,14 @@ FaceLoad MeshRating::face_load(double ft_n) const {
     f.k_h_beta = k_h_beta_fixed;
   } else {
     f.f_sh_um = f_sh_per_line_load * f.line_load_n_mm;
-    // F_βx = 1.33·B1·f_sh + B2·f_ma, not below F_βx,min = max(0.005·F_m/b, 0.5·f_Hβ).
+    // ISO 6336-1:2006 §7.5.2.3: F_βx = 1.33·B1·f_sh + B2·f_ma (eq. 52, contact pattern not
+    // proven), or with a verified favourable contact pattern F_βx = 1.33·B1·f_sh − f_Hβ5
+    // (eq. 53 as replaced by ISO 6336-1:2006/Cor.1:2008); either not below
+    // F_βx,min = max(0.005·F_m/b, 0.5·f_Hβ).
     const double fbx_min = std::max(0.005 * f.line_load_n_mm, 0.5 * f_h_beta_um);
-    f.f_beta_x_um = std::max(fbx_min, 1.33 * b1 * f.f_sh_um + b2 * f_ma_um);
+    const double fbx = contact_pattern_verified ? 1.33 * b1 * f.f_sh_um - f_h_beta5_um
+                                                : 1.33 * b1 * f.f_sh_um + b2 * f_ma_um;
+    f.f_beta_x_um = std::max(fbx_min, fbx);
     f.y_beta_um = std::min(y_beta_factor * f.f_beta_x_um, y_beta_max_um);  // running-in allowance
     f.f_beta_y_um = f.f_beta_x_um - f.y_beta_um;
     // K_Hβ = 1 + c_γβ·F_βy/(2·F_m/b) while that is ≤ 2, else √(2·c_γβ·F_βy/(F_m/b)).

@@ -91,6 +91,51 @@ TEST(FaceLoadFactor, HelixCorrectionBringsTheSameMeshBackToTheLinearBranch) {
   EXPECT_NEAR(cs.mesh(slot).face_load(ft_n).k_h_beta, 1.248309, 1e-6);
 }
 
+TEST(FaceLoadFactor, VerifiedContactPatternUsesCorrigendumEquation53AndItsFloorForTheSun) {
+  // Arrange: as the first test, but a verified favourable contact pattern: ISO 6336-1:2006
+  // §7.5.2.3 eq. (53) as replaced by Cor.1:2008, F_βx = 1.33·B1·f_sh − f_Hβ5 ≥ F_βx,min.
+  ChannelOptions o;
+  o.rating.face_load.contact_pattern_verified = true;
+  const ChannelSet cs(model::paper_2mw(), o);
+  ASSERT_TRUE(cs.valid()) << cs.error();
+  const std::size_t slot = mesh_slot(cs, "sun-planet1");
+  const double ft_n = 1.23e6 / (1.0 + 99.0 / 21.0) / (3.0 * 0.1785);
+
+  // Act
+  const FaceLoad f = cs.mesh(slot).face_load(ft_n);
+
+  // Hand calculation (F_m/b = 1086.3805 N/mm, f_sh = 80.51894 µm as above):
+  //  f_Hβ5 = 0.07·√663 + 0.45·√370 + 3 = 1.802415 + 8.655923 + 3 = 13.458338 µm (grade 5)
+  //  1.33·0.1·80.51894 − 13.458338 = −2.749318 µm: below F_βx,min
+  //  F_βx,min = max(0.005·1086.3805, 0.5·19.032964) = 9.516482 µm = F_βx
+  //  y_β = 0.15·9.516482 = 1.427472 µm;  F_βy = 8.089010 µm
+  //  K_Hβ = 1 + 17·8.089010/(2·1086.3805) = 1.063290
+  EXPECT_NEAR(cs.mesh(slot).f_h_beta5_um, 13.458338, 1e-6);
+  EXPECT_NEAR(f.f_beta_x_um, 9.516482, 1e-6);
+  EXPECT_NEAR(f.f_beta_y_um, 8.089010, 1e-6);
+  EXPECT_NEAR(f.k_h_beta, 1.063290, 1e-6);
+}
+
+TEST(FaceLoadFactor, VerifiedContactPatternSubtractsFHbeta5WhenTheDeflectionTermDominates) {
+  // Arrange: sun–planet without lead modification (B1 = 1), verified contact pattern.
+  ChannelOptions o;
+  o.rating.face_load.lead = LeadModification::kNone;
+  o.rating.face_load.contact_pattern_verified = true;
+  const ChannelSet cs(model::paper_2mw(), o);
+  const std::size_t slot = mesh_slot(cs, "sun-planet1");
+  const double ft_n = 1.23e6 / (1.0 + 99.0 / 21.0) / (3.0 * 0.1785);
+
+  // Act
+  const FaceLoad f = cs.mesh(slot).face_load(ft_n);
+
+  // Hand calculation: F_βx = 1.33·1·80.51894 − 13.458338 = 93.631857 µm (> 9.516482);
+  //  y_β = min(0.15·93.63, 6) = 6 µm; F_βy = 87.631857 µm;
+  //  K_Hβ = 1 + 17·87.631857/(2·1086.3805) = 1.685644 (≤ 2: linear branch)
+  EXPECT_NEAR(f.f_beta_x_um, 93.631857, 1e-5);
+  EXPECT_DOUBLE_EQ(f.y_beta_um, 6.0);
+  EXPECT_NEAR(f.k_h_beta, 1.685644, 1e-6);
+}
+
 TEST(FaceLoadFactor, OverrideIsUsedAtEveryLoadAndEntersTheContactStressUnderTheRoot) {
   // Arrange
   ChannelOptions fixed;

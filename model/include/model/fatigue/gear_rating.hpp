@@ -84,6 +84,16 @@ struct FaceLoadSettings {
   double pinion_offset_ratio = 0.25;  // [-] s/l of parallel-stage pinions (gear positions are
                                       //     not in the description; 0.25 = the intermediate
                                       //     pinion's place on its shaft in the dynamics model)
+  // Initial equivalent misalignment F_βx, ISO 6336-1:2006 §7.5.2.3:
+  //   false (default): eq. (52), F_βx = 1.33·B1·f_sh + B2·f_ma — the contact pattern's size
+  //                    and position are not proven (nothing in a twin's data proves them);
+  //   true:            eq. (53) as replaced by ISO 6336-1:2006/Cor.1:2008, F_βx = 1.33·B1·f_sh
+  //                    − f_Hβ5 — the compensatory form, for a gear pair whose favourable
+  //                    contact pattern under load has been VERIFIED (e.g. by a loaded contact
+  //                    pattern check after a helix correction); f_Hβ5 is the helix slope
+  //                    tolerance of ISO accuracy grade 5.
+  // Both are floored at F_βx,min = max(0.005·F_m/b, 0.5·f_Hβ) (same clause).
+  bool contact_pattern_verified = false;
 };
 
 /// Settings of the rating that the description does not hold.
@@ -166,12 +176,15 @@ struct MeshRating {
   double k_h_beta_fixed = 0.0;      // [-] > 0: the override, constant
   double f_sh_per_line_load = 0.0;  // [µm/(N/mm)] f_sh/(F_m/b) = 0.023·γ
   double f_h_beta_um = 0.0;     // [µm] helix slope tolerance f_Hβ (ISO 1328-1, accuracy grade)
+  double f_h_beta5_um = 0.0;    // [µm] f_Hβ5: the same tolerance at accuracy grade 5
   double f_ma_um = 0.0;         // [µm] mesh misalignment from manufacturing
   double b1 = 1.0, b2 = 1.0;    // [-] lead modification constants
   double c_gamma_beta = 0.0;    // [N/(mm·µm)] c_γβ = 0.85·c_γα
   double y_beta_factor = 0.15;  // [-] y_β = factor·F_βx
   double y_beta_max_um = 6.0;   // [µm] cap of y_β (case-hardened), infinity otherwise
   double n_f = 1.0;             // [-] K_Fβ = K_Hβ^N_F (ISO 6336-1 eq. 73–74)
+
+  bool contact_pattern_verified = false;  // F_βx by eq. (53) instead of (52), FaceLoadSettings
 
   /// ISO 6336-1 method C face load factors at tangential force F_t [N] (override: constant).
   FaceLoad face_load(double ft_n) const;
