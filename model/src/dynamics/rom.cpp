@@ -14,7 +14,9 @@ static_assert(detail::kKernelDofs == kRomDofs && detail::kKernelMeshes == kRomMe
                   detail::kKernelBearings == kRomBearings &&
                   detail::kKernelBearingRank == kRomBearingRank &&
                   detail::kKernelForces == kRomForces && detail::kKernelSensors == kRomSensors &&
-                  detail::kKernelReadoutRows == kRomReadoutRows,
+                  detail::kKernelReadoutRows == kRomReadoutRows &&
+                  detail::kKernelTerms == kRomTerms &&
+                  detail::kKernelTableSize == static_cast<int>(PeriodicTable::kSize),
               "rom_kernel.hpp's capacities must equal rom.hpp's");
 static_assert(kRomSensors == 2, "RomOutputs::acceleration_m_s2 is filled by the kernel");
 
@@ -190,6 +192,30 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (int j = 0; j < d.sensor_count; ++j) {
     d.sensor_rows.row(j).head(total) = (phi_r.transpose() * m.sensors[j].row).transpose();
   }
+  // The look-up layout of the same terms (unused slots too: inert, scale 0).
+  const auto set_term = [&d](int t, double order, double phase_cycles, double scale,
+                             double scale_per_nm, const PeriodicTable& shape) {
+    d.term_order[t] = order;
+    d.term_phase_cycles[t] = phase_cycles;
+    d.term_scale[t] = scale;
+    d.term_scale_per_nm[t] = scale_per_nm;
+    std::copy(shape.values.begin(), shape.values.end(),
+              d.term_values.begin() + t * static_cast<int>(PeriodicTable::kSize));
+  };
+  for (int j = 0; j < kRomMeshes; ++j) {
+    const RomStiffnessTerm& t = d.meshes[j];
+    set_term(j, t.order, t.phase_cycles, t.mean_n_m, 0.0, t.shape);
+  }
+  for (int j = 0; j < kRomBearings; ++j) {
+    const RomStiffnessTerm& t = d.bearings[j];
+    set_term(kRomMeshes + j, t.order, t.phase_cycles, t.mean_n_m, 0.0, t.shape);
+  }
+  for (int j = 0; j < kRomForces; ++j) {
+    const RomForceTerm& f = d.forces[j];
+    set_term(kRomMeshes + kRomBearings + j, f.order, f.phase_cycles,
+             f.per_newton_metre ? 0.0 : f.amplitude, f.per_newton_metre ? f.amplitude : 0.0,
+             f.shape);
+  }
   // Explicit bearing fluctuation: each mode's share of the fluctuating stiffness must stay
   // below its own stiffness (see the stability note in rom.hpp).
   for (int i = 0; i < total; ++i) {
@@ -265,17 +291,28 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
 
   // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
-  const detail::RomKernelModel model{d.pqq.data(),         d.pqv.data(),
-                                     d.b0q.data(),         d.b1q.data(),
-                                     d.pvq.data(),         d.pvv.data(),
-                                     d.b0v.data(),         d.b1v.data(),
-                                     d.damping_1_s.data(), d.omega2.data(),
-                                     d.w_force.data(),     d.w_bearing.data(),
-                                     d.w_mesh.data(),      d.readout_by_dof.data(),
-                                     d.g_mesh.data(),      d.readout_correction.data(),
-                                     d.sensor_rows.data(), d.meshes.data(),
-                                     d.bearings.data(),    d.forces.data(),
-                                     d.force_count};
+  const detail::RomKernelModel model{d.pqq.data(),
+                                     d.pqv.data(),
+                                     d.b0q.data(),
+                                     d.b1q.data(),
+                                     d.pvq.data(),
+                                     d.pvv.data(),
+                                     d.b0v.data(),
+                                     d.b1v.data(),
+                                     d.damping_1_s.data(),
+                                     d.omega2.data(),
+                                     d.w_force.data(),
+                                     d.w_bearing.data(),
+                                     d.w_mesh.data(),
+                                     d.readout_by_dof.data(),
+                                     d.g_mesh.data(),
+                                     d.readout_correction.data(),
+                                     d.sensor_rows.data(),
+                                     d.term_order.data(),
+                                     d.term_phase_cycles.data(),
+                                     d.term_scale.data(),
+                                     d.term_scale_per_nm.data(),
+                                     d.term_values.data()};
   const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(),
                                      z_mesh_.data()};
   const detail::RomKernelOutputs outputs{out.mesh_force_n.data(), out.bearing_force_x_n.data(),

@@ -12,7 +12,20 @@
 // Profile that shaped it (callgrind / perf on paper-2mw, 64 DOF): the old Eigen step
 // spent 29 % in GEMV for W_b·f_b, W·y and the forces, 23 % in the 20×64 read-out,
 // 23 % in element-wise updates, 14 % in a scalar 8×8 LU, 5–8 % in table look-ups.
+// Timed on the AVX-512 clone since (tools/dynamics_bench): removing the mesh solve made
+// the step 1.3× faster and constant tables 1.1×, so those two were made lean (the
+// factor-then-solve elimination below, one loop over contiguous tables with hardware
+// gathers); the streamed matrices (~650 vector loads and ~550 vector FMAs a step) are
+// what is left.
 #include "rom_kernel.hpp"
+
+#if defined(__x86_64__)
+// GCC 12's AVX-512 intrinsics start from _mm512_undefined_pd(), which -Wuninitialized
+// reports at every use once inlined (a known false positive of that header).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#include <immintrin.h>
+#endif
 
 namespace model::dynamics::detail {
 namespace {
@@ -46,44 +59,129 @@ constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
                              {0, 0, 0, 0, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 1, 0, 0},
                              {0, 0, 0, 0, 0, 0, 1, 0}, {0, 0, 0, 0, 0, 0, 0, 1}};
 
-// (I + A·G)⁻¹, A = diag(Δk_mesh), G = Wᵀ diag(b1q) W, by Gauss–Jordan elimination
-// without pivoting on the matrix held by columns (col[j] is column j; inv[j] becomes
-// column j of the inverse): every elimination step is one vector operation per column.
-// The inverse depends on Δk only, so the step computes it before the predictor: the
-// out-of-order core overlaps its chain of eight divisions with the predictor's
-// independent work, and applying it is one 8×8 product. |A·G| is the mesh stiffness
-// fluctuation over the stiffness the mesh sees (< 1 for any real mesh: a pair cannot
-// lose more than its own stiffness), so the diagonal dominates and pivoting buys
-// nothing. Returns false on a pivot that is not positive (a non-physical table).
-// Inlined so that each clone compiles it for its ISA.
-[[gnu::always_inline]] inline bool invert_mesh_system(Mesh8 (&col)[kM], Mesh8 (&inv)[kM]) noexcept {
+// I + A·G, A = diag(Δk_mesh), G = Wᵀ diag(b1q) W, by Gauss–Jordan elimination without
+// pivoting on the matrix held by columns (col[j] is column j). Step k takes the pivot
+// p_k and f_k = (column k without row k) / p_k, and subtracts f_k times row k's entry
+// from every later column (the earlier ones are unit vectors by then). The solve applies
+// the same row operations to the right-hand side, b ← b − f_k·b_k for k = 0..7, and
+// divides row k by p_k: b = (I + A G)⁻¹ b. Compared with forming the inverse (as this
+// kernel did before) that is half the vector operations (no inverse columns to update)
+// for a solve of eight dependent steps instead of one 8×8 product.
+// The factors depend on Δk only, so the step computes them first and the out-of-order
+// core overlaps them with the predictor. Their critical path is the pivots: each is
+// taken from the entries before the previous step's column update,
+// p_{k+1} = M_{k+1,k+1} − M_{k,k+1}·M_{k+1,k}/p_k, so it waits on one division and one
+// subtraction, not on the whole update. |A·G| is the mesh stiffness fluctuation over the
+// stiffness the mesh sees (< 1 for any real mesh: a pair cannot lose more than its own
+// stiffness), so the diagonal dominates and pivoting buys nothing. Returns false on a
+// pivot that is not positive (a non-physical table). Inlined so that each clone
+// compiles it for its ISA.
+struct MeshFactors {
+  Mesh8 f[kM];      // f_k: step k's row multipliers M_ik/p_k (0 in row k)
+  Mesh8 inv_pivot;  // 1/p_k
+};
+[[gnu::always_inline]] inline bool factor_mesh_system(Mesh8 (&col)[kM], MeshFactors& fac) noexcept {
   const Mesh8 ones = {1, 1, 1, 1, 1, 1, 1, 1};
-  double inv_pivot[kM];
+  double p = col[0][0];
+  bool ok = true;
 #pragma GCC unroll 8
   for (int k = 0; k < kM; ++k) {
-    const double p = col[k][k];
-    if (!(p > 1e-12)) return false;
+    ok = ok && p > 1e-12;
+    const Mesh8 below_above = col[k] * (ones - kUnit[k]);  // column k without row k
+    double p_next = 0.0;
+    if (k + 1 < kM) {
+      const int n = k + 1;
+      p_next = col[n][n] - (col[k][n] * col[n][k]) / p;
+    }
     const double r = 1.0 / p;
-    inv_pivot[k] = r;
-    // Row multipliers A(i,k)/A(k,k); row k keeps its own (multiplier 0).
-    const Mesh8 f = col[k] * r * (ones - kUnit[k]);
-    // Columns left of k are eliminated already (zero off the diagonal); the identity's
-    // columns right of k are still untouched unit vectors (zero in row k).
+    fac.inv_pivot[k] = r;
+    const Mesh8 f = below_above * r;
+    fac.f[k] = f;
 #pragma GCC unroll 8
     for (int j = k + 1; j < kM; ++j) col[j] -= f * col[j][k];
-#pragma GCC unroll 8
-    for (int j = 0; j < k; ++j) inv[j] -= f * inv[j][k];
-    inv[k] = kUnit[k] - f;
+    p = p_next;
   }
-  // Row i of the eliminated system still carries its pivot: divide it out.
-  const Mesh8 row_scale = {inv_pivot[0], inv_pivot[1], inv_pivot[2], inv_pivot[3],
-                           inv_pivot[4], inv_pivot[5], inv_pivot[6], inv_pivot[7]};
-  static_assert(kM == 8, "row_scale lists the kM pivots");
-  for (int j = 0; j < kM; ++j) inv[j] *= row_scale;
-  return true;
+  return ok;
+}
+[[gnu::always_inline]] inline void solve_mesh_system(const MeshFactors& fac, Mesh8& b) noexcept {
+#pragma GCC unroll 8
+  for (int k = 0; k < kM; ++k) b -= fac.f[k] * b[k];
+  b *= fac.inv_pivot;
+}
+
+// Every term's shape at rotor angle `revs`: PeriodicTable::value's arithmetic (linear
+// between samples) over RomData's contiguous term tables. The index wraps with a mask,
+// so a phase that rounds up to a whole cycle reads sample 0 with weight 0 where value()
+// reads sample 255 with weight 1 — the same number up to rounding.
+// Portable version: two loops, the phase arithmetic vectorises (floor() is one
+// instruction from SSE4.1 on), the table reads (a gather) stay scalar.
+[[gnu::always_inline]] inline void lookup_shapes_portable(const RomKernelModel& m,
+                                                          const double revs,
+                                                          double* __restrict shape) noexcept {
+  constexpr int kT = kKernelTerms;
+  constexpr int kTable = kKernelTableSize;
+  static_assert((kTable & (kTable - 1)) == 0, "the table index wraps with a mask");
+  alignas(64) double weight[kT];
+  alignas(64) int index[kT];
+  for (int t = 0; t < kT; ++t) {
+    const double x = m.term_order[t] * revs + m.term_phase_cycles[t];
+    const double pos = (x - __builtin_floor(x)) * static_cast<double>(kTable);  // [0, kTable]
+    const int i = static_cast<int>(pos);
+    weight[t] = pos - static_cast<double>(i);
+    index[t] = i;
+  }
+  for (int t = 0; t < kT; ++t) {
+    const double* table = m.term_values + t * kTable;
+    const double v0 = table[index[t] & (kTable - 1)];
+    shape[t] = v0 + weight[t] * (table[(index[t] + 1) & (kTable - 1)] - v0);
+  }
 }
 
 }  // namespace
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// The look-ups as GCC function multiversions: GCC vectorises the phase arithmetic above
+// but not the table reads, which it emulates with scalar loads and lane inserts (about
+// 200 instructions, most of them on the ports the step's FMAs need). The AVX-512 version
+// is the same arithmetic in 8-wide registers with two hardware gathers per 8 terms; same
+// operations in the same order, so the same numbers as the portable version.
+__attribute__((target("default"))) void lookup_shapes(const RomKernelModel& m, double revs,
+                                                      double* shape) noexcept {
+  lookup_shapes_portable(m, revs, shape);
+}
+__attribute__((target("arch=x86-64-v4"))) void lookup_shapes(const RomKernelModel& m, double revs,
+                                                             double* shape) noexcept {
+  constexpr int kTable = kKernelTableSize;
+  static_assert(kKernelTerms == 16, "two vectors of 8 terms");
+  const __m512d rev = _mm512_set1_pd(revs);
+  const __m512d size = _mm512_set1_pd(static_cast<double>(kTable));
+  const __m256i mask = _mm256_set1_epi32(kTable - 1);
+  const __m256i one = _mm256_set1_epi32(1);
+  for (int h = 0; h < 2; ++h) {
+    const __m512d x = _mm512_fmadd_pd(_mm512_loadu_pd(m.term_order + 8 * h), rev,
+                                      _mm512_loadu_pd(m.term_phase_cycles + 8 * h));
+    const __m512d fl = _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m512d pos = _mm512_mul_pd(_mm512_sub_pd(x, fl), size);  // [0, kTable]
+    const __m256i i = _mm512_cvttpd_epi32(pos);
+    const __m512d w = _mm512_sub_pd(pos, _mm512_cvtepi32_pd(i));
+    // Table t starts at t·kTable.
+    const __m256i base =
+        _mm256_mullo_epi32(_mm256_setr_epi32(8 * h, 8 * h + 1, 8 * h + 2, 8 * h + 3, 8 * h + 4,
+                                             8 * h + 5, 8 * h + 6, 8 * h + 7),
+                           _mm256_set1_epi32(kTable));
+    const __m256i i0 = _mm256_add_epi32(base, _mm256_and_si256(i, mask));
+    const __m256i i1 = _mm256_add_epi32(base, _mm256_and_si256(_mm256_add_epi32(i, one), mask));
+    const __m512d v0 = _mm512_i32gather_pd(i0, m.term_values, 8);
+    const __m512d v1 = _mm512_i32gather_pd(i1, m.term_values, 8);
+    _mm512_storeu_pd(shape + 8 * h, _mm512_fmadd_pd(w, _mm512_sub_pd(v1, v0), v0));
+  }
+}
+#pragma GCC diagnostic pop
+#else
+inline void lookup_shapes(const RomKernelModel& m, double revs, double* shape) noexcept {
+  lookup_shapes_portable(m, revs, shape);
+}
+#endif
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 // One clone per x86-64 micro-architecture level; GCC's resolver picks the best at load time.
@@ -102,36 +200,33 @@ namespace {
                                         double* __restrict v, double* __restrict g,
                                         const RomKernelState& s,
                                         const RomKernelOutputs& out) noexcept {
-  // The time-varying coefficients at t_{n+1} from their tables (in the clone: the
-  // look-ups' floor() is one instruction with SSE4.1 and later).
-  double force[kKernelForces] = {};
-  for (int j = 0; j < m.force_count; ++j) {
-    const RomForceTerm& ft = m.forces[j];
-    const double a = ft.per_newton_metre ? ft.amplitude * input_torque_nm : ft.amplitude;
-    force[j] = a * ft.shape.value(ft.order * revs + ft.phase_cycles);
-  }
+  // The time-varying coefficients at t_{n+1}: every term's table at its phase.
+  alignas(64) double shape[kKernelTerms];
+  lookup_shapes(m, revs, shape);
+  Mesh8 dk;  // Δk_mesh(t_{n+1}) = k̄ (shape − 1)
+  for (int j = 0; j < kM; ++j) dk[j] = m.term_scale[j] * (shape[j] - 1.0);
   double k_bearing[kKernelBearings];
   double dk_bearing[kB];  // per W_b column
   for (int j = 0; j < kKernelBearings; ++j) {
-    const RomStiffnessTerm& b = m.bearings[j];
-    k_bearing[j] = b.mean_n_m * b.shape.value(b.order * revs + b.phase_cycles);
-    dk_bearing[2 * j] = dk_bearing[2 * j + 1] = k_bearing[j] - b.mean_n_m;
+    const double mean = m.term_scale[kM + j];
+    k_bearing[j] = mean * shape[kM + j];
+    dk_bearing[2 * j] = dk_bearing[2 * j + 1] = k_bearing[j] - mean;
   }
-  Mesh8 dk;
-  for (int j = 0; j < kM; ++j) {
-    const RomStiffnessTerm& mt = m.meshes[j];
-    dk[j] = mt.mean_n_m * (mt.shape.value(mt.order * revs + mt.phase_cycles) - 1.0);
+  double force[kKernelForces];
+  for (int j = 0; j < kKernelForces; ++j) {
+    const int t = kM + kKernelBearings + j;
+    force[j] = (m.term_scale[t] + m.term_scale_per_nm[t] * input_torque_nm) * shape[t];
   }
 
-  // (I + A G)⁻¹ first: it depends on the stiffness coefficients only (see above).
+  // The factors of I + A G first: they depend on the stiffness coefficients only.
   Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + Δk_i G_ij
-  Mesh8 inv[kM] = {};
+  MeshFactors fac;
   for (int j = 0; j < kM; ++j) {
     Mesh8 gj;
     __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
     col[j] = dk * gj + kUnit[j];
   }
-  const bool invertible = invert_mesh_system(col, inv);
+  const bool invertible = factor_mesh_system(col, fac);
 
   // Explicit bearing fluctuation forces, at the deflections of t_n.
   double fb[kB];
@@ -173,8 +268,7 @@ namespace {
   const Mesh8 rhs = dk * z[0];
   Mesh8 y = rhs;
   if (invertible) {
-    y = inv[0] * rhs[0];
-    for (int j = 1; j < kM; ++j) y += inv[j] * rhs[j];
+    solve_mesh_system(fac, y);
   }
   double ys[kM];  // y in memory: the loops below broadcast its elements from there
   __builtin_memcpy(ys, &y, sizeof ys);
@@ -220,7 +314,7 @@ namespace {
   for (int k = 0; k < kB; ++k) s.z_bearing[k] = z_next[kM + k];
 
   // Forces at t_{n+1}: k(t_{n+1}) times the deflection.
-  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = (m.meshes[j].mean_n_m + dk[j]) * z_next[j];
+  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = (m.term_scale[j] + dk[j]) * z_next[j];
   for (int j = 0; j < kKernelBearings; ++j) {
     out.bearing_force_x_n[j] = k_bearing[j] * z_next[kM + 2 * j];
     out.bearing_force_y_n[j] = k_bearing[j] * z_next[kM + 2 * j + 1];

@@ -14,8 +14,6 @@
 // Thread context: the kernel runs on the real-time thread; it allocates nothing,
 // throws nothing, takes no lock and reads no clock.
 
-#include "model/dynamics/rom_terms.hpp"
-
 namespace model::dynamics::detail {
 
 // Capacities (equal to kRomDofs etc. in rom.hpp; rom.cpp static_asserts that).
@@ -28,6 +26,10 @@ inline constexpr int kKernelSensors = 2;
 /// Rows of the read-out [W W_b]ᵀ as the kernel stores it: the 8 + 12 rows padded with
 /// zeros to a multiple of 8 (whole vectors).
 inline constexpr int kKernelReadoutRows = 24;
+/// Time-varying terms: kKernelMeshes meshes, kKernelBearings bearings, kKernelForces forces.
+inline constexpr int kKernelTerms = kKernelMeshes + kKernelBearings + kKernelForces;
+/// Samples per term table (PeriodicTable::kSize), a power of two.
+inline constexpr int kKernelTableSize = 256;
 
 /// Read-only model data, pointers into RomData's Eigen storage (no copy). Every array
 /// named "[c][kKernelDofs]" holds c contiguous columns of kKernelDofs values.
@@ -50,10 +52,12 @@ struct RomKernelModel {
   const double* g_mesh;  // [kKernelMeshes][kKernelMeshes], column-major
   const double* readout_correction;  // [kKernelMeshes][kKernelReadoutRows]: [G; H; 0] by columns
   const double* sensor_rows;         // [kKernelSensors][kKernelDofs]
-  const RomStiffnessTerm* meshes;    // [kKernelMeshes]
-  const RomStiffnessTerm* bearings;  // [kKernelBearings]
-  const RomForceTerm* forces;        // [force_count]
-  int force_count;                   // used columns of w_force
+  // The time-varying terms (RomData::term_*): meshes, bearings, forces in that order.
+  const double* term_order;         // [kKernelTerms] [cycles/rev]
+  const double* term_phase_cycles;  // [kKernelTerms] [cycles]
+  const double* term_scale;         // [kKernelTerms] mean stiffness [N/m] / fixed amplitude [N]
+  const double* term_scale_per_nm;  // [kKernelTerms] amplitude per N·m of input torque
+  const double* term_values;        // [kKernelTerms][kKernelTableSize] shape tables
 };
 
 /// Where the step writes its outputs (RomOutputs' arrays).

@@ -31,12 +31,14 @@
 // 600 s.
 //
 // How a step is computed (model/src/dynamics/rom_kernel.cpp; same equations, only the
-// rounding differs): the table look-ups, then (I + diag(Δk_mesh)·G)⁻¹ by Gauss–Jordan
-// without pivoting (it depends on the stiffness only, so its chain of divisions runs
-// alongside the predictor), the predictor r, the read-out [W W_b]ᵀr as a sum of the
-// columns of readout_by_dof, y = (I + A G)⁻¹ A Wᵀr, and one fused corrector pass that
-// also forms the seat accelerations. Plain fixed-length loops over the arrays below and
-// 8-wide vectors for the 8×8 system; on x86-64 GCC builds the kernel three times
+// rounding differs): the table look-ups (one loop over the term_* arrays below; on
+// AVX-512 CPUs with hardware gathers), then the factors of I + diag(Δk_mesh)·G by
+// Gauss–Jordan elimination without pivoting (they depend on the stiffness only, so
+// their chain of divisions runs alongside the predictor), the predictor r, the read-out
+// [W W_b]ᵀr as a sum of the columns of readout_by_dof, y = (I + A G)⁻¹ A Wᵀr by the
+// factors, and one fused corrector pass that also forms the seat accelerations. Plain
+// fixed-length loops over the arrays below and 8-wide vectors for the 8×8 system; on
+// x86-64 GCC builds the kernel three times
 // (target_clones: x86-64-v4 = AVX-512, x86-64-v3 = AVX2 + FMA, baseline SSE2) and the
 // loader picks one for the CPU (rom_step_isa() says which); on aarch64 it is the NEON
 // baseline. The clones differ in rounding (FMA), not in the equations.
@@ -79,6 +81,8 @@ inline constexpr int kRomBearings = 6;  // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
 inline constexpr int kRomForces = 2;   // input torque + one plug-in force
 inline constexpr int kRomSensors = 2;  // point1, point2
+/// Time-varying terms the step looks up: every mesh, bearing and force slot.
+inline constexpr int kRomTerms = kRomMeshes + kRomBearings + kRomForces;
 /// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
 /// padded with zeros to whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
@@ -133,6 +137,19 @@ struct RomData {
   std::array<RomStiffnessTerm, kRomMeshes> meshes{};
   std::array<RomStiffnessTerm, kRomBearings> bearings{};
   std::array<RomForceTerm, kRomForces> forces{};
+
+  // The same kRomTerms time-varying terms (meshes, then bearings, then forces) laid out
+  // for the step's look-ups, copied by build_rom(): one loop over contiguous arrays and
+  // tables instead of sixteen structs two kilobytes apart.
+  alignas(64) std::array<double, kRomTerms> term_order{};         // [cycles/rev]
+  alignas(64) std::array<double, kRomTerms> term_phase_cycles{};  // [cycles]
+  // Mesh and bearing terms: the mean stiffness [N/m]; force terms: the amplitude if it is
+  // not per N·m of input torque [N], else 0.
+  alignas(64) std::array<double, kRomTerms> term_scale{};
+  // Force terms whose amplitude is per N·m of input torque: that amplitude [N/(N·m)]; else 0.
+  alignas(64) std::array<double, kRomTerms> term_scale_per_nm{};
+  // Term t's shape table at [t·PeriodicTable::kSize, (t+1)·PeriodicTable::kSize).
+  alignas(64) std::array<double, kRomTerms * PeriodicTable::kSize> term_values{};
 };
 
 /// What build_rom() kept, for reports and tests.
