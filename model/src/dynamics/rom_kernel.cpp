@@ -19,7 +19,7 @@
 // what is left.
 #include "rom_kernel.hpp"
 
-#if defined(__x86_64__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_pd(), which -Wuninitialized
 // reports at every use once inlined (a known false positive of that header).
 #pragma GCC diagnostic push
@@ -332,7 +332,7 @@ const char* rom_step_kernel_isa() noexcept {
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
   // The same order as the resolver's: the highest level the CPU supports.
   __builtin_cpu_init();
-  if (__builtin_cpu_supports("x86-64-v4")) return "x86-64-v4 (AVX-512) clone";
+  if (__builtin_cpu_supports("x86-64-v4")) return "x86-64-v4 (AVX-512) clone, gathered look-ups";
   if (__builtin_cpu_supports("x86-64-v3")) return "x86-64-v3 (AVX2, FMA) clone";
   return "x86-64 baseline (SSE2) clone";
 #elif defined(__aarch64__)
