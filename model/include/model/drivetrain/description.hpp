@@ -108,9 +108,13 @@ struct GearStage {
   std::string output_shaft;         // shaft id driven by the stage
 };
 
+// Shaft::length_m is the modelled length, end to end: the dynamics model (full_model.cpp)
+// divides it into equal beam elements and puts the bearings on nodes inside it —
+// sun_shaft: sun … b1 … b2 (end), ims: b3 … b4 (the ends), hss: b5 … b6 … generator coupling
+// (the lss is not a beam in that model: the carrier is lumped).
 struct Shaft {
   std::string id;           // lss, sun_shaft, ims, hss
-  double length_m = 0.0;    // [m] between the bearings
+  double length_m = 0.0;    // [m] modelled length, end to end (above)
   double diameter_m = 0.0;  // [m] mean solid diameter
   std::string material;
 };
