@@ -100,6 +100,9 @@ TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
   EXPECT_EQ(j["rows"]["used"], 288);
   EXPECT_DOUBLE_EQ(j["covered_s"].get<double>(), 288 * 600.0);
   EXPECT_EQ(j["rating"]["k_h_beta"], "iso6336-1-method-c");
+  EXPECT_EQ(j["rating"]["contact_pattern"], "unverified");
+  // b1 rated from its geometry (hand calculation: tests/model/fatigue/test_bearing_rating.cpp).
+  EXPECT_NEAR(j["rating"]["bearing_c_n"]["b1"].get<double>(), 871564.5, 1.0);
   const nlohmann::json* sun = nullptr;
   for (const auto& c : j["channels"]) {
     if (c["component"] == "sun" && c["mode"] == "contact") sun = &c;
@@ -170,6 +173,10 @@ TEST_F(DamageCli, ChangedRatingOptionsChangeTheCacheKey) {
   g.speed_max_rpm = 18.0;
   EXPECT_NE(app::fatigue::spectrum_key(d, a, g, mf::SpectrumSource::kQuasiStatic),
             app::fatigue::spectrum_key(d, b, g, mf::SpectrumSource::kQuasiStatic));
+  o.rating.face_load.contact_pattern_verified = true;
+  const mf::ChannelSet c(d, o);
+  EXPECT_NE(app::fatigue::spectrum_key(d, b, g, mf::SpectrumSource::kQuasiStatic),
+            app::fatigue::spectrum_key(d, c, g, mf::SpectrumSource::kQuasiStatic));
 }
 
 TEST_F(DamageCli, BadFaceLoadOptionsAreRefusedWithTheOptionNamed) {
@@ -181,6 +188,9 @@ TEST_F(DamageCli, BadFaceLoadOptionsAreRefusedWithTheOptionNamed) {
   const CliResult khb = run_cli({"damage", scada.string(), "--k-h-beta", "0.8"});
   EXPECT_EQ(khb.exit_code, 1);
   EXPECT_THAT(khb.error, testing::HasSubstr("--k-h-beta"));
+  const CliResult pattern = run_cli({"damage", scada.string(), "--contact-pattern", "maybe"});
+  EXPECT_EQ(pattern.exit_code, 1);
+  EXPECT_THAT(pattern.error, testing::HasSubstr("--contact-pattern: 'maybe'"));
 }
 
 }  // namespace
