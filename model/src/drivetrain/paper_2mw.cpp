@@ -91,10 +91,10 @@ Drivetrain paper_2mw() {
 
   // Bearings: geometry fixed by the reference. The dynamic rating C is left 0, so the fatigue
   // model computes it from that geometry per ISO 281:2007 (model/fatigue/bearing_rating.hpp).
-  // The reference gives no roller length: L_we = D_we (kRollerLengthRatio) is the proportion
-  // of the standard-width (02/03 series) cylindrical roller bearings; C grows as L_we^(7/9),
-  // so the wide 22/23 series' L_we ≈ 1.5·D_we would give 1.37 × C. Mean radial stiffness is the
-  // model's default for bearings of this size.
+  // The reference gives no roller length: L_we = D_we (kRollerLengthRatio) is an assumption,
+  // roughly the proportion of standard-width cylindrical roller bearings (not a catalogue
+  // value); C grows as L_we^(7/9), so L_we = 1.5·D_we would give 1.37 × C. Mean radial
+  // stiffness is the model's default for bearings of this size.
   constexpr double kRollerLengthRatio = 1.0;  // [-] L_we / D_we
   auto bearing = [](const char* id, const char* shaft, const char* position, int nb, double d_mm,
                     double dp_mm, double phi_deg, int rows, BearingType type, double k_n_m) {
