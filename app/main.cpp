@@ -1,27 +1,17 @@
-// drivetwin: composition root. Parses the command line and hands over to the
-// subcommand; every error reaches the user as one line and a non-zero exit.
-#include "cli/command.hpp"
-
-#include <CLI/CLI.hpp>
-
+// drivetwin: composition root. Hands the command line to the registered
+// subcommand (app/cli/run.hpp); every error reaches the user as one line and a
+// non-zero exit.
 #include <cstdio>
-#include <exception>
+#include <string>
+#include <vector>
+
+#include "cli/run.hpp"
 
 int main(int argc, char** argv) {
-  CLI::App cli{"drivetwin — digital twin of a wind-turbine drivetrain"};
-  cli.set_version_flag("--version", DRIVETWIN_VERSION);
-  cli.require_subcommand(1);
-  for (const auto& command : app::cli::commands()) {
-    CLI::App* sub = cli.add_subcommand(command.name, command.description);
-    command.setup(*sub);
-  }
-  try {
-    cli.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return cli.exit(e);
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "drivetwin: error: %s\n", e.what());
-    return 1;
-  }
-  return app::cli::exit_status();
+  const std::vector<std::string> args(argv + (argc > 0 ? 1 : 0), argv + argc);
+  const app::cli::RunResult result = app::cli::run(args);
+  // Command-line errors were printed by the parser; a failing command's message is ours to print.
+  if (result.exit_code != 0 && !result.error.empty() && !result.printed)
+    std::fprintf(stderr, "drivetwin: error: %s\n", result.error.c_str());
+  return result.exit_code;
 }

@@ -14,9 +14,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include <stdexcept>
-#include <string>
 #include <vector>
+
+#include "cli/run.hpp"
 
 namespace app::cli {
 
@@ -26,19 +26,10 @@ struct Command {
   void (*setup)(CLI::App& sub);
 };
 
-/// An error the user caused (bad file, bad value): printed without a stack of context.
-class CommandError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
 /// Adds a command to the registry; called from static initialisers.
 bool register_command(const Command& command);
 
 /// The registered commands, sorted by name.
 const std::vector<Command>& commands();
-
-/// Exit status a command's callback sets (default 0); main() returns it.
-int& exit_status();
 
 }  // namespace app::cli

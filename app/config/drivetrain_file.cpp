@@ -626,13 +626,4 @@ std::string to_toml(const model::Drivetrain& d) {
   return out.str();
 }
 
-CLI::Option* add_drivetrain_option(CLI::App& sub, std::string& value) {
-  value = kDefaultDrivetrain;
-  return sub
-      .add_option("--drivetrain", value,
-                  "Drivetrain description: a built-in name (paper-2mw, kelmarsh-mm92) or a "
-                  "TOML file (app/config/README.md)")
-      ->capture_default_str();
-}
-
 }  // namespace app::config

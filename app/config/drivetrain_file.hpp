@@ -15,14 +15,17 @@
 //
 // Thread context: start-up only (allocates, throws); never on the RT path.
 
-#include <CLI/CLI.hpp>
-
 #include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "model/drivetrain/description.hpp"
+
+namespace CLI {
+class App;
+class Option;
+}  // namespace CLI
 
 namespace app::config {
 
@@ -47,7 +50,8 @@ model::Drivetrain parse_drivetrain(std::string_view toml_text, const std::string
 /// Writes every field as a complete, self-contained TOML description (no `base`).
 std::string to_toml(const model::Drivetrain& drivetrain);
 
-/// Adds `--drivetrain NAME|FILE` (default paper-2mw) to a subcommand.
+/// Adds `--drivetrain NAME|FILE` (default paper-2mw) to a subcommand. Defined with
+/// the command-line plumbing (app/cli/command.cpp): only subcommands see CLI11.
 CLI::Option* add_drivetrain_option(CLI::App& sub, std::string& value);
 
 }  // namespace app::config

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 #include "demo/demo.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/drivetrain/kinematics.hpp"

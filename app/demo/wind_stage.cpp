@@ -6,7 +6,7 @@
 #include <cstdio>
 #include <string>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "demo/demo.hpp"

@@ -5,14 +5,13 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 
@@ -77,21 +76,11 @@ fs::path write_bundle(const std::string& name, double duration_s, Fault fault = 
 
 // Runs `drivetwin calibrate <args>` as main() would; returns the error text ("" when none).
 std::string run_calibrate(std::vector<std::string> args) {
-  CLI::App cli{"drivetwin"};
-  cli.require_subcommand(1);
-  for (const auto& c : app::cli::commands()) c.setup(*cli.add_subcommand(c.name, c.description));
-  app::cli::exit_status() = 0;
   // A small analysis so that the test stays quick (also under QEMU).
   for (const char* a : {"--revolutions", "32", "--samples-per-rev", "256", "--quiet"})
     args.emplace_back(a);
   args.insert(args.begin(), "calibrate");
-  std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
-  try {
-    cli.parse(args);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
+  return app::cli::run(args).error;
 }
 
 TEST(CalibrateCommand, CalibratesAnOffNominalRecordingAndReportsTheDiagnosisKeys) {

@@ -4,8 +4,6 @@
 // kinematics, and an unknown stage name giving a clear error.
 #include <gtest/gtest.h>
 
-#include <CLI/CLI.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -13,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 
 namespace {
 
@@ -23,29 +21,14 @@ struct CliResult {
   std::string out;
 };
 
-// Mirrors app/main.cpp: parse, run the command's callback, map errors to exit codes.
-CliResult run_cli(std::vector<std::string> args) {
-  CLI::App cli{"drivetwin"};
-  cli.require_subcommand(1);
-  for (const auto& command : app::cli::commands()) {
-    command.setup(*cli.add_subcommand(command.name, command.description));
-  }
-  std::vector<const char*> argv{"drivetwin"};
-  for (const auto& a : args) argv.push_back(a.c_str());
+// Runs the command line in-process through app::cli::run, as main() does.
+CliResult run_cli(const std::vector<std::string>& args) {
   CliResult result;
-  app::cli::exit_status() = 0;
   testing::internal::CaptureStdout();
-  try {
-    cli.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
-    result.exit_code = app::cli::exit_status();
-  } catch (const CLI::ParseError& e) {
-    result.exit_code = e.get_exit_code();
-    result.error = e.what();
-  } catch (const std::exception& e) {
-    result.exit_code = 1;
-    result.error = e.what();
-  }
+  const app::cli::RunResult r = app::cli::run(args);
   result.out = testing::internal::GetCapturedStdout();
+  result.exit_code = r.exit_code;
+  result.error = r.error;
   return result;
 }
 

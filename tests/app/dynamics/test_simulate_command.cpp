@@ -9,8 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
-#include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -21,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
 
 namespace {
@@ -43,18 +41,8 @@ fs::path scratch_dir(const std::string& name) {
 
 // Runs `drivetwin simulate <args>` as main() would; returns the error text ("" when none).
 std::string run_simulate(std::vector<std::string> args) {
-  CLI::App cli{"drivetwin"};
-  cli.require_subcommand(1);
-  for (const auto& c : app::cli::commands()) c.setup(*cli.add_subcommand(c.name, c.description));
-  app::cli::exit_status() = 0;
   args.insert(args.begin(), "simulate");
-  std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
-  try {
-    cli.parse(args);
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
+  return app::cli::run(args).error;
 }
 
 std::string number(double v) {
