@@ -48,7 +48,7 @@ void setup_bus(CLI::App& sub) {
   });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kBusProbeRegistered = app::cli::register_command(
     {"bus", "Turbine bus tools (bus probe: commissioning check of the wiring)", &setup_bus});
 
 }  // namespace

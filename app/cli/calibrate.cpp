@@ -453,7 +453,7 @@ void run(const CalibrateArgs& args) {
   if (!result.fits) app::cli::exit_status() = 2;
 }
 
-void setup(CLI::App& sub) {
+void setup_calibrate(CLI::App& sub) {
   auto args = std::make_shared<CalibrateArgs>();
   sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")
       ->required();
@@ -481,9 +481,9 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kCalibrateRegistered = app::cli::register_command(
     {"calibrate",
      "Similarity indicators f1/f2/f3 against a recording; MOGOA calibration when above threshold",
-     &setup});
+     &setup_calibrate});
 
 }  // namespace

@@ -3,11 +3,16 @@
 // each in app/cli/, so that adding a command never edits main.cpp:
 //
 //   namespace {
-//   const bool kRegistered = app::cli::register_command(
+//   void setup_torque(CLI::App& sub) { ... }
+//   const bool kTorqueRegistered = app::cli::register_command(
 //       {"torque", "Estimate rotor input torque from SCADA wind speed", &setup_torque});
 //   }
 //
-// setup() adds the subcommand's options to `sub` and sets its callback. A
+// The files of app/cli/ are compiled as one translation unit (app/CMakeLists.txt:
+// CLI11 is compiled once), so their file-scope names must differ from file to
+// file, anonymous namespace or not: suffix them with the command's name.
+//
+// setup_<name>() adds the subcommand's options to `sub` and sets its callback. A
 // callback reports failure by throwing app::cli::CommandError (or any
 // std::exception) with a message that names the file, row and field; main()
 // prints it and exits non-zero. Start-up / host code only: not real-time.

@@ -502,7 +502,7 @@ void run(const DamageArgs& args) {
   if (h.rows_rejected > 0) app::cli::exit_status() = 2;
 }
 
-void setup(CLI::App& sub) {
+void setup_damage(CLI::App& sub) {
   auto args = std::make_shared<DamageArgs>();
   sub.add_option(
          "scada", args->file,
@@ -562,8 +562,8 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kDamageRegistered = app::cli::register_command(
     {"damage", "Fatigue damage and remaining life per gear and bearing from SCADA history",
-     &setup});
+     &setup_damage});
 
 }  // namespace

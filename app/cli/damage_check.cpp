@@ -132,7 +132,7 @@ void run(const CheckArgs& a) {
       worst);
 }
 
-void setup(CLI::App& sub) {
+void setup_damage_check(CLI::App& sub) {
   auto args = std::make_shared<CheckArgs>();
   sub.add_option("scada", args->file,
                  "SCADA CSV with t_s, rotor_speed_rpm, torque_nm (bundle columns)")
@@ -146,9 +146,9 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kDamageCheckRegistered = app::cli::register_command(
     {"damage-check",
      "Online accumulator (ROM stepped per sample) vs history mode over the same SCADA rows",
-     &setup});
+     &setup_damage_check});
 
 }  // namespace

@@ -8,7 +8,7 @@
 
 namespace {
 
-void setup(CLI::App& sub) {
+void setup_demo(CLI::App& sub) {
   auto only = std::make_shared<std::string>();
   sub.add_option("--stage", *only, "Run only the stage of this name");
   sub.callback([only] {
@@ -25,7 +25,7 @@ void setup(CLI::App& sub) {
   });
 }
 
-const bool kRegistered = app::cli::register_command(
-    {"demo", "Run the twin on built-in real data and print a summary of each stage", &setup});
+const bool kDemoRegistered = app::cli::register_command(
+    {"demo", "Run the twin on built-in real data and print a summary of each stage", &setup_demo});
 
 }  // namespace

@@ -10,7 +10,7 @@
 
 namespace {
 
-void setup(CLI::App& sub) {
+void setup_drivetrain(CLI::App& sub) {
   auto name = std::make_shared<std::string>();
   app::config::add_drivetrain_option(sub, *name);
   sub.callback([name] {
@@ -19,8 +19,8 @@ void setup(CLI::App& sub) {
   });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kDrivetrainRegistered = app::cli::register_command(
     {"drivetrain", "Print a drivetrain description (built-in or file) as a complete TOML file",
-     &setup});
+     &setup_drivetrain});
 
 }  // namespace

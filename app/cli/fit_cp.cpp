@@ -157,7 +157,7 @@ void run(const FitArgs& args) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_fit_cp(CLI::App& sub) {
   auto args = std::make_shared<FitArgs>();
   sub.add_option("scada_csv", args->file, "SCADA CSV with wind, rotor speed, pitch and power")
       ->required();
@@ -183,8 +183,8 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kFitCpRegistered = app::cli::register_command(
     {"fit-cp", "Fit the Cp(lambda, beta) surface and SCADA corrections of a drivetrain description",
-     &setup});
+     &setup_fit_cp});
 
 }  // namespace

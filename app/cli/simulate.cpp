@@ -144,7 +144,7 @@ void run(const SimulateArgs& a) {
       a.full ? "full model" : "ROM");
 }
 
-void setup(CLI::App& sub) {
+void setup_simulate(CLI::App& sub) {
   auto args = std::make_shared<SimulateArgs>();
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--rpm", args->rpm, "Rotor speed [rpm]")->required();
@@ -158,8 +158,8 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kSimulateRegistered = app::cli::register_command(
     {"simulate", "Simulate the gearbox dynamics at one operating point into a recording bundle",
-     &setup});
+     &setup_simulate});
 
 }  // namespace

@@ -97,7 +97,7 @@ void run(const SynthArgs& a) {
               a.out.c_str());
 }
 
-void setup(CLI::App& sub) {
+void setup_synth_scada(CLI::App& sub) {
   auto args = std::make_shared<SynthArgs>();
   sub.add_option("--out", args->out, "Output CSV (bundle scada.csv columns)")->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
@@ -113,8 +113,9 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
+const bool kSynthScadaRegistered = app::cli::register_command(
     {"synth-scada",
-     "Deterministic synthetic SCADA history (Weibull + AR(1) wind, steady-state turbine)", &setup});
+     "Deterministic synthetic SCADA history (Weibull + AR(1) wind, steady-state turbine)",
+     &setup_synth_scada});
 
 }  // namespace

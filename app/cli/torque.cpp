@@ -168,7 +168,7 @@ void run(const TorqueArgs& args) {
   }
 }
 
-void setup(CLI::App& sub) {
+void setup_torque(CLI::App& sub) {
   auto args = std::make_shared<TorqueArgs>();
   sub.add_option("scada_csv", args->file,
                  "SCADA CSV (recording bundle scada.csv or a mapped export)")
@@ -190,7 +190,8 @@ void setup(CLI::App& sub) {
   sub.callback([args] { run(*args); });
 }
 
-const bool kRegistered = app::cli::register_command(
-    {"torque", "Estimate rotor input torque and operating region from SCADA wind speed", &setup});
+const bool kTorqueRegistered = app::cli::register_command(
+    {"torque", "Estimate rotor input torque and operating region from SCADA wind speed",
+     &setup_torque});
 
 }  // namespace
