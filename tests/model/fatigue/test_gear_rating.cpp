@@ -43,7 +43,7 @@ TEST(ContactStress, SunAtRatedTorqueMatchesTheIso6336Part2HandCalculation) {
   //  Z_H = √(2·cosβ_b·cosα_wt/(cos²α_t·sinα_wt)) = √(2/(cos20°·sin20°)) = 2.49457   (eq. 9)
   //  Z_E = √(1/(π·2·(1 − 0.3²)/206 000)) = 189.812 √(N/mm²)                         (eq. 22)
   //  Z_ε = √((4 − ε_α)/3) = √((4 − 1.63885)/3) = 0.887159                           (eq. 34)
-  //  Z_β = √cos 0 = 1                                                                 (eq. 37)
+  //  Z_β = 1/√cos 0 = 1                                                                 (§9)
   //  M1 = tan20°/√((√(391²/335.4703² − 1) − 2π/21)·(√(697²/623.0162² − 1) − 0.63885·2π/39))
   //     = 0.363970/√((0.598712 − 0.299199)·(0.501601 − 0.102924)) = 1.053288 → Z_B = M1
   //  σ_H0 = Z_H·Z_E·Z_ε·Z_β·√(F_t/(d1·b)·(u+1)/u), u = 39/21
@@ -122,7 +122,8 @@ TEST(BendingStress, InternalRingGearIsNotRatedAndReportsZero) {
 
 TEST(HelicalMesh, OverlapRatioAndHelixFactorsFollowTheHelixAngle) {
   // g1–g2: m_n = 14 mm, β = 10°, b = 300 mm: ε_β = 300·sin10°/(π·14) = 1.184441 ≥ 1,
-  // so Z_ε = √(1/ε_α), Z_B = 1 and Y_β = 1 − 1·10/120 = 0.916667; Z_β = √cos10° = 0.992375.
+  // so Z_ε = √(1/ε_α), Z_B = 1 and Y_β = 1 − 1·10/120 = 0.916667; Z_β = 1/√cos10° = 1.007684
+  // (ISO 6336-2:2006 §9; the DIN 3990 form √cos β would give 0.992375).
   const model::Material steel{};
   const PairGeometry g =
       pair_geometry(21, 92, 0, 0, 14e-3, 20 * kDeg, 10 * kDeg, 0.300, BasicRack{});
@@ -131,7 +132,7 @@ TEST(HelicalMesh, OverlapRatioAndHelixFactorsFollowTheHelixAngle) {
   EXPECT_NEAR(r.z_eps, std::sqrt(1.0 / g.eps_alpha), 1e-12);
   EXPECT_DOUBLE_EQ(r.z_b, 1.0);
   EXPECT_NEAR(r.y_beta, 0.916667, 1e-6);
-  EXPECT_NEAR(r.z_beta, 0.992375, 1e-6);
+  EXPECT_NEAR(r.z_beta, 1.007684, 1e-6);
 }
 
 TEST(DrivetrainChannels, PaperTurbineHasEveryGearModeAndBearingWithDerivedCycleCounts) {
