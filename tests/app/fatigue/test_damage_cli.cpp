@@ -4,7 +4,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -14,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/command.hpp"
+#include "cli/run.hpp"
 #include "fatigue/damage_history.hpp"
 #include "fatigue/spectrum_cache.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
@@ -29,29 +28,14 @@ struct CliResult {
   std::string out;
 };
 
-// Mirrors app/main.cpp: parse, run the command's callback, map errors to exit codes.
-CliResult run_cli(std::vector<std::string> args) {
-  CLI::App cli{"drivetwin"};
-  cli.require_subcommand(1);
-  for (const auto& command : app::cli::commands()) {
-    command.setup(*cli.add_subcommand(command.name, command.description));
-  }
-  std::vector<const char*> argv{"drivetwin"};
-  for (const auto& a : args) argv.push_back(a.c_str());
+// Runs the command line in-process through app::cli::run, as main() does.
+CliResult run_cli(const std::vector<std::string>& args) {
   CliResult result;
-  app::cli::exit_status() = 0;
   testing::internal::CaptureStdout();
-  try {
-    cli.parse(static_cast<int>(argv.size()), const_cast<char**>(argv.data()));
-    result.exit_code = app::cli::exit_status();
-  } catch (const CLI::ParseError& e) {
-    result.exit_code = e.get_exit_code();
-    result.error = e.what();
-  } catch (const std::exception& e) {
-    result.exit_code = 1;
-    result.error = e.what();
-  }
+  const app::cli::RunResult r = app::cli::run(args);
   result.out = testing::internal::GetCapturedStdout();
+  result.exit_code = r.exit_code;
+  result.error = r.error;
   return result;
 }
 
