@@ -32,7 +32,8 @@ int& exit_status() {
 RunResult run(const std::vector<std::string>& args) {
   RunResult result;
   try {
-    CLI::App cli{"drivetwin — digital twin of a wind-turbine drivetrain"};
+    // Named here: parse(vector) never sees argv[0], and help says "Usage: drivetwin ...".
+    CLI::App cli{"drivetwin — digital twin of a wind-turbine drivetrain", "drivetwin"};
     cli.set_version_flag("--version", DRIVETWIN_VERSION);
     cli.require_subcommand(1);
     for (const auto& command : commands()) {

@@ -17,6 +17,7 @@ TEST(CliRun, ListsEveryRegisteredCommandInItsHelpAndExitsZero) {
   // Assert: help is not an error; the commands README.md lists are all there.
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_TRUE(r.error.empty()) << r.error;
+  EXPECT_NE(out.find("Usage: drivetwin "), std::string::npos) << out;
   for (const char* name : {"torque", "simulate", "damage", "calibrate", "demo", "drivetrain"})
     EXPECT_NE(out.find(name), std::string::npos) << name << " missing from:\n" << out;
 }
