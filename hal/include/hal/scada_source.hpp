@@ -51,11 +51,12 @@ inline constexpr std::array<ScadaQuantityInfo, kScadaQuantityCount> kScadaQuanti
 
 /// Looks a quantity up by its config key. @return false if unknown.
 constexpr bool scada_quantity_from_key(std::string_view key, ScadaQuantity& out) {
-  for (const auto& q : kScadaQuantities)
+  for (const auto& q : kScadaQuantities) {
     if (q.key == key) {
       out = q.quantity;
       return true;
     }
+  }
   return false;
 }
 

@@ -126,9 +126,10 @@ bool encode_cms_fd_frame(const CmsFrame& block, std::uint32_t base_id, CanFrame&
   const std::uint32_t t0 = block.t0_us.value_or(0);
   for (int i = 0; i < 4; ++i)
     out.data[4 + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>((t0 >> (8 * i)) & 0xFF);
-  for (std::size_t i = 0; i < block.count; ++i)
+  for (std::size_t i = 0; i < block.count; ++i) {
     if (!write_sample(block.raw[i], block.format, &out.data[kCmsFdHeaderBytes + bps * i]))
       return false;
+  }
   return true;
 }
 
@@ -163,10 +164,11 @@ Timestamp TimestampUnwrapper::unwrap(std::uint32_t t_us) {
   if (have_last_) {
     // A step "backwards" by more than half the range is a wrap forwards.
     const auto d = static_cast<std::int32_t>(t_us - last_);
-    if (d > 0 && t_us < last_)
+    if (d > 0 && t_us < last_) {
       ++high_;  // wrapped forwards
-    else if (d < 0 && t_us > last_)
+    } else if (d < 0 && t_us > last_) {
       --high_;  // a late frame from before the wrap
+    }
   }
   have_last_ = true;
   last_ = t_us;

@@ -108,38 +108,41 @@ bool encode_register(const RegisterSpec& spec, double value, std::uint16_t* regs
 }
 
 bool parse_register_type(std::string_view s, RegisterType& out) {
-  if (s == "int16")
+  if (s == "int16") {
     out = RegisterType::kInt16;
-  else if (s == "uint16")
+  } else if (s == "uint16") {
     out = RegisterType::kUInt16;
-  else if (s == "int32")
+  } else if (s == "int32") {
     out = RegisterType::kInt32;
-  else if (s == "uint32")
+  } else if (s == "uint32") {
     out = RegisterType::kUInt32;
-  else if (s == "float32")
+  } else if (s == "float32") {
     out = RegisterType::kFloat32;
-  else
+  } else {
     return false;
+  }
   return true;
 }
 
 bool parse_word_order(std::string_view s, WordOrder& out) {
-  if (s == "high_first" || s == "abcd")
+  if (s == "high_first" || s == "abcd") {
     out = WordOrder::kHighWordFirst;
-  else if (s == "low_first" || s == "cdab")
+  } else if (s == "low_first" || s == "cdab") {
     out = WordOrder::kLowWordFirst;
-  else
+  } else {
     return false;
+  }
   return true;
 }
 
 bool parse_register_function(std::string_view s, RegisterFunction& out) {
-  if (s == "holding")
+  if (s == "holding") {
     out = RegisterFunction::kHolding;
-  else if (s == "input")
+  } else if (s == "input") {
     out = RegisterFunction::kInput;
-  else
+  } else {
     return false;
+  }
   return true;
 }
 
@@ -179,10 +182,11 @@ std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole,
     spans[n++] = {s.function, s.address,
                   s.address + static_cast<std::uint32_t>(register_count(s.type))};
   }
-  if (map.invalid_mask && n < spans.size())
+  if (map.invalid_mask && n < spans.size()) {
     spans[n++] = {map.invalid_mask->function, map.invalid_mask->address,
                   map.invalid_mask->address +
                       static_cast<std::uint32_t>(register_count(map.invalid_mask->type))};
+  }
   std::sort(spans.begin(), spans.begin() + static_cast<std::ptrdiff_t>(n),
             [](const Span& a, const Span& b) {
               return a.function != b.function ? a.function < b.function : a.start < b.start;

@@ -138,11 +138,12 @@ struct ModbusResultsServer::Impl {
         start = be16(req + 12);
         count = be16(req + 14);
       }
-      for (std::uint32_t a = start; a < std::uint32_t{start} + count; ++a)
+      for (std::uint32_t a = start; a < std::uint32_t{start} + count; ++a) {
         if (a > 0xFFFF || !writable(static_cast<std::uint16_t>(a))) {
           send_exception(c, req, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
           return c.fd >= 0;
         }
+      }
     } else if (fc == 0x03 || fc == 0x04) {
       if (adu_len < kMbapHeader + 5) return malformed_frame(c);
       const std::uint16_t start = be16(req + 8);
@@ -230,12 +231,14 @@ struct ModbusResultsServer::Impl {
       for (std::size_t i = 0; i < allow_count; ++i)
         if (allow[i] == peer.sin_addr.s_addr) allowed = true;
       Connection* slot = nullptr;
-      if (open.load() < config.max_connections)
-        for (auto& c : conns)
+      if (open.load() < config.max_connections) {
+        for (auto& c : conns) {
           if (c.fd < 0) {
             slot = &c;
             break;
           }
+        }
+      }
       if (!allowed || slot == nullptr || !active.load()) {
         ++rejected;
         ::close(fd);
@@ -259,11 +262,12 @@ struct ModbusResultsServer::Impl {
       owner[n++] = nullptr;
       fds[n] = {listen_fd, POLLIN, 0};
       owner[n++] = nullptr;
-      for (auto& c : conns)
+      for (auto& c : conns) {
         if (c.fd >= 0) {
           fds[n] = {c.fd, POLLIN, 0};
           owner[n++] = &c;
         }
+      }
       const int ready = ::poll(fds.data(), n, static_cast<int>(kPollTick.count()));
       if (ready < 0 && errno != EINTR) break;
       if (fds[0].revents & POLLIN) {

@@ -181,9 +181,10 @@ std::optional<BundleError> parse_recording_json(const std::string& text, const s
 
   std::string format;
   if (auto e = get_string(doc, "format", file, "format", true, format)) return e;
-  if (format != kRecordingFormat)
+  if (format != kRecordingFormat) {
     return error(file, "format",
                  "unknown format '" + format + "'; expected '" + kRecordingFormat + "'");
+  }
 
   if (auto e = get_string(doc, "drivetrain", file, "drivetrain", true, rec.drivetrain)) return e;
   if (rec.drivetrain.empty())
@@ -220,9 +221,10 @@ std::optional<BundleError> parse_recording_json(const std::string& text, const s
   const auto op = doc.find("operating_point");
   if (op == doc.end())
     return error(file, "operating_point", "missing; expected an object with rotor_speed_rpm");
-  if (!op->is_object())
+  if (!op->is_object()) {
     return error(file, "operating_point",
                  "expected an object, found " + std::string(op->type_name()));
+  }
   std::optional<double> rpm;
   if (auto e = get_number(*op, "rotor_speed_rpm", file, "operating_point.rotor_speed_rpm", rpm))
     return e;
@@ -247,14 +249,16 @@ namespace {
 
 std::optional<BundleError> validate_metadata(const Recording& rec, const OperatingRange& range,
                                              const std::string& file) {
-  if (!std::isfinite(rec.sample_rate_hz) || rec.sample_rate_hz <= 0.0)
+  if (!std::isfinite(rec.sample_rate_hz) || rec.sample_rate_hz <= 0.0) {
     return error(file, "sample_rate_hz",
                  "is " + format_double(rec.sample_rate_hz) + "; expected a finite number > 0");
+  }
   if (rec.samples_file.empty() || rec.samples_file.find('/') != std::string::npos ||
       rec.samples_file.find('\\') != std::string::npos || rec.samples_file == "." ||
-      rec.samples_file == "..")
+      rec.samples_file == "..") {
     return error(file, "samples",
                  "'" + rec.samples_file + "'; expected a file name inside the bundle");
+  }
   if (!lower_ext_is(rec.samples_file, ".wav") && !lower_ext_is(rec.samples_file, ".csv"))
     return error(file, "samples", "'" + rec.samples_file + "'; expected a .wav or .csv file");
   if (rec.channels.empty()) return error(file, "channels", "empty; expected at least one channel");
@@ -262,9 +266,10 @@ std::optional<BundleError> validate_metadata(const Recording& rec, const Operati
   for (std::size_t i = 0; i < rec.channels.size(); ++i) {
     const BundleChannel& c = rec.channels[i];
     const std::string field = "channels[" + std::to_string(i) + "]";
-    if (c.name.empty() || c.name == "t_s" || c.name.find(',') != std::string::npos)
+    if (c.name.empty() || c.name == "t_s" || c.name.find(',') != std::string::npos) {
       return error(file, field + ".name",
                    "'" + c.name + "'; expected a non-empty name other than t_s, without commas");
+    }
     if (!names.insert(c.name).second)
       return error(file, field + ".name", "'" + c.name + "' repeats; expected unique names");
     if (c.location.empty())
@@ -285,15 +290,18 @@ std::optional<BundleError> validate_metadata(const Recording& rec, const Operati
   };
   if (auto e = check("rotor_speed_rpm", op.rotor_speed_rpm, range.max_rotor_speed_rpm, "rpm"))
     return e;
-  if (!op.wind_speed_mps && !op.input_torque_nm)
+  if (!op.wind_speed_mps && !op.input_torque_nm) {
     return error(file, "operating_point",
                  "has neither input_torque_nm nor wind_speed_mps; expected at least one");
-  if (op.wind_speed_mps)
+  }
+  if (op.wind_speed_mps) {
     if (auto e = check("wind_speed_mps", *op.wind_speed_mps, range.max_wind_speed_mps, "m/s"))
       return e;
-  if (op.input_torque_nm)
+  }
+  if (op.input_torque_nm) {
     if (auto e = check("input_torque_nm", *op.input_torque_nm, range.max_input_torque_nm, "N·m"))
       return e;
+  }
   return std::nullopt;
 }
 
@@ -302,40 +310,49 @@ std::optional<BundleError> validate_metadata(const Recording& rec, const Operati
 std::optional<BundleError> validate_recording(const Recording& rec, const OperatingRange& range) {
   if (auto e = validate_metadata(rec, range, kMetaFile)) return e;
   const std::string& sf = rec.samples_file;
-  if (rec.samples.size() != rec.channels.size())
+  if (rec.samples.size() != rec.channels.size()) {
     return error(sf, "channels",
                  std::to_string(rec.samples.size()) + " sample columns; expected " +
                      std::to_string(rec.channels.size()) + " (one per channel)");
+  }
   const std::size_t n = rec.sample_count();
   if (n == 0) return error(sf, "", "no samples; expected at least one");
   for (std::size_t c = 0; c < rec.samples.size(); ++c) {
-    if (rec.samples[c].size() != n)
+    if (rec.samples[c].size() != n) {
       return error(sf, rec.channels[c].name,
                    std::to_string(rec.samples[c].size()) + " samples; expected " +
                        std::to_string(n) + " like the first channel");
-    for (std::size_t i = 0; i < n; ++i)
-      if (!std::isfinite(rec.samples[c][i]))
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite(rec.samples[c][i])) {
         return error(sf, rec.channels[c].name + " sample " + std::to_string(i),
                      "non-finite; expected a finite number");
-    if (lower_ext_is(sf, ".wav"))
-      for (std::size_t i = 0; i < n; ++i)
-        if (std::fabs(rec.samples[c][i]) > static_cast<double>(std::numeric_limits<float>::max()))
+      }
+    }
+    if (lower_ext_is(sf, ".wav")) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (std::fabs(rec.samples[c][i]) > static_cast<double>(std::numeric_limits<float>::max())) {
           return error(sf, rec.channels[c].name + " sample " + std::to_string(i),
                        "exceeds the float32 range of a WAV file");
+        }
+      }
+    }
   }
   double last_t = -1.0;
   for (std::size_t i = 0; i < rec.scada.size(); ++i) {
     const BundleScadaRow& s = rec.scada[i];
     const std::string field = "row " + std::to_string(i + 1);
-    if (!std::isfinite(s.t_s) || s.t_s <= last_t)
+    if (!std::isfinite(s.t_s) || s.t_s <= last_t) {
       return error(kScadaFile, field + ", column 't_s'",
                    "is " + format_double(s.t_s) + "; expected finite and increasing");
+    }
     last_t = s.t_s;
     const std::optional<double> vals[] = {s.wind_speed_mps, s.rotor_speed_rpm, s.power_kw,
                                           s.pitch_deg, s.torque_nm};
-    for (const auto& v : vals)
+    for (const auto& v : vals) {
       if (v && !std::isfinite(*v))
         return error(kScadaFile, field, "non-finite value; expected finite numbers");
+    }
   }
   return std::nullopt;
 }
@@ -345,9 +362,10 @@ std::optional<BundleError> validate_recording(const Recording& rec, const Operat
 std::optional<BundleError> parse_wav(const std::string& bytes, const std::string& file,
                                      WavData& out) {
   if (bytes.size() < 12 || std::memcmp(bytes.data(), "RIFF", 4) != 0 ||
-      std::memcmp(bytes.data() + 8, "WAVE", 4) != 0)
+      std::memcmp(bytes.data() + 8, "WAVE", 4) != 0) {
     return error(file, "RIFF header",
                  "not a RIFF/WAVE file; expected a WAV file of IEEE float 32-bit samples");
+  }
   bool have_fmt = false;
   std::size_t pos = 12;
   while (pos + 8 <= bytes.size()) {
@@ -371,28 +389,32 @@ std::optional<BundleError> parse_wav(const std::string& bytes, const std::string
           return error(file, "fmt chunk", "WAVE_FORMAT_EXTENSIBLE chunk shorter than 40 bytes");
         format = le16(p + 24);
       }
-      if (format != kWaveFormatIeeeFloat || bits != 32)
+      if (format != kWaveFormatIeeeFloat || bits != 32) {
         return error(file, "fmt chunk",
                      "format " + std::to_string(format) + " with " + std::to_string(bits) +
                          " bits; expected IEEE float (3) with 32 bits");
+      }
       if (out.channels == 0) return error(file, "fmt chunk", "0 channels; expected at least one");
-      if (block_align != out.channels * 4u)
+      if (block_align != out.channels * 4u) {
         return error(file, "fmt chunk",
                      "block align " + std::to_string(block_align) + "; expected " +
                          std::to_string(out.channels * 4u) + " (4 bytes x channels)");
+      }
       have_fmt = true;
     } else if (std::memcmp(id, "data", 4) == 0) {
       if (!have_fmt)
         return error(file, "data chunk", "comes before the fmt chunk; expected fmt first");
-      if (size > avail)
+      if (size > avail) {
         return error(file, "data chunk",
                      "declares " + std::to_string(size) + " bytes but only " +
                          std::to_string(avail) + " follow; file truncated");
+      }
       const std::size_t frame = out.channels * 4u;
-      if (size % frame != 0)
+      if (size % frame != 0) {
         return error(file, "data chunk",
                      std::to_string(size) + " bytes is not a whole number of " +
                          std::to_string(frame) + "-byte frames");
+      }
       out.interleaved.resize(size / 4);
       for (std::size_t i = 0; i < out.interleaved.size(); ++i) {
         const std::uint32_t bits32 = le32(bytes.data() + body + 4 * i);
@@ -434,7 +456,7 @@ std::optional<BundleError> parse_samples_csv(const std::string& text, const std:
       std::vector<bool> found(channels.size(), false);
       column_of.assign(header.size(), std::nullopt);
       for (std::size_t k = 0; k < header.size(); ++k) {
-        for (std::size_t c = 0; c < channels.size(); ++c)
+        for (std::size_t c = 0; c < channels.size(); ++c) {
           if (header[k] == channels[c].name) {
             if (found[c]) {
               err =
@@ -444,14 +466,16 @@ std::optional<BundleError> parse_samples_csv(const std::string& text, const std:
             found[c] = true;
             column_of[k] = c;
           }
+        }
       }
-      for (std::size_t c = 0; c < channels.size(); ++c)
+      for (std::size_t c = 0; c < channels.size(); ++c) {
         if (!found[c]) {
           err = error(file, "line 1",
                       "no column '" + channels[c].name +
                           "'; expected one column per channel of recording.json");
           return false;
         }
+      }
       t_col = 0;
       return true;
     }
@@ -506,11 +530,12 @@ std::optional<BundleError> parse_scada_csv(const std::string& text, const std::s
   };
   out.clear();
   ScadaCsvReader reader;
-  if (!reader.open_text(text, file, bundle_scada_columns()))
+  if (!reader.open_text(text, file, bundle_scada_columns())) {
     return error(
         file, "header",
         strip_file(reader.error()) +
             "; expected t_s,wind_speed_mps[,rotor_speed_rpm,power_kw,pitch_deg,torque_nm]");
+  }
   ScadaRow row;
   while (true) {
     const ScadaReadResult res = reader.next(row);
@@ -518,16 +543,19 @@ std::optional<BundleError> parse_scada_csv(const std::string& text, const std::s
     if (res == ScadaReadResult::kError) return error(file, "", strip_file(reader.error()));
     const std::string at =
         "row " + std::to_string(row.row) + " (line " + std::to_string(row.line) + ")";
-    for (ScadaField f : {ScadaField::kTime, ScadaField::kWindSpeed})
-      if (!row.has(f))
+    for (ScadaField f : {ScadaField::kTime, ScadaField::kWindSpeed}) {
+      if (!row.has(f)) {
         return error(file, at + ", column '" + scada_field_name(f) + "'",
                      "empty; expected a number in every row");
+      }
+    }
     BundleScadaRow r;
     r.t_s = row.get(ScadaField::kTime);
     r.wind_speed_mps = row.get(ScadaField::kWindSpeed);
-    if (!out.empty() && r.t_s <= out.back().t_s)
+    if (!out.empty() && r.t_s <= out.back().t_s) {
       return error(file, at + ", column 't_s'",
                    format_double(r.t_s) + "; expected t_s to increase from row to row");
+    }
     auto opt = [&](ScadaField f) {
       return row.has(f) ? std::optional<double>(row.get(f)) : std::nullopt;
     };
@@ -564,35 +592,40 @@ BundleReadResult read_bundle(const fs::path& dir, const OperatingRange& range) {
   const fs::path samples_path = dir / rec.samples_file;
   const std::string samples_name = samples_path.string();
   std::string data;
-  if (!fs::is_regular_file(samples_path, ec) || !read_file(samples_path, data))
+  if (!fs::is_regular_file(samples_path, ec) || !read_file(samples_path, data)) {
     return fail(
         error(samples_name, "", "missing or unreadable; recording.json field 'samples' names it"));
+  }
 
   if (lower_ext_is(rec.samples_file, ".wav")) {
     WavData wav;
     if (auto e = parse_wav(data, samples_name, wav)) return fail(*e);
-    if (wav.channels != rec.channels.size())
+    if (wav.channels != rec.channels.size()) {
       return fail(error(samples_name, "fmt chunk",
                         std::to_string(wav.channels) + " channels; expected " +
                             std::to_string(rec.channels.size()) + " (recording.json channels)"));
-    if (std::fabs(static_cast<double>(wav.sample_rate_hz) - rec.sample_rate_hz) > 0.5)
+    }
+    if (std::fabs(static_cast<double>(wav.sample_rate_hz) - rec.sample_rate_hz) > 0.5) {
       return fail(error(samples_name, "fmt chunk",
                         "sample rate " + std::to_string(wav.sample_rate_hz) + " Hz; expected " +
                             format_double(rec.sample_rate_hz) +
                             " Hz (recording.json sample_rate_hz)"));
+    }
     const std::size_t frames = wav.interleaved.size() / wav.channels;
     if (frames == 0)
       return fail(error(samples_name, "data chunk", "no samples; expected at least one frame"));
     rec.samples.assign(wav.channels, std::vector<double>(frames));
-    for (std::size_t i = 0; i < frames; ++i)
+    for (std::size_t i = 0; i < frames; ++i) {
       for (std::size_t c = 0; c < wav.channels; ++c) {
         const float v = wav.interleaved[i * wav.channels + c];
-        if (!std::isfinite(v))
+        if (!std::isfinite(v)) {
           return fail(error(samples_name,
                             "channel '" + rec.channels[c].name + "' frame " + std::to_string(i),
                             "non-finite sample; expected finite numbers"));
+        }
         rec.samples[c][i] = static_cast<double>(v);
       }
+    }
   } else {
     if (auto e =
             parse_samples_csv(data, samples_name, rec.channels, rec.sample_rate_hz, rec.samples))
@@ -656,13 +689,14 @@ std::string make_wav(const Recording& rec) {
   put16(s, 32);
   s += "data";
   put32(s, data_bytes);
-  for (std::size_t i = 0; i < frames; ++i)
+  for (std::size_t i = 0; i < frames; ++i) {
     for (std::size_t c = 0; c < channels; ++c) {
       const auto f = static_cast<float>(rec.samples[c][i]);
       std::uint32_t bits;
       std::memcpy(&bits, &f, sizeof bits);
       put32(s, bits);
     }
+  }
   return s;
 }
 
@@ -741,10 +775,11 @@ std::optional<BundleError> write_bundle(const fs::path& dir, const Recording& re
       if (r.rotor_speed_rpm.has_value() != f.rotor_speed_rpm.has_value() ||
           r.power_kw.has_value() != f.power_kw.has_value() ||
           r.pitch_deg.has_value() != f.pitch_deg.has_value() ||
-          r.torque_nm.has_value() != f.torque_nm.has_value())
+          r.torque_nm.has_value() != f.torque_nm.has_value()) {
         return error(
             kScadaFile, "row " + std::to_string(i + 1),
             "has a different set of columns than row 1; expected the same columns in every row");
+      }
     }
   }
 

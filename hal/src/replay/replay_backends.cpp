@@ -124,11 +124,12 @@ Status ReplayScadaSource::deactivate() {
 Status ReplayScadaSource::read(Timestamp now, ScadaData& out) {
   if (lifecycle_ != LifecycleState::kActive) return Status::kWrongState;
   // Time moved backwards (a replay restarted): find the place again.
-  if (cursor_ > 0 && rows_[cursor_ - 1].t > now)
+  if (cursor_ > 0 && rows_[cursor_ - 1].t > now) {
     cursor_ = static_cast<std::size_t>(
         std::upper_bound(rows_.begin(), rows_.end(), now,
                          [](Timestamp t, const Row& r) { return t < r.t; }) -
         rows_.begin());
+  }
   while (cursor_ < rows_.size() && rows_[cursor_].t <= now) ++cursor_;
   if (cursor_ == 0) return Status::kNoData;
   const Row& r = rows_[cursor_ - 1];

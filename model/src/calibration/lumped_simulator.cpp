@@ -74,9 +74,10 @@ std::array<double, 3> LumpedSimulator::natural_frequencies_hz(const DynamicsPara
   const Eigen::Vector3d m(mass_kg_[0], mass_kg_[1], mass_kg_[2]);
   Eigen::GeneralizedSelfAdjointEigenSolver<Mat3> es(k, Mat3(m.asDiagonal()));
   std::array<double, 3> f{};
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 3; ++i) {
     f[static_cast<std::size_t>(i)] =
         std::sqrt(std::max(0.0, es.eigenvalues()(i))) / (2.0 * std::numbers::pi);
+  }
   return f;
 }
 

@@ -32,7 +32,7 @@ class Assembler {
     mass_.push_back(mass);
     return static_cast<int>(names_.size()) - 1;
   }
-  Node add_node(const std::string& name, bool axial, Eigen::Vector2d centre) {
+  Node add_node(const std::string& name, bool axial, const Eigen::Vector2d& centre) {
     Node n;
     n.x = add_dof(name + ".x", 0.0);
     n.y = add_dof(name + ".y", 0.0);
@@ -312,7 +312,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
                                                               std::sin(s.hss_axis_angle_rad));
 
   auto build_shaft = [&](const Shaft& shaft, int elements,
-                         Eigen::Vector2d centre) -> std::optional<std::vector<Node>> {
+                         const Eigen::Vector2d& centre) -> std::optional<std::vector<Node>> {
     const Material* mat = d.material(shaft.material);
     if (mat == nullptr) {
       fail(error, "drivetrain '" + d.name + "': shafts: '" + shaft.id + "': unknown material '" +

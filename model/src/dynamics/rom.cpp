@@ -64,7 +64,7 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     fail(error, "rom: eigen-decomposition of the full model failed");
     return nullptr;
   }
-  const Eigen::VectorXd lambda = full.eigenvalues();
+  const Eigen::VectorXd& lambda = full.eigenvalues();
   if (lambda[0] <= 0.0) {
     fail(
         error,
@@ -132,7 +132,7 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   const Eigen::MatrixXd k_red = basis.transpose() * m.stiffness * basis;
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> red(0.5 * (k_red + k_red.transpose()));
   const Eigen::MatrixXd phi_r = basis * red.eigenvectors();
-  const Eigen::VectorXd w2 = red.eigenvalues();
+  const Eigen::VectorXd& w2 = red.eigenvalues();
 
   auto data = std::make_unique<RomData>();
   RomData& d = *data;

@@ -222,7 +222,8 @@ namespace {
 
   // The factors of I + A G first: they depend on the stiffness coefficients only.
   Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + Δk_i G_ij
-  MeshFactors fac;
+  // Left uninitialised on purpose (per step): the factorisation writes every member it reads.
+  MeshFactors fac;  // NOLINT(cppcoreguidelines-pro-type-member-init)
   for (int j = 0; j < kM; ++j) {
     Mesh8 gj;
     __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);

@@ -80,12 +80,12 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   // eq. 35–37 (no protuberance: s_pr = 0); T = π/3 for external gears.
   const double e =
       kPi / 4.0 * m_n - h_fp * std::tan(an) - (1.0 - std::sin(an)) * rho_fp / std::cos(an);
-  const double g_ = rho_fp / m_n - h_fp / m_n + x;
+  const double g_param = rho_fp / m_n - h_fp / m_n + x;
   const double h = 2.0 / z_n * (kPi / 2.0 - e / m_n) - kPi / 3.0;
   // eq. 38: θ = 2G/z_n·tan θ − H, fixed-point iteration from π/6 (converges in a few steps).
   double theta = kPi / 6.0;
   for (int i = 0; i < 50; ++i) {
-    const double next = 2.0 * g_ / z_n * std::tan(theta) - h;
+    const double next = 2.0 * g_param / z_n * std::tan(theta) - h;
     if (std::abs(next - theta) < 1e-14) {
       theta = next;
       break;
@@ -93,11 +93,12 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
     theta = next;
   }
   BendingFormFactors f;
-  const double s_fn = m_n * (z_n * std::sin(kPi / 3.0 - theta) +
-                             std::sqrt(3.0) * (g_ / std::cos(theta) - rho_fp / m_n));  // eq. 39
+  const double s_fn =
+      m_n * (z_n * std::sin(kPi / 3.0 - theta) +
+             std::sqrt(3.0) * (g_param / std::cos(theta) - rho_fp / m_n));  // eq. 39
   const double ct = std::cos(theta);
-  const double rho_f =
-      m_n * (rho_fp / m_n + 2.0 * g_ * g_ / (ct * (z_n * ct * ct - 2.0 * g_)));  // eq. 40
+  const double rho_f = m_n * (rho_fp / m_n + 2.0 * g_param * g_param /
+                                                 (ct * (z_n * ct * ct - 2.0 * g_param)));  // eq. 40
   // Outer point of single pair contact in the virtual spur gear, eq. 42–47.
   const double eps_an = p.eps_alpha / (cb * cb);
   const double d_n = m_n * z_n;
@@ -112,7 +113,7 @@ std::optional<BendingFormFactors> bending_form_factors(const PairGeometry& p, in
   const double alpha_fen = alpha_en - gamma_e;
   const double h_fe = 0.5 * m_n *
                       ((std::cos(gamma_e) - std::sin(gamma_e) * std::tan(alpha_fen)) * d_en / m_n -
-                       z_n * std::cos(kPi / 3.0 - theta) - g_ / ct + rho_fp / m_n);  // eq. 41
+                       z_n * std::cos(kPi / 3.0 - theta) - g_param / ct + rho_fp / m_n);  // eq. 41
   f.s_fn_m = s_fn;
   f.rho_f_m = rho_f;
   f.h_fe_m = h_fe;
