@@ -178,11 +178,9 @@ void run(const DamageArgs& args) {
   if (!channels.valid())
     throw CommandError("drivetrain '" + drivetrain.name + "': " + channels.error());
 
-  mf::SpectrumGrid grid;
-  grid.torque_max_nm = 1.5 * drivetrain.turbine.rated_torque_nm;
-  grid.speed_min_rpm = 0.5;
-  grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
-  if (source == mf::SpectrumSource::kDynamics) grid = app::fatigue::dynamics_grid(drivetrain);
+  const mf::SpectrumGrid grid = source == mf::SpectrumSource::kDynamics
+                                    ? app::fatigue::dynamics_grid(drivetrain)
+                                    : app::fatigue::quasi_static_grid(drivetrain);
   if (!(grid.torque_max_nm > 0.0))
     throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
   const std::uint64_t key = app::fatigue::spectrum_key(drivetrain, channels, grid, source);

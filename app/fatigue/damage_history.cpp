@@ -272,4 +272,12 @@ DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t
   return out;
 }
 
+model::fatigue::SpectrumGrid quasi_static_grid(const model::Drivetrain& drivetrain) {
+  model::fatigue::SpectrumGrid grid;
+  grid.torque_max_nm = 1.5 * drivetrain.turbine.rated_torque_nm;
+  grid.speed_min_rpm = 0.5;
+  grid.speed_max_rpm = std::max(1.0, 1.2 * drivetrain.turbine.rated_rotor_speed_rpm);
+  return grid;
+}
+
 }  // namespace app::fatigue

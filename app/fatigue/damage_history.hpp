@@ -108,6 +108,10 @@ struct DayDistribution {
 DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
                                  double full_day_s, double wind_ref_mps, std::size_t nearest_count);
 
+/// The (torque, speed) grid of the quasi-static spectrum: torque to 1.5·rated, rotor speed
+/// 0.5 rpm to 1.2·rated (at least 1 rpm), the node counts of SpectrumGrid's defaults.
+model::fatigue::SpectrumGrid quasi_static_grid(const model::Drivetrain& drivetrain);
+
 /// Processes every row of an opened reader. Throws std::runtime_error only for failures
 /// that stop the whole file (I/O error, no usable rows to detect the period).
 HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& drivetrain,
