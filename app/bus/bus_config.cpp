@@ -84,10 +84,11 @@ class Reader {
     if (n == nullptr) return std::nullopt;
     if (!n->is_integer()) fail(n, prefix + k, "expected an integer");
     const std::int64_t v = *n->value<std::int64_t>();
-    if (v < lo || v > hi)
+    if (v < lo || v > hi) {
       fail(n, prefix + k,
            "is " + std::to_string(v) + "; expected an integer in [" + std::to_string(lo) + ", " +
                std::to_string(hi) + "]");
+    }
     return v;
   }
 
@@ -100,20 +101,23 @@ class Reader {
 
   hal::SimFault fault(const toml::table& t, const std::string& prefix) const {
     hal::SimFault f = hal::SimFault::kNone;
-    if (const auto s = str(t, "fault", prefix))
-      if (!hal::parse_sim_fault(s->c_str(), f))
+    if (const auto s = str(t, "fault", prefix)) {
+      if (!hal::parse_sim_fault(s->c_str(), f)) {
         fail(t.get("fault"), prefix + "fault",
              "'" + *s + "'; expected none, silent, stuck, noisy, garbage, gaps or bus_off");
+      }
+    }
     return f;
   }
 
   Backend backend(const toml::table& t, const std::string& prefix, const char* linux_name,
                   std::initializer_list<const char*> others) const {
     const auto s = str(t, "backend", prefix);
-    if (!s)
+    if (!s) {
       fail(
           &t, prefix + "backend",
           std::string("missing; expected \"") + linux_name + "\", \"replay\", \"sim\" or \"none\"");
+    }
     if (*s == linux_name) return Backend::kLinux;
     if (*s == "none") return Backend::kNone;
     for (const char* o : others) {
@@ -161,26 +165,28 @@ void read_scada(const Reader& r, const toml::table& t, BusConfig& c) {
   if (const auto s = r.str(t, "columns", p)) c.scada_columns = *s;
   hal::ModbusClientConfig& m = c.modbus_client;
   if (const auto s = r.str(t, "transport", p)) {
-    if (*s == "tcp")
+    if (*s == "tcp") {
       m.transport = hal::ModbusClientConfig::Transport::kTcp;
-    else if (*s == "rtu")
+    } else if (*s == "rtu") {
       m.transport = hal::ModbusClientConfig::Transport::kRtu;
-    else
+    } else {
       r.fail(t.get("transport"), p + "transport", "'" + *s + "'; expected \"tcp\" or \"rtu\"");
+    }
   }
   if (const auto s = r.str(t, "host", p)) m.host = *s;
   if (const auto v = r.integer(t, "port", p, 1, 65535)) m.port = static_cast<std::uint16_t>(*v);
   if (const auto s = r.str(t, "device", p)) m.device = *s;
   if (const auto v = r.integer(t, "baud", p, 1200, 921600)) m.baud = static_cast<int>(*v);
   if (const auto s = r.str(t, "parity", p)) {
-    if (*s == "none")
+    if (*s == "none") {
       m.parity = 'N';
-    else if (*s == "even")
+    } else if (*s == "even") {
       m.parity = 'E';
-    else if (*s == "odd")
+    } else if (*s == "odd") {
       m.parity = 'O';
-    else
+    } else {
       r.fail(t.get("parity"), p + "parity", "'" + *s + "'; expected \"none\", \"even\" or \"odd\"");
+    }
   }
   if (const auto v = r.integer(t, "data_bits", p, 7, 8)) m.data_bits = static_cast<int>(*v);
   if (const auto v = r.integer(t, "stop_bits", p, 1, 2)) m.stop_bits = static_cast<int>(*v);
@@ -197,10 +203,12 @@ void read_scada(const Reader& r, const toml::table& t, BusConfig& c) {
 
   auto read_function = [&](const toml::table& e, const std::string& prefix,
                            hal::RegisterFunction& f) {
-    if (const auto s = r.str(e, "function", prefix))
-      if (!hal::parse_register_function(*s, f))
+    if (const auto s = r.str(e, "function", prefix)) {
+      if (!hal::parse_register_function(*s, f)) {
         r.fail(e.get("function"), prefix + "function",
                "'" + *s + "'; expected \"holding\" or \"input\"");
+      }
+    }
   };
   if (const toml::table* mask = r.table(t, "invalid_mask", p)) {
     const std::string mp = p + "invalid_mask.";
@@ -216,9 +224,10 @@ void read_scada(const Reader& r, const toml::table& t, BusConfig& c) {
     const toml::array* arr = regs->as_array();
     if (arr == nullptr || !arr->is_array_of_tables())
       r.fail(regs, p + "register", "expected [[scada.register]] tables");
-    if (arr->size() > m.map.entries.size())
+    if (arr->size() > m.map.entries.size()) {
       r.fail(regs, p + "register",
              "more than " + std::to_string(m.map.entries.size()) + " registers (one per quantity)");
+    }
     for (std::size_t i = 0; i < arr->size(); ++i) {
       const toml::table& e = *arr->get(i)->as_table();
       const std::string rp = p + "register[" + std::to_string(i) + "].";
@@ -237,14 +246,18 @@ void read_scada(const Reader& r, const toml::table& t, BusConfig& c) {
       if (!a) r.fail(&e, rp + "address", "missing; expected the register address (0-based)");
       reg.spec.address = static_cast<std::uint16_t>(*a);
       read_function(e, rp, reg.spec.function);
-      if (const auto s = r.str(e, "type", rp))
-        if (!hal::parse_register_type(*s, reg.spec.type))
+      if (const auto s = r.str(e, "type", rp)) {
+        if (!hal::parse_register_type(*s, reg.spec.type)) {
           r.fail(e.get("type"), rp + "type",
                  "'" + *s + "'; expected int16, uint16, int32, uint32 or float32");
-      if (const auto s = r.str(e, "word_order", rp))
-        if (!hal::parse_word_order(*s, reg.spec.word_order))
+        }
+      }
+      if (const auto s = r.str(e, "word_order", rp)) {
+        if (!hal::parse_word_order(*s, reg.spec.word_order)) {
           r.fail(e.get("word_order"), rp + "word_order",
                  "'" + *s + "'; expected \"high_first\" (ABCD) or \"low_first\" (CDAB)");
+        }
+      }
       if (const auto v = r.number(e, "scale", rp, -1e12, 1e12)) reg.spec.scale = *v;
       if (reg.spec.scale == 0.0)
         r.fail(e.get("scale"), rp + "scale", "is 0; expected a non-zero factor");
@@ -252,23 +265,26 @@ void read_scada(const Reader& r, const toml::table& t, BusConfig& c) {
       const std::string_view want =
           hal::kScadaQuantities[static_cast<std::size_t>(reg.quantity)].unit;
       const auto unit = r.str(e, "unit", rp);
-      if (!unit || *unit != want)
+      if (!unit || *unit != want) {
         r.fail(e.get("unit") ? e.get("unit") : &e, rp + "unit",
                (unit ? "'" + *unit + "'" : std::string("missing")) + "; expected '" +
                    std::string(want) + "' for " + *q +
                    " (scale converts the register to this unit)");
+      }
       ++m.map.count;
     }
   }
   if (c.scada == Backend::kLinux) {
-    if (m.map.count == 0)
+    if (m.map.count == 0) {
       r.fail(&t, p + "register",
              "no registers; the modbus backend needs at least one [[scada.register]]");
-    if (const auto bad = hal::validate_map(m.map))
+    }
+    if (const auto bad = hal::validate_map(m.map)) {
       r.fail(&t,
              p + (*bad < m.map.count ? "register[" + std::to_string(*bad) + "]"
                                      : std::string("invalid_mask")),
              "overlaps another register, repeats a quantity or does not fit the address space");
+    }
   }
 }
 
@@ -287,13 +303,14 @@ void read_cms(const Reader& r, const toml::table& t, BusConfig& c) {
   if (const auto v = r.integer(t, "heartbeat_id", p, 0, 0x7FF))
     s.heartbeat_id = static_cast<std::uint32_t>(*v);
   if (const auto v = r.str(t, "classic_format", p)) {
-    if (*v == "int16")
+    if (*v == "int16") {
       s.classic_format = hal::CmsSampleFormat::kInt16;
-    else if (*v == "int24")
+    } else if (*v == "int24") {
       s.classic_format = hal::CmsSampleFormat::kInt24;
-    else
+    } else {
       r.fail(t.get("classic_format"), p + "classic_format",
              "'" + *v + "'; expected \"int16\" or \"int24\"");
+    }
   }
   s.stale_after = r.ms(t, "stale_after_ms", p, s.stale_after);
   s.error_hold = r.ms(t, "error_hold_ms", p, s.error_hold);
@@ -326,9 +343,10 @@ void read_cms(const Reader& r, const toml::table& t, BusConfig& c) {
     }
   }
   if (c.cms == Backend::kLinux &&
-      std::all_of(s.scale.begin(), s.scale.end(), [](float v) { return v == 0.0f; }))
+      std::all_of(s.scale.begin(), s.scale.end(), [](float v) { return v == 0.0f; })) {
     r.fail(&t, p + "channel",
            "no channels; the socketcan backend needs at least one [[cms.channel]]");
+  }
 }
 
 void read_keyphasor(const Reader& r, const toml::table& t, BusConfig& c) {
@@ -359,9 +377,10 @@ void read_outputs(const Reader& r, const toml::table& t, BusConfig& c) {
     c.gpio_outputs.alarm_line = static_cast<unsigned>(*v);
   if (const auto v = r.boolean(t, "alarm_relay_energised_when_ok", p))
     c.gpio_outputs.alarm_relay_energised_when_ok = *v;
-  if (c.gpio_outputs.watchdog_line == c.gpio_outputs.alarm_line)
+  if (c.gpio_outputs.watchdog_line == c.gpio_outputs.alarm_line) {
     r.fail(t.get("alarm_line"), p + "alarm_line",
            "same line as watchdog_line; expected two different lines");
+  }
 }
 
 void read_results(const Reader& r, const toml::table& t, BusConfig& c) {
@@ -377,10 +396,12 @@ void read_results(const Reader& r, const toml::table& t, BusConfig& c) {
   if (const auto v = r.integer(t, "max_connections", p, 1, 32))
     s.max_connections = static_cast<int>(*v);
   s.idle_timeout = r.ms(t, "idle_timeout_ms", p, s.idle_timeout);
-  if (const auto v = r.str(t, "word_order", p))
-    if (!hal::parse_word_order(*v, s.word_order))
+  if (const auto v = r.str(t, "word_order", p)) {
+    if (!hal::parse_word_order(*v, s.word_order)) {
       r.fail(t.get("word_order"), p + "word_order",
              "'" + *v + "'; expected \"high_first\" or \"low_first\"");
+    }
+  }
   if (const toml::node* n = t.get("allow")) {
     const toml::array* a = n->as_array();
     if (!a) r.fail(n, p + "allow", "expected an array of IPv4 addresses");
@@ -394,12 +415,13 @@ void read_results(const Reader& r, const toml::table& t, BusConfig& c) {
     if (!a) r.fail(n, p + "writable", "expected an array of register addresses");
     for (const auto& e : *a) {
       const auto v = e.value<std::int64_t>();
-      if (!e.is_integer() || *v < hal::results_reg::kCommands || *v >= hal::results_reg::kCount)
+      if (!e.is_integer() || *v < hal::results_reg::kCommands || *v >= hal::results_reg::kCount) {
         r.fail(&e, p + "writable",
                "expected command register addresses " +
                    std::to_string(hal::results_reg::kCommands) + ".." +
                    std::to_string(hal::results_reg::kCount - 1) +
                    " (the results themselves are read-only)");
+      }
       s.writable.push_back(static_cast<std::uint16_t>(*v));
     }
   }
@@ -436,10 +458,11 @@ BusConfig parse_bus_config(std::string_view text, const std::filesystem::path& n
   c.file = name;
   r.only(root, "", {"format", "scada", "cms", "keyphasor", "outputs", "results", "replay"});
   const auto format = r.str(root, "format", "");
-  if (!format || *format != kBusFormat)
+  if (!format || *format != kBusFormat) {
     r.fail(root.get("format"), "format",
            (format ? "'" + *format + "'" : std::string("missing")) + "; expected \"" + kBusFormat +
                "\"");
+  }
   if (const toml::table* t = r.table(root, "replay", "")) {
     r.only(*t, "replay.", {"bundle", "speed"});
     if (const auto s = r.str(*t, "bundle", "replay."))
@@ -455,9 +478,10 @@ BusConfig parse_bus_config(std::string_view text, const std::filesystem::path& n
       c.scada == Backend::kReplay || c.cms == Backend::kReplay || c.keyphasor == Backend::kReplay;
   if (replay && c.bundle.empty() &&
       !(c.scada == Backend::kReplay && !c.scada_csv.empty() && c.cms != Backend::kReplay &&
-        c.keyphasor != Backend::kReplay))
+        c.keyphasor != Backend::kReplay)) {
     r.fail(root.get("replay"), "replay.bundle",
            "missing; a replay backend needs the recording bundle to play");
+  }
   return c;
 }
 

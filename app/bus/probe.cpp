@@ -34,9 +34,10 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
       c.scada == Backend::kReplay || c.cms == Backend::kReplay || c.keyphasor == Backend::kReplay;
   const bool stepped = o.fast && (c.scada != Backend::kLinux && c.cms != Backend::kLinux &&
                                   c.keyphasor != Backend::kLinux);
-  if (o.fast && !stepped)
+  if (o.fast && !stepped) {
     throw BusConfigError(
         "--fast works only when no bus is live hardware (modbus, socketcan, gpio)");
+  }
   hal::ReplayClock clock(stepped ? 0.0 : (any_replay ? c.replay_speed : 1.0));
 
   std::optional<hal::Recording> rec;
@@ -134,20 +135,23 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
 
   // ---- configure + activate ----
   const std::string f = c.file.string();
-  if (scada)
+  if (scada) {
     check(scada->configure(), f + ": scada (" +
                                   (c.scada == Backend::kLinux ? c.modbus_client.host
                                                               : std::string(to_string(c.scada))) +
                                   ")");
+  }
   if (cms && cms->state() == hal::LifecycleState::kUnconfigured)
     check(cms->configure(), f + ": cms (interface " + c.socketcan.interface + ")");
-  if (kp)
+  if (kp) {
     check(kp->configure(), f + ": keyphasor (" + c.gpio_keyphasor.chip.chip + " line " +
                                std::to_string(c.gpio_keyphasor.line) + ")");
+  }
   if (outputs) check(outputs->configure(), f + ": outputs (" + c.gpio_outputs.chip.chip + ")");
-  if (results)
+  if (results) {
     check(results->configure(), f + ": results (" + c.modbus_server.bind_address + ":" +
                                     std::to_string(c.modbus_server.port) + ")");
+  }
   clock.start();
   if (scada) check(scada->activate(), "scada");
   if (cms) check(cms->activate(), "cms");
@@ -245,11 +249,12 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
     if (kp) {
       const auto s = tracker.state(now);
       out << "  keyphasor: ";
-      if (s.valid)
+      if (s.valid) {
         out << c.keyphasor_shaft << " " << fixed(s.speed_hz, 4)
             << " Hz = " << fixed(s.speed_hz * 60.0, 1) << " rpm";
-      else
+      } else {
         out << "no valid speed";
+      }
       out << "  (edges " << kp_edges << ", glitches " << s.glitches << ", lost " << s.lost << ")\n";
     }
     out.flush();

@@ -129,7 +129,7 @@ SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir,
 
 nlohmann::json fit_json(const mc::PointIndicators& ind) {
   nlohmann::json j;
-  static const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
+  static constexpr const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
     j[kNames[p]] = {{"f1", ind[p].f1},
                     {"f2", ind[p].f2},
@@ -149,7 +149,7 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
 
 void print_fit(const char* title, const mc::PointIndicators& ind) {
   std::printf("%s\n  point   f1 (<=0.5)  f2 (<=0.2)  f3 (<=0.2)  tones\n", title);
-  static const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
+  static constexpr const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
     std::printf("  %-6s  %9.4f%s  %9.4f%s  %9.4f%s  %5zu%s\n", kNames[p], ind[p].f1,
                 ind[p].f1 > mc::kF1Threshold ? "*" : " ", ind[p].f2,

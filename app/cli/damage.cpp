@@ -126,17 +126,18 @@ void run(const DamageArgs& args) {
   const auto columns = hal::parse_scada_columns(auto_columns ? "bundle" : args.columns, &error);
   if (!columns) throw CommandError("--columns: " + error);
   app::fatigue::TorqueFrom torque_from = app::fatigue::TorqueFrom::kAuto;
-  if (args.torque_from == "torque")
+  if (args.torque_from == "torque") {
     torque_from = app::fatigue::TorqueFrom::kTorque;
-  else if (args.torque_from == "power")
+  } else if (args.torque_from == "power") {
     torque_from = app::fatigue::TorqueFrom::kPower;
-  else if (args.torque_from == "wind")
+  } else if (args.torque_from == "wind") {
     torque_from = app::fatigue::TorqueFrom::kWind;
-  else if (args.torque_from == "wind-steady")
+  } else if (args.torque_from == "wind-steady") {
     torque_from = app::fatigue::TorqueFrom::kWindSteady;
-  else if (args.torque_from != "auto")
+  } else if (args.torque_from != "auto") {
     throw CommandError("--torque-from: '" + args.torque_from +
                        "' is not one of auto, torque, power, wind, wind-steady");
+  }
   mf::ChannelOptions options;
   options.k_a = args.k_a;
   options.rating.k_h_beta_override = args.k_h_beta;

@@ -65,10 +65,11 @@ void run(const CheckArgs& a) {
   ho.torque_from = app::fatigue::TorqueFrom::kTorque;
   const app::fatigue::HistoryResult h =
       app::fatigue::run_history(reader, d, channels, spectrum, ho);
-  if (h.rows_used != a.rows)
+  if (h.rows_used != a.rows) {
     throw CommandError(a.file + ": only " + std::to_string(h.rows_used) + " of the first " +
                        std::to_string(a.rows) +
                        " rows are usable (need t_s, rotor_speed_rpm, torque_nm)");
+  }
 
   // Online: the ROM stepped continuously.
   const auto model_full = model::dynamics::build_full_model(d, {}, &error);

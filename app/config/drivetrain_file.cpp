@@ -49,7 +49,7 @@ using Member =
 /// Adding a field to the format is one line in the tables below.
 template <class T>
 struct Key {
-  const char* name;
+  const char* name = nullptr;
   Member<T> member;
   Range range = Range::kAny;
   double scale = 1.0;
@@ -159,21 +159,23 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
 const char* enum_name(StageType t) { return t == StageType::kPlanetary ? "planetary" : "parallel"; }
 const char* enum_name(BearingType t) { return t == BearingType::kBall ? "ball" : "roller"; }
 bool enum_parse(std::string_view s, StageType& out) {
-  if (s == "planetary")
+  if (s == "planetary") {
     out = StageType::kPlanetary;
-  else if (s == "parallel")
+  } else if (s == "parallel") {
     out = StageType::kParallel;
-  else
+  } else {
     return false;
+  }
   return true;
 }
 bool enum_parse(std::string_view s, BearingType& out) {
-  if (s == "ball")
+  if (s == "ball") {
     out = BearingType::kBall;
-  else if (s == "roller")
+  } else if (s == "roller") {
     out = BearingType::kRoller;
-  else
+  } else {
     return false;
+  }
   return true;
 }
 const char* enum_choices(StageType) { return "\"planetary\" or \"parallel\""; }

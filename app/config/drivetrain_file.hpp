@@ -22,7 +22,7 @@
 
 #include "model/drivetrain/description.hpp"
 
-namespace CLI {
+namespace CLI {  // NOLINT(readability-identifier-naming): CLI11's own namespace
 class App;
 class Option;
 }  // namespace CLI

@@ -33,7 +33,7 @@ constexpr double kYearS = 365.25 * kDayS;     // [s]
 constexpr std::size_t kShown = 3;             // gear channels and bearings listed
 
 void run_fatigue_stage(const app::demo::DemoContext& ctx) {
-  const char* kFile = "kelmarsh-day.csv";
+  constexpr const char* kFile = "kelmarsh-day.csv";
   const auto text = app::data::embedded_file(kFile);
   if (!text) throw app::cli::CommandError(std::string("demo: built-in data ") + kFile + " missing");
   const model::Drivetrain drivetrain = app::config::load_drivetrain("paper-2mw");

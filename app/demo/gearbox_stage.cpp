@@ -135,15 +135,16 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
     for (auto it = first; it != f.end(); ++it) var += (*it - mean) * (*it - mean);
     const std::string& id = out.mesh_ids[m];
     double expected = 0.0;
-    if (id.rfind("sun_planet", 0) == 0)
+    if (id.rfind("sun_planet", 0) == 0) {
       expected = mesh_force_n(*pl, zs, t_sun, planets);
-    else if (id.rfind("ring_planet", 0) == 0)
+    } else if (id.rfind("ring_planet", 0) == 0) {
       expected = mesh_force_n(*pl, zr, load.torque_nm - t_sun, planets);
-    else if (id == "intermediate")
+    } else if (id == "intermediate") {
       expected = mesh_force_n(*im, z_im_pinion, t_ims, 1);
-    else if (id == "high_speed")
+    } else if (id == "high_speed") {
       expected =
           mesh_force_n(*hs, z_hs_pinion, t_ims * z_hs_pinion / d->gear(hs->gears[0])->teeth, 1);
+    }
     std::fprintf(ctx.out, "  %-14s %10.1f %13.1f %18.2f\n", id.c_str(), mean / 1e3, expected / 1e3,
                  std::sqrt(var / kFft) / 1e3);
   }

@@ -18,7 +18,7 @@ namespace {
 using model::wind::OperatingRegion;
 
 void run_wind_stage(const app::demo::DemoContext& ctx) {
-  const char* kFile = "kelmarsh-day.csv";
+  constexpr const char* kFile = "kelmarsh-day.csv";
   const auto text = app::data::embedded_file(kFile);
   if (!text) throw app::cli::CommandError(std::string("demo: built-in data ") + kFile + " missing");
   const model::Drivetrain drivetrain = app::config::load_drivetrain("kelmarsh-mm92");

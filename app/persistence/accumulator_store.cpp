@@ -19,6 +19,14 @@ namespace {
 namespace fs = std::filesystem;
 using model::fatigue::AccumulatorState;
 
+// The file holds AccumulatorState's bytes as they are, and save() compares them after reading
+// back: both need a struct without padding (4 × u32, 7 × u64, then u64 and double arrays).
+constexpr std::size_t kStateFieldBytes =
+    4 * 4 + 7 * 8 +
+    2 * model::fatigue::kMaxChannels * (model::fatigue::kMaxBins + 1) * sizeof(std::uint64_t) +
+    3 * model::fatigue::kMaxChannels * sizeof(double);
+static_assert(sizeof(AccumulatorState) == kStateFieldBytes, "AccumulatorState has padding");
+
 constexpr std::size_t kHeaderBytes = 24;
 constexpr std::size_t kCrcBytes = 4;
 
@@ -157,6 +165,9 @@ bool AccumulatorStore::save(const AccumulatorState& state, std::string* error) c
     err = "'" + tmp.string() + "': read-back after writing failed: " + what;
     return false;
   }
+  // Bit-identical, doubles included (-0.0, NaN payloads): exactly what the file must restore.
+  // AccumulatorState has no padding (asserted at the top of this file).
+  // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
   if (std::memcmp(check.get(), &state, sizeof state) != 0) {
     err = "'" + tmp.string() + "': read-back differs from the state written";
     return false;
