@@ -1,0 +1,202 @@
+// `drivetwin synth-scada` end to end, in-process through app::cli::run: the turbulent mode
+// (--turbulence) writes 1-s rows whose 10-minute means are what --out-10min writes; with no
+// turbulence the rotor model sits at the wind load model's steady operating point; a seed
+// reproduces a file byte for byte; 10-minute winds come from a file (or the built-in day);
+// bad inputs stop with the file, row and column.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/run.hpp"
+#include "model/drivetrain/description.hpp"
+#include "model/wind/wind_load.hpp"
+
+namespace {
+namespace fs = std::filesystem;
+
+struct SynthResult {
+  int exit_code = 0;
+  std::string error;
+};
+
+SynthResult run_synth(const std::vector<std::string>& args) {
+  testing::internal::CaptureStdout();
+  const app::cli::RunResult r = app::cli::run(args);
+  testing::internal::GetCapturedStdout();
+  return {r.exit_code, r.error};
+}
+
+struct Row {
+  double t = 0, wind = 0, rpm = 0, kw = 0, torque = 0, pitch = 0;
+};
+
+std::vector<Row> read_rows(const fs::path& path, std::string* header = nullptr) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  if (header) *header = line;
+  std::vector<Row> rows;
+  while (std::getline(in, line)) {
+    Row r;
+    char c = 0;
+    std::istringstream f(line);
+    f >> r.t >> c >> r.wind >> c >> r.rpm >> c >> r.kw >> c >> r.torque >> c >> r.pitch;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class SynthScada : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("drivetwin_synth_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string p(const char* name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(SynthScada, TurbulentRowsAverageToTheTenMinuteFile) {
+  // Two 10-minute rows (1 200 s) of class A turbulence around the paper's 6.75 m/s.
+  const SynthResult r = run_synth({"synth-scada", "--turbulence", "A", "--mean-wind", "6.75",
+                                   "--days", std::to_string(1200.0 / 86400.0), "--out", p("1s.csv"),
+                                   "--out-10min", p("10min.csv")});
+  ASSERT_EQ(r.exit_code, 0) << r.error;
+  std::string header;
+  const auto fine = read_rows(p("1s.csv"), &header);
+  const auto coarse = read_rows(p("10min.csv"));
+  EXPECT_EQ(header, "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,torque_nm,pitch_deg");
+  ASSERT_EQ(fine.size(), 1200u);
+  ASSERT_EQ(coarse.size(), 2u);
+  EXPECT_EQ(fine[1].t - fine[0].t, 1.0);
+  for (std::size_t k = 0; k < 2; ++k) {
+    double wind = 0, torque = 0;
+    for (std::size_t i = 600 * k; i < 600 * (k + 1); ++i) {
+      wind += fine[i].wind / 600.0;
+      torque += fine[i].torque / 600.0;
+    }
+    EXPECT_EQ(coarse[k].t, fine[600 * k].t);
+    // Printed with 3 decimals (wind) and 0.1 N·m (torque).
+    EXPECT_NEAR(coarse[k].wind, wind, 2e-3);
+    EXPECT_NEAR(coarse[k].torque, torque, 0.2);
+    // The row's mean wind is the given mean (cross-fades move it in second order only).
+    EXPECT_NEAR(coarse[k].wind, 6.75, 0.15);
+  }
+  // Turbulence is there: σ1 = 0.16·(0.75·6.75 + 5.6) = 1.71 m/s; 1-s means keep most of it.
+  double var = 0;
+  for (const Row& row : fine) var += (row.wind - 6.75) * (row.wind - 6.75) / 1200.0;
+  EXPECT_GT(std::sqrt(var), 1.2);
+  EXPECT_LT(std::sqrt(var), 2.0);
+}
+
+TEST_F(SynthScada, NoTurbulenceSitsAtTheSteadyOperatingPoint) {
+  ASSERT_EQ(run_synth({"synth-scada", "--turbulence", "none", "--mean-wind", "6.75", "--days",
+                       std::to_string(1200.0 / 86400.0), "--resolution", "60", "--out", p("a.csv")})
+                .exit_code,
+            0);
+  const auto rows = read_rows(p("a.csv"));
+  ASSERT_EQ(rows.size(), 20u);  // two 10-minute rows of ten 60-s rows
+  const model::wind::WindLoad load(model::paper_2mw().turbine);
+  const auto ref = load.steady_state(6.75);  // λ_opt tracking: 370 048 N·m
+  for (const Row& row : rows) {
+    EXPECT_NEAR(row.torque / ref.torque_nm, 1.0, 1e-6);
+    EXPECT_NEAR(row.rpm, ref.rotor_speed_rad_s * 60.0 / (2.0 * std::numbers::pi), 1e-4);
+    EXPECT_EQ(row.wind, 6.75);
+  }
+}
+
+TEST_F(SynthScada, SameSeedSameFileOtherSeedOther) {
+  const std::vector<std::string> base{"synth-scada", "--turbulence", "B", "--days", "0.01"};
+  auto with = [&](const char* seed, const std::string& out) {
+    auto a = base;
+    a.insert(a.end(), {"--seed", seed, "--out", out});
+    return run_synth(a).exit_code;
+  };
+  ASSERT_EQ(with("4", p("a.csv")), 0);
+  ASSERT_EQ(with("4", p("b.csv")), 0);
+  ASSERT_EQ(with("5", p("c.csv")), 0);
+  EXPECT_EQ(slurp(p("a.csv")), slurp(p("b.csv")));
+  EXPECT_NE(slurp(p("a.csv")), slurp(p("c.csv")));
+}
+
+TEST_F(SynthScada, TenMinuteWindsFromAFileAndFromTheBuiltInDay) {
+  std::ofstream(p("in.csv")) << "t_s,wind_speed_mps\n0,5\n600,3\n1800,25\n";
+  ASSERT_EQ(run_synth({"synth-scada", "--turbulence", "C", "--from-10min", p("in.csv"),
+                       "--resolution", "10", "--out", p("a.csv"), "--out-10min", p("b.csv")})
+                .exit_code,
+            0);
+  const auto coarse = read_rows(p("b.csv"));
+  ASSERT_EQ(coarse.size(), 3u);
+  EXPECT_EQ(coarse[2].t, 1800.0);    // the gap is kept, not filled
+  EXPECT_GT(coarse[0].torque, 0.0);  // 5 m/s: operating
+  EXPECT_EQ(coarse[1].torque, 0.0);  // 3 m/s mean: below cut-in, parked
+  EXPECT_EQ(coarse[2].torque, 0.0);  // 25 m/s mean: above cut-out, parked
+  EXPECT_EQ(coarse[1].rpm, 0.0);
+  EXPECT_GT(coarse[1].wind, 0.0);  // the wind is still there
+  EXPECT_EQ(read_rows(p("a.csv")).size(), 180u);
+
+  // The built-in Kelmarsh day (its columns, date-time stamps), 144 rows.
+  ASSERT_EQ(run_synth({"synth-scada", "--turbulence", "none", "--from-10min",
+                       "builtin:kelmarsh-day.csv", "--resolution", "600", "--out", p("k.csv")})
+                .exit_code,
+            0);
+  const auto k = read_rows(p("k.csv"));
+  ASSERT_EQ(k.size(), 144u);
+  EXPECT_EQ(k[0].t, 1557619200.0);  // 2019-05-12T00:00:00Z
+  EXPECT_NEAR(k[0].wind, 7.373, 1e-3);
+}
+
+TEST_F(SynthScada, BadInputsNamed) {
+  std::ofstream(p("neg.csv")) << "t_s,wind_speed_mps\n0,5\n600,-2\n";
+  std::ofstream(p("dup.csv")) << "t_s,wind_speed_mps\n0,5\n300,6\n";
+  std::ofstream(p("text.csv")) << "t_s,wind_speed_mps\n0,5\n600,windy\n";
+  std::ofstream(p("cols.csv")) << "time,wind\n0,5\n";
+  struct Case {
+    std::vector<std::string> args;
+    std::vector<std::string> says;
+  };
+  const std::vector<Case> cases{
+      {{"--turbulence", "A", "--from-10min", p("neg.csv")},
+       {"neg.csv", "row 2", "wind_speed_mps", "-2"}},
+      {{"--turbulence", "A", "--from-10min", p("dup.csv")},
+       {"dup.csv", "row 2", "t_s", "less than 600 s"}},
+      {{"--turbulence", "A", "--from-10min", p("text.csv")},
+       {"text.csv", "row 2", "wind_speed_mps"}},
+      {{"--turbulence", "A", "--from-10min", p("cols.csv")}, {"cols.csv", "t_s"}},
+      {{"--turbulence", "A", "--from-10min", "builtin:nope.csv"}, {"nope.csv"}},
+      {{"--turbulence", "D", "--days", "1"}, {"--turbulence", "'D'"}},
+      {{"--mean-wind", "6.75", "--days", "1"}, {"--mean-wind", "need --turbulence"}},
+      {{"--turbulence", "A", "--mean-wind", "6.75"}, {"--days must be given"}},
+      {{"--turbulence", "A", "--mean-wind", "6.75", "--resolution", "7"}, {"--resolution"}},
+      {{"--turbulence", "A", "--mean-wind", "6.75", "--rotor-inertia", "0"}, {"rotor inertia"}},
+      {{"--turbulence", "A", "--mean-wind", "6.75", "--hub-height", "-5"}, {"hub height"}},
+      {{"--turbulence", "A", "--mean-wind", "6.75", "--from-10min", p("neg.csv")},
+       {"exclude each other"}},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args{"synth-scada", "--out", p("out.csv")};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const SynthResult r = run_synth(args);
+    EXPECT_NE(r.exit_code, 0) << c.args[1];
+    for (const std::string& s : c.says) EXPECT_NE(r.error.find(s), std::string::npos) << r.error;
+  }
+}
+
+}  // namespace
