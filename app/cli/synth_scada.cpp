@@ -164,10 +164,12 @@ std::vector<SynthMeanRow> read_synth_means(const std::string& file) {
     return text ? reader.open_text(*text, file, columns) : reader.open(file, columns);
   };
   if (!open(hal::bundle_scada_columns())) {
-    const std::string bundle_error = reader.error();
-    if (!open(hal::kelmarsh_scada_columns()))
+    // A copy (the next open() replaces the reader's error), with what it was tried as.
+    const std::string bundle_error = "as bundle columns: " + reader.error();
+    if (!open(hal::kelmarsh_scada_columns())) {
       throw CommandError("--from-10min: " + bundle_error +
-                         " (nor the Kelmarsh columns: " + reader.error() + ")");
+                         "; as Kelmarsh columns: " + reader.error());
+    }
   }
   const char* time_column = reader.column_name(hal::ScadaField::kTime).c_str();
   const char* wind_column = reader.column_name(hal::ScadaField::kWindSpeed).c_str();
@@ -186,12 +188,14 @@ std::vector<SynthMeanRow> read_synth_means(const std::string& file) {
       throw CommandError(where(wind_column) + "empty wind speed (a turbulent row needs its mean)");
     const double t = row.get(hal::ScadaField::kTime);
     const double v = row.get(hal::ScadaField::kWindSpeed);
-    if (v < 0.0 || v > 70.0)
+    if (v < 0.0 || v > 70.0) {
       throw CommandError(where(wind_column) + "wind speed " + synth_number(v) +
                          " m/s outside 0..70");
-    if (!rows.empty() && t < rows.back().t_s + kSynthSegmentS - 1e-6)
+    }
+    if (!rows.empty() && t < rows.back().t_s + kSynthSegmentS - 1e-6) {
       throw CommandError(where(time_column) + "time " + synth_number(t) +
                          " is less than 600 s after the previous row's (10-minute rows expected)");
+    }
     rows.push_back({t, v});
   }
   if (rows.empty()) throw CommandError("--from-10min: " + file + ": no data rows");
@@ -233,10 +237,11 @@ void run_synth_turbulent(const SynthArgs& a) {
   const double outs_per_segment = kSynthSegmentS / a.resolution_s;
   const double samples_per_step = a.wind_sample_s / a.step_s;
   auto whole = [](double x) { return std::abs(x - std::round(x)) < 1e-9 * std::max(1.0, x); };
-  if (!whole(steps_per_out) || !whole(outs_per_segment) || !whole(samples_per_step))
+  if (!whole(steps_per_out) || !whole(outs_per_segment) || !whole(samples_per_step)) {
     throw CommandError(
         "--resolution must divide 600 s and be a whole number of --step, and --wind-sample a "
         "whole number of --step");
+  }
   if (!a.from_10min.empty() && a.mean_wind >= 0.0)
     throw CommandError("--from-10min and --mean-wind exclude each other");
   if (!(a.mean_wind < 70.0)) throw CommandError("--mean-wind must be below 70 m/s");
@@ -374,9 +379,10 @@ void run_synth_turbulent(const SynthArgs& a) {
       rp.drivetrain_inertia_kg_m2, dt, a.out.c_str());
   std::printf("largest row torque %.0f N·m (rated %.0f), largest row pitch %.2f°\n", max_torque,
               d.turbine.rated_torque_nm, max_pitch);
-  if (f10)
+  if (f10) {
     std::printf("wrote %zu 10-minute means of the same run to %s\n", means.size(),
                 a.out_10min.c_str());
+  }
 }
 
 void run(const SynthArgs& a) {
