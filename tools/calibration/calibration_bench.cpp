@@ -36,6 +36,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <optional>
 #include <string>
@@ -327,7 +328,8 @@ T median(std::vector<T> v) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+int run(int argc, char** argv) {
   CLI::App cli{
       "Calibration: ours (trust region, MOGOA) vs pagmo2 NSGA-II and MOEA/D, same problem and "
       "budget"};
@@ -428,4 +430,16 @@ int main(int argc, char** argv) {
     }
   }
   return 0;
+}
+}  // namespace
+
+// Anything thrown (a file that cannot be written, a model that cannot be built) ends the tool with
+// its message and exit status 1, never with std::terminate.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "calibration_bench: %s\n", e.what());
+    return 1;
+  }
 }

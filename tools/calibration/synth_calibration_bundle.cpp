@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <exception>
 #include <memory>
 #include <random>
 #include <string>
@@ -26,7 +27,8 @@
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/drivetrain/kinematics.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+int run(int argc, char** argv) {
   CLI::App cli{"Simulated off-nominal recording bundle for the calibration demo"};
   std::string out;
   double rpm = 8.33, torque = 361747.0, damping_factor = 2.0, mesh_scale = 0.8, bearing_scale = 1.3;
@@ -169,4 +171,16 @@ int main(int argc, char** argv) {
   std::printf("wrote %s: %zu samples at %g Hz, %s\n", out.c_str(), rec.sample_count(), fs_hz,
               notes);
   return 0;
+}
+}  // namespace
+
+// Anything thrown (a file that cannot be written, a model that cannot be built) ends the tool with
+// its message and exit status 1, never with std::terminate.
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "synth_calibration_bundle: %s\n", e.what());
+    return 1;
+  }
 }
