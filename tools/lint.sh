@@ -22,7 +22,7 @@ case "$mode" in
     build="${2:?usage: lint.sh tidy BUILD_DIR [FILE ...]}"
     shift 2
     files=("$@")
-    [ ${#files[@]} -gt 0 ] || mapfile -t files < <(find app hal model -name '*.cpp' | sort)
+    [ ${#files[@]} -gt 0 ] || mapfile -t files < <(find app hal model tools -name '*.cpp' | sort)
     clang-tidy -p "$build" --quiet --warnings-as-errors='*' "${files[@]}"
     ;;
   *) echo "lint.sh: unknown mode '$mode' (format | fix | tidy)" >&2; exit 2 ;;
