@@ -20,8 +20,9 @@
 // winds come from an existing SCADA file (`--from-10min FILE`, e.g.
 // builtin:kelmarsh-day.csv; each row's time and mean wind), from a constant
 // (`--mean-wind V`), or from the Weibull + AR(1) generator above. Inside each row: IEC
-// 61400-1 normal turbulence with the Kaimal spectrum at the hub (model/wind/turbulence.hpp;
-// point wind, no rotor averaging: an upper bound of the fluctuations), fed to the
+// 61400-1 normal turbulence with the Kaimal spectrum (model/wind/turbulence.hpp), averaged
+// over the rotor disc with IEC's exponential coherence (--point-wind: the hub point's wind,
+// an upper bound of the fluctuations), fed to the
 // one-degree-of-freedom rotor with its speed and pitch control (model/wind/rotor_model.hpp).
 // Each output row is the mean over its interval of the wind, rotor speed, electrical
 // power, pitch, and the low-speed shaft (gearbox input) torque T_aero − J_rotor·dω/dt.
@@ -75,6 +76,7 @@ struct SynthArgs {
   double step_s = 0.025;
   double wind_sample_s = 0.25;
   std::string out_10min;
+  bool point_wind = false;
 };
 
 constexpr double kSynthSegmentS = 600.0;  // [s] one SCADA row: the turbulence segment
@@ -247,6 +249,11 @@ void run_synth_turbulent(const SynthArgs& a) {
   if (!(a.mean_wind < 70.0)) throw CommandError("--mean-wind must be below 70 m/s");
 
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
+  // Rotor-effective wind over the description's rotor disc unless --point-wind.
+  ts.rotor_radius_m = a.point_wind ? 0.0 : d.turbine.rotor_radius_m;
+  if (!mw::valid_turbulence_settings(ts, &what)) {
+    throw CommandError(std::string("--drivetrain: ") + what);
+  }
   mw::RotorModelParameters rp;
   rp.rotor_inertia_kg_m2 = a.rotor_inertia;
   // Generator rotor inertia (the dynamics model's default) referred to the low-speed shaft.
@@ -373,9 +380,10 @@ void run_synth_turbulent(const SynthArgs& a) {
   if (write_error) throw CommandError("--out: write error on '" + a.out + "'");
   if (write_error10) throw CommandError("--out-10min: write error on '" + a.out_10min + "'");
   std::printf(
-      "wrote %lld rows of %.4g s (%zu 10-minute means, turbulence %s, rotor model: J_rotor %.3g + "
-      "J_drivetrain %.3g kg·m², step %.3g s) to %s\n",
-      out_rows, a.resolution_s, means.size(), a.turbulence.c_str(), rp.rotor_inertia_kg_m2,
+      "wrote %lld rows of %.4g s (%zu 10-minute means, turbulence %s, %s wind, rotor model: "
+      "J_rotor %.3g + J_drivetrain %.3g kg·m², step %.3g s) to %s\n",
+      out_rows, a.resolution_s, means.size(), a.turbulence.c_str(),
+      a.point_wind ? "hub point" : "rotor-effective", rp.rotor_inertia_kg_m2,
       rp.drivetrain_inertia_kg_m2, dt, a.out.c_str());
   std::printf("largest row torque %.0f N·m (rated %.0f), largest row pitch %.2f°\n", max_torque,
               d.turbine.rated_torque_nm, max_pitch);
@@ -432,6 +440,9 @@ void setup_synth_scada(CLI::App& sub) {
   sub.add_option("--wind-sample", args->wind_sample_s,
                  "Turbulent mode: wind series sample period [s]")
       ->capture_default_str();
+  sub.add_flag("--point-wind", args->point_wind,
+               "Turbulent mode: the hub point's wind (an upper bound) instead of the "
+               "rotor-effective wind (disc average with IEC 61400-1's exponential coherence)");
   sub.add_option("--out-10min", args->out_10min,
                  "Turbulent mode: also write the 10-minute means of the same run here");
   sub.callback([args] { run(*args); });

@@ -55,6 +55,38 @@ double kaimal_psd(double f_hz, double sigma_mps, double length_scale_m, double m
          std::pow(1.0 + 6.0 * f_hz * time_scale, 5.0 / 3.0);
 }
 
+double iec_coherence(double separation_m, double f_hz, double mean_wind_mps,
+                     double coherence_scale_m) {
+  // IEC 61400-1:2005 Annex B eq. (B.16)
+  const double a = f_hz * separation_m / mean_wind_mps;
+  const double b = 0.12 * separation_m / coherence_scale_m;
+  return std::exp(-12.0 * std::sqrt(a * a + b * b));
+}
+
+double disc_distance_density(double distance_m, double radius_m) {
+  if (!(distance_m > 0.0) || !(distance_m < 2.0 * radius_m)) return 0.0;
+  const double x = distance_m / (2.0 * radius_m);
+  return 4.0 * distance_m / (std::numbers::pi * radius_m * radius_m) *
+         (std::acos(x) - x * std::sqrt(1.0 - x * x));
+}
+
+double rotor_admittance(double f_hz, double mean_wind_mps, double radius_m,
+                        double coherence_scale_m) {
+  if (!(radius_m > 0.0) || !(mean_wind_mps > 0.0)) return 1.0;
+  // Composite Simpson over d ∈ [0, 2R]; p vanishes at both ends, as d at 0 and as
+  // (2R − d)^(3/2) at 2R, so 256 intervals are ample (the tests check 1e-5).
+  constexpr int kIntervals = 256;
+  const double h = 2.0 * radius_m / kIntervals;
+  double sum = 0.0;
+  for (int i = 0; i <= kIntervals; ++i) {
+    const double d = h * i;
+    const double w = (i == 0 || i == kIntervals) ? 1.0 : (i % 2 != 0 ? 4.0 : 2.0);
+    sum += w * disc_distance_density(d, radius_m) *
+           iec_coherence(d, f_hz, mean_wind_mps, coherence_scale_m);
+  }
+  return sum * h / 3.0;
+}
+
 bool valid_turbulence_settings(const TurbulenceSettings& s, const char** what) {
   const char* problem = nullptr;
   if (!(s.hub_height_m > 0.0) || !std::isfinite(s.hub_height_m)) {
@@ -72,6 +104,8 @@ bool valid_turbulence_settings(const TurbulenceSettings& s, const char** what) {
       problem = "segment / sample period is too large (more than 2^22 samples)";
     } else if (!(s.crossfade_s >= 0.0) || !(s.crossfade_s <= s.segment_s)) {
       problem = "cross-fade must be in [0, segment]";
+    } else if (!(s.rotor_radius_m >= 0.0) || !std::isfinite(s.rotor_radius_m)) {
+      problem = "rotor radius must be >= 0";
     }
   }
   if (what != nullptr) *what = problem;
@@ -124,10 +158,14 @@ void TurbulentWind::generate(Segment& segment, double mean_mps) {
   const double gain = variance > 0.0 ? sigma / std::sqrt(variance) : 0.0;
   std::fill(spectrum_.begin(), spectrum_.end(), std::complex<double>(0.0, 0.0));
   for (std::size_t k = 1; k < half; ++k) {
-    const double amplitude = gain * std::sqrt(2.0 *
-                                              kaimal_psd(static_cast<double>(k) * df, sigma,
-                                                         length_scale_m_, segment.mean_mps) *
-                                              df);
+    const double f = static_cast<double>(k) * df;
+    // Rotor-effective wind: the point spectrum times the disc admittance χ(f) (header).
+    const double chi =
+        settings_.rotor_radius_m > 0.0
+            ? rotor_admittance(f, segment.mean_mps, settings_.rotor_radius_m, length_scale_m_)
+            : 1.0;
+    const double amplitude =
+        gain * std::sqrt(2.0 * kaimal_psd(f, sigma, length_scale_m_, segment.mean_mps) * chi * df);
     const double phase = 2.0 * std::numbers::pi * uniform();
     // x_j = Σ_k X_k·e^{+2πijk/n} (kissfft inverse, unnormalised); with X_k = (a_k/2)·e^{iφ_k}
     // and X_{n−k} = conj(X_k): x_j = Σ_k a_k·cos(2πjk/n + φ_k).

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "model/wind/turbulence.hpp"
@@ -163,6 +164,77 @@ TEST(Turbulence, RowBoundaryIsContinuousAndRowMeansStay) {
   }
   EXPECT_GT(max_inner_step, 0.0);
   EXPECT_LE(max_boundary_step, max_inner_step);
+}
+
+TEST(Turbulence, DiscDistanceDensityIsADensityWithTheKnownMean) {
+  // Disc line picking: ∫p = 1 and the mean distance is 128·R/(45π) = 0.9054·R.
+  const double r = 41.0;
+  const int n = 4000;
+  const double h = 2.0 * r / n;
+  double mass = 0.0, mean = 0.0;
+  for (int i = 0; i <= n; ++i) {
+    const double d = h * i;
+    const double w = (i == 0 || i == n) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    mass += w * model::wind::disc_distance_density(d, r);
+    mean += w * d * model::wind::disc_distance_density(d, r);
+  }
+  EXPECT_NEAR(mass * h / 3.0, 1.0, 1e-6);
+  EXPECT_NEAR(mean * h / 3.0 / r, 128.0 / (45.0 * std::numbers::pi), 1e-6);
+}
+
+TEST(Turbulence, RotorAdmittanceAgreesWithAMonteCarloDiscAverage) {
+  // χ(f) = E[Coh(|x − y|, f)] over two points uniform on the disc: sampled directly here
+  // (rejection sampling in the square), no distance density involved. 200 000 pairs give a
+  // standard error ≤ 0.5/√200000 = 1.1e-3; the tolerance is 5e-3.
+  const double r = 41.0, v = 6.75, lc = model::wind::kaimal_length_scale_m(80.0);
+  std::mt19937_64 rng(42);
+  std::uniform_real_distribution<double> u(-r, r);
+  auto point = [&] {
+    for (;;) {
+      const double x = u(rng), y = u(rng);
+      if (x * x + y * y <= r * r) return std::pair{x, y};
+    }
+  };
+  for (const double f : {0.0, 0.02, 0.1, 0.5}) {
+    double sum = 0.0;
+    const int pairs = 200000;
+    std::mt19937_64 fresh(7);
+    rng = fresh;
+    for (int i = 0; i < pairs; ++i) {
+      const auto [x1, y1] = point();
+      const auto [x2, y2] = point();
+      sum += model::wind::iec_coherence(std::hypot(x1 - x2, y1 - y2), f, v, lc);
+    }
+    EXPECT_NEAR(model::wind::rotor_admittance(f, v, r, lc), sum / pairs, 5e-3) << "f = " << f;
+  }
+  // Limits: less than 1 already at f = 0 (IEC's 0.12·d/L_c term), falling with f.
+  EXPECT_LT(model::wind::rotor_admittance(0.0, v, r, lc), 1.0);
+  EXPECT_GT(model::wind::rotor_admittance(0.0, v, r, lc), 0.8);
+  EXPECT_LT(model::wind::rotor_admittance(1.0, v, r, lc), 0.05);
+}
+
+TEST(Turbulence, RotorEffectiveWindKeepsThePointGain) {
+  // Variance of the disc-averaged row = σ1²·Σ S·χ / Σ S (the point wind's gain kept).
+  TurbulenceSettings s;
+  s.rotor_radius_m = 41.0;
+  TurbulentWind w(s, 9);
+  const double v = 6.75;
+  w.advance(v, 0.0);
+  double var = 0.0;
+  for (const double x : segment(w)) var += x * x;
+  var /= static_cast<double>(w.samples_per_segment());
+  const double sigma = model::wind::ntm_sigma_mps(TurbulenceClass::kA, v);
+  const double length = model::wind::kaimal_length_scale_m(s.hub_height_m);
+  const double df = 1.0 / s.segment_s;
+  double plain = 0.0, averaged = 0.0;
+  for (std::size_t k = 1; k < w.samples_per_segment() / 2; ++k) {
+    const double f = static_cast<double>(k) * df;
+    const double sk = model::wind::kaimal_psd(f, sigma, length, v);
+    plain += sk;
+    averaged += sk * model::wind::rotor_admittance(f, v, s.rotor_radius_m, length);
+  }
+  EXPECT_NEAR(var / (sigma * sigma * averaged / plain), 1.0, 1e-10);
+  EXPECT_LT(averaged / plain, 0.9);
 }
 
 TEST(Turbulence, BadSettingsNamed) {

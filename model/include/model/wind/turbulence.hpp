@@ -30,9 +30,18 @@
 // running 0 → 1 across the window; so no step of √2·σ1 at each boundary, and each
 // row's mean changes only in second order (symmetric window).
 //
-// Point wind: this is the wind at one point (hub). A rotor averages the field over its
-// disc, which removes the fast part of the fluctuations; no rotor-averaging filter is
-// applied, so the fluctuations the rotor model sees are an UPPER BOUND.
+// Rotor-effective wind (when TurbulenceSettings::rotor_radius_m > 0): the longitudinal
+// wind averaged uniformly over the rotor disc. Its spectrum is S(f)·χ(f) with
+//   χ(f) = ∫_0^{2R} p(d)·Coh(d, f) dd,
+//   Coh(d, f) = exp(−12·√((f·d/V)² + (0.12·d/L_c)²)),  L_c = 8.1·Λ1
+// (IEC 61400-1:2005 Annex B, exponential coherence model, eq. B.16) and p(d) the density of
+// the distance between two points uniform on a disc of radius R ("disc line picking"):
+//   p(d) = 4d/(πR²)·[acos(d/2R) − (d/2R)·√(1 − d²/4R²)].
+// The point wind's gain g (above) is kept, so the averaged wind has variance
+// σ1²·Σ S·χ / Σ S < σ1². The disc is weighted by area, not by each radius's share of the
+// aerodynamic torque (which grows outwards and would average more), and the blades'
+// rotation through the field (rotational sampling) is not modelled. With rotor_radius_m = 0
+// the series is the wind at the hub point: an UPPER BOUND of the fluctuations.
 //
 // Random numbers: std::mt19937_64 (fully specified by the C++ standard) and our own
 // conversion to [0, 1), so a seed gives the same phases on every platform.
@@ -76,7 +85,20 @@ struct TurbulenceSettings {
   double segment_s = 600.0;       // [s] one SCADA row
   double sample_period_s = 0.25;  // [s] Δt; Nyquist 2 Hz
   double crossfade_s = 30.0;      // [s] window centred on each row boundary
+  double rotor_radius_m = 0.0;    // [m] > 0: rotor-effective wind over this disc; 0: hub point
 };
+
+/// IEC 61400-1 exponential coherence of the longitudinal wind at separation d (header).
+/// @param coherence_scale_m  L_c = 8.1·Λ1 [m] (= kaimal_length_scale_m)
+double iec_coherence(double separation_m, double f_hz, double mean_wind_mps,
+                     double coherence_scale_m);
+
+/// Density of the distance between two points uniform on a disc of radius R [1/m] (header).
+double disc_distance_density(double distance_m, double radius_m);
+
+/// χ(f): the disc average's share of the point spectrum at f (header), in (0, 1].
+double rotor_admittance(double f_hz, double mean_wind_mps, double radius_m,
+                        double coherence_scale_m);
 
 /// Whether the settings can be generated; else *what names the offending field.
 bool valid_turbulence_settings(const TurbulenceSettings& settings, const char** what);
