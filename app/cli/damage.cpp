@@ -67,6 +67,7 @@ struct DamageArgs {
 constexpr double kPaperDayDamage = 1.023e-5;  // [-] paper: sun contact damage of its one day
 constexpr double kPaperWindMps = 6.75;        // [m/s] paper's operating point (daily mean)
 constexpr std::size_t kNearestDays = 5;
+constexpr double kPaperWindBandMps = 0.1;  // [m/s] days counted as "at the paper's check point"
 
 std::string utc_date(long long day) {
   const std::time_t t = static_cast<std::time_t>(day) * 86400;
@@ -381,7 +382,7 @@ void run(const DamageArgs& args) {
   const std::size_t dc = h.breakdown_channel;
   if (hopt.per_day) {
     dist = app::fatigue::day_distribution(h.days, dc, 86400.0 - 0.5 * h.period_s, kPaperWindMps,
-                                          kNearestDays);
+                                          kNearestDays, kPaperWindBandMps);
     const std::string name =
         channels.channel(dc).component + " " + mf::failure_mode_name(channels.channel(dc).mode);
     std::printf("# per day: %s damage over %zu full UTC days (%zu partial days left out)\n",
@@ -390,6 +391,17 @@ void run(const DamageArgs& args) {
         "#   min %.3e  Q1 %.3e  median %.3e  Q3 %.3e  max %.3e  mean %.3e  (paper, its one day: "
         "%.3e)\n",
         dist.min, dist.q1, dist.median, dist.q3, dist.max, dist.mean, kPaperDayDamage);
+    const app::fatigue::Quantiles& b = dist.band;
+    if (b.count > 0) {
+      std::printf(
+          "#   %zu full days at the paper's check point (daily mean wind %.2f ± %.2f m/s): median "
+          "%.3e  Q1 %.3e  Q3 %.3e  min %.3e  max %.3e  mean %.3e  (paper: %.3e)\n",
+          b.count, kPaperWindMps, kPaperWindBandMps, b.median, b.q1, b.q3, b.min, b.max, b.mean,
+          kPaperDayDamage);
+    } else {
+      std::printf("#   no full day at the paper's check point (daily mean wind %.2f ± %.2f m/s)\n",
+                  kPaperWindMps, kPaperWindBandMps);
+    }
     std::printf("#   full days nearest the paper's operating point (daily mean wind %.2f m/s):\n",
                 kPaperWindMps);
     for (std::size_t i : dist.nearest) {
@@ -478,6 +490,16 @@ void run(const DamageArgs& args) {
                       {"q3", dist.q3},
                       {"max", dist.max},
                       {"mean", dist.mean}};
+      const app::fatigue::Quantiles& b = dist.band;
+      j["per_day"]["paper_wind_band"] = {{"wind_mps", kPaperWindMps},
+                                         {"band_mps", kPaperWindBandMps},
+                                         {"days", b.count},
+                                         {"median", b.median},
+                                         {"q1", b.q1},
+                                         {"q3", b.q3},
+                                         {"min", b.min},
+                                         {"max", b.max},
+                                         {"mean", b.mean}};
       for (std::size_t i : dist.nearest) {
         j["per_day"]["nearest_paper_wind"].push_back({{"date", utc_date(h.days[i].day)},
                                                       {"mean_wind_mps", h.days[i].mean_wind_mps()},

@@ -232,21 +232,9 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   return r;
 }
 
-DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
-                                 double full_day_s, double wind_ref_mps,
-                                 std::size_t nearest_count) {
-  DayDistribution out;
-  std::vector<double> v;
-  std::vector<std::size_t> full;
-  for (std::size_t i = 0; i < days.size(); ++i) {
-    if (days[i].covered_s >= full_day_s && channel < days[i].damage.size()) {
-      v.push_back(days[i].damage[channel]);
-      full.push_back(i);
-    } else {
-      ++out.partial_days;
-    }
-  }
-  out.full_days = v.size();
+Quantiles quantiles(std::vector<double> v) {
+  Quantiles out;
+  out.count = v.size();
   if (v.empty()) return out;
   std::sort(v.begin(), v.end());
   auto quantile = [&v](double p) {
@@ -263,6 +251,35 @@ DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t
   double sum = 0.0;
   for (double x : v) sum += x;
   out.mean = sum / static_cast<double>(v.size());
+  return out;
+}
+
+DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
+                                 double full_day_s, double wind_ref_mps, std::size_t nearest_count,
+                                 double band_mps) {
+  DayDistribution out;
+  std::vector<double> v, in_band;
+  std::vector<std::size_t> full;
+  for (std::size_t i = 0; i < days.size(); ++i) {
+    if (days[i].covered_s >= full_day_s && channel < days[i].damage.size()) {
+      v.push_back(days[i].damage[channel]);
+      full.push_back(i);
+      if (days[i].wind_rows > 0 && std::abs(days[i].mean_wind_mps() - wind_ref_mps) <= band_mps)
+        in_band.push_back(days[i].damage[channel]);
+    } else {
+      ++out.partial_days;
+    }
+  }
+  out.full_days = v.size();
+  if (v.empty()) return out;
+  const Quantiles all = quantiles(std::move(v));
+  out.min = all.min;
+  out.max = all.max;
+  out.q1 = all.q1;
+  out.median = all.median;
+  out.q3 = all.q3;
+  out.mean = all.mean;
+  out.band = quantiles(std::move(in_band));
   std::stable_sort(full.begin(), full.end(), [&](std::size_t a, std::size_t b) {
     return std::abs(days[a].mean_wind_mps() - wind_ref_mps) <
            std::abs(days[b].mean_wind_mps() - wind_ref_mps);

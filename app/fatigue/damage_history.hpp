@@ -96,17 +96,27 @@ struct HistoryResult {
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
 };
 
+/// Order statistics of a sample. Quantiles interpolate linearly between order statistics
+/// (Hyndman–Fan type 7: q(p) at rank (n − 1)·p). All zero when count is 0.
+struct Quantiles {
+  std::size_t count = 0;
+  double min = 0.0, q1 = 0.0, median = 0.0, q3 = 0.0, max = 0.0, mean = 0.0;
+};
+Quantiles quantiles(std::vector<double> sample);
+
 /// Distribution of one channel's damage over the full days (covered_s ≥ full_day_s) of a
-/// history. Quantiles interpolate linearly between order statistics (Hyndman–Fan type 7:
-/// q(p) at rank (n − 1)·p).
+/// history, and over those full days whose mean wind is within ±band_mps of wind_ref_mps
+/// (the paper's one-day figure is the damage of a day at its check point's wind).
 struct DayDistribution {
   std::size_t full_days = 0, partial_days = 0;
   double min = 0.0, q1 = 0.0, median = 0.0, q3 = 0.0, max = 0.0, mean = 0.0;  // [-] damage per day
   std::vector<std::size_t>
       nearest;  // indices into the days vector: full days by |mean wind − wind_ref|, closest first
+  Quantiles band;  // [-] damage per day of the full days with |mean wind − wind_ref| ≤ band_mps
 };
 DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t channel,
-                                 double full_day_s, double wind_ref_mps, std::size_t nearest_count);
+                                 double full_day_s, double wind_ref_mps, std::size_t nearest_count,
+                                 double band_mps = 0.1);
 
 /// The (torque, speed) grid of the quasi-static spectrum: torque to 1.5·rated, rotor speed
 /// 0.5 rpm to 1.2·rated (at least 1 rpm), the node counts of SpectrumGrid's defaults.

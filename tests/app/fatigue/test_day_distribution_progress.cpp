@@ -47,6 +47,24 @@ TEST(DayDistribution, QuartilesMedianAndNearestDaysFollowTheHandCalculation) {
   ASSERT_EQ(dist.nearest.size(), 2u);
   EXPECT_EQ(dist.nearest[0], 2u);
   EXPECT_EQ(dist.nearest[1], 3u);
+  // Default band ±0.1 m/s around 6.75: no day (the nearest are 0.25 away).
+  EXPECT_EQ(dist.band.count, 0u);
+
+  // Band ±0.3 m/s: days 2 (7.0 m/s, 4e-6) and 3 (6.5 m/s, 2e-6) → median 3e-6 (rank 0.5),
+  // Q1 2.5e-6, Q3 3.5e-6; the partial day is never counted.
+  const auto banded = app::fatigue::day_distribution(days, 0, 86400.0, 6.75, 2, 0.3);
+  EXPECT_EQ(banded.band.count, 2u);
+  EXPECT_DOUBLE_EQ(banded.band.median, 3e-6);
+  EXPECT_DOUBLE_EQ(banded.band.q1, 2.5e-6);
+  EXPECT_DOUBLE_EQ(banded.band.q3, 3.5e-6);
+  EXPECT_DOUBLE_EQ(banded.band.min, 2e-6);
+  EXPECT_DOUBLE_EQ(banded.band.max, 4e-6);
+  // Band ±1.3 m/s: also day 4 (8.0 m/s, 3e-6) → 2, 3, 4 (·1e-6): median 3e-6, mean 3e-6.
+  const auto wider = app::fatigue::day_distribution(days, 0, 86400.0, 6.75, 2, 1.3);
+  EXPECT_EQ(wider.band.count, 3u);
+  EXPECT_DOUBLE_EQ(wider.band.median, 3e-6);
+  EXPECT_DOUBLE_EQ(wider.band.mean, 3e-6);
+  EXPECT_DOUBLE_EQ(wider.band.q1, 2.5e-6);
 }
 
 TEST(ProgressBar, IsDrawnOnATerminalButNotIntoAPipeOrWhenSwitchedOff) {
