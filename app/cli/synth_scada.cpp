@@ -70,7 +70,9 @@ struct SynthArgs {
   std::string turbulence;  // "", A, B, C, none
   double resolution_s = 1.0;
   std::string from_10min;
-  double mean_wind = -1.0;  // ≥ 0: constant 10-minute mean wind
+  double mean_wind = 0.0;  // [m/s] constant 10-minute mean wind, when mean_wind_given
+  bool mean_wind_given = false;
+  std::string turbulent_only_given;  // a turbulent-mode option given without --turbulence
   double hub_height_m = 80.0;
   double rotor_inertia = model::wind::RotorModelParameters{}.rotor_inertia_kg_m2;
   double step_s = 0.025;
@@ -244,9 +246,12 @@ void run_synth_turbulent(const SynthArgs& a) {
         "--resolution must divide 600 s and be a whole number of --step, and --wind-sample a "
         "whole number of --step");
   }
-  if (!a.from_10min.empty() && a.mean_wind >= 0.0)
-    throw CommandError("--from-10min and --mean-wind exclude each other");
-  if (!(a.mean_wind < 70.0)) throw CommandError("--mean-wind must be below 70 m/s");
+  if (!a.from_10min.empty() && (a.mean_wind_given || a.days > 0.0)) {
+    throw CommandError("--from-10min excludes --mean-wind and --days (the file sets both)");
+  }
+  if (a.mean_wind_given && !(a.mean_wind >= 0.0 && a.mean_wind < 70.0)) {
+    throw CommandError("--mean-wind must be in [0, 70) m/s, not " + synth_number(a.mean_wind));
+  }
 
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
   // Rotor-effective wind over the description's rotor disc unless --point-wind.
@@ -281,7 +286,7 @@ void run_synth_turbulent(const SynthArgs& a) {
     const double innov = std::sqrt(1.0 - a.lag1 * a.lag1);
     for (long long i = 0; i < rows; ++i) {
       double v = a.mean_wind;
-      if (a.mean_wind < 0.0) {
+      if (!a.mean_wind_given) {
         if (i > 0) z = a.lag1 * z + innov * normal.next();
         const double u = 0.5 * std::erfc(-z / std::sqrt(2.0));
         v = a.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / a.weibull_k);
@@ -395,8 +400,9 @@ void run_synth_turbulent(const SynthArgs& a) {
 
 void run(const SynthArgs& a) {
   if (a.turbulence.empty()) {
-    if (!a.from_10min.empty() || a.mean_wind >= 0.0 || !a.out_10min.empty())
-      throw CommandError("--from-10min, --mean-wind and --out-10min need --turbulence");
+    if (!a.turbulent_only_given.empty()) {
+      throw CommandError(a.turbulent_only_given + " needs --turbulence (turbulent mode)");
+    }
     run_synth_steady(a);
   } else {
     run_synth_turbulent(a);
@@ -421,31 +427,49 @@ void setup_synth_scada(CLI::App& sub) {
                  "Turbulent mode: IEC 61400-1 class A|B|C (I_ref 0.16/0.14/0.12; no default: "
                  "name it), or none (rotor model on the constant means). Rows every --resolution "
                  "s from a rotor model driven by Kaimal turbulence inside each 10-minute mean");
-  sub.add_option("--resolution", args->resolution_s,
-                 "Turbulent mode: output row period [s], divides 600")
-      ->capture_default_str();
-  sub.add_option("--from-10min", args->from_10min,
-                 "Turbulent mode: 10-minute mean winds from this SCADA file (bundle or Kelmarsh "
-                 "columns; builtin:NAME for an embedded file, e.g. builtin:kelmarsh-day.csv)");
-  sub.add_option("--mean-wind", args->mean_wind,
-                 "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)");
-  sub.add_option("--hub-height", args->hub_height_m,
-                 "Turbulent mode: hub height [m] (Kaimal length scale)")
-      ->capture_default_str();
-  sub.add_option("--rotor-inertia", args->rotor_inertia,
-                 "Turbulent mode: rotor polar inertia [kg m^2] (assumed, see README)")
-      ->capture_default_str();
-  sub.add_option("--step", args->step_s, "Turbulent mode: rotor model time step [s]")
-      ->capture_default_str();
-  sub.add_option("--wind-sample", args->wind_sample_s,
-                 "Turbulent mode: wind series sample period [s]")
-      ->capture_default_str();
-  sub.add_flag("--point-wind", args->point_wind,
-               "Turbulent mode: the hub point's wind (an upper bound) instead of the "
-               "rotor-effective wind (disc average with IEC 61400-1's exponential coherence)");
-  sub.add_option("--out-10min", args->out_10min,
-                 "Turbulent mode: also write the 10-minute means of the same run here");
-  sub.callback([args] { run(*args); });
+  std::vector<CLI::Option*> turbulent_only;
+  turbulent_only.push_back(sub.add_option("--resolution", args->resolution_s,
+                                          "Turbulent mode: output row period [s], divides 600")
+                               ->capture_default_str());
+  turbulent_only.push_back(sub.add_option(
+      "--from-10min", args->from_10min,
+      "Turbulent mode: 10-minute mean winds from this SCADA file (bundle or Kelmarsh "
+      "columns; builtin:NAME for an embedded file, e.g. builtin:kelmarsh-day.csv)"));
+  CLI::Option* mean_wind =
+      sub.add_option("--mean-wind", args->mean_wind,
+                     "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)");
+  turbulent_only.push_back(mean_wind);
+  turbulent_only.push_back(sub.add_option("--hub-height", args->hub_height_m,
+                                          "Turbulent mode: hub height [m] (Kaimal length scale)")
+                               ->capture_default_str());
+  turbulent_only.push_back(
+      sub.add_option("--rotor-inertia", args->rotor_inertia,
+                     "Turbulent mode: rotor polar inertia [kg m^2] (assumed, see README)")
+          ->capture_default_str());
+  turbulent_only.push_back(
+      sub.add_option("--step", args->step_s, "Turbulent mode: rotor model time step [s]")
+          ->capture_default_str());
+  turbulent_only.push_back(sub.add_option("--wind-sample", args->wind_sample_s,
+                                          "Turbulent mode: wind series sample period [s]")
+                               ->capture_default_str());
+  turbulent_only.push_back(
+      sub.add_flag("--point-wind", args->point_wind,
+                   "Turbulent mode: the hub point's wind (an upper bound) instead of the "
+                   "rotor-effective wind (disc average with IEC 61400-1's exponential coherence)"));
+  turbulent_only.push_back(
+      sub.add_option("--out-10min", args->out_10min,
+                     "Turbulent mode: also write the 10-minute means of the same run here"));
+  sub.callback([args, mean_wind, turbulent_only] {
+    args->mean_wind_given = mean_wind->count() > 0;
+    args->turbulent_only_given.clear();
+    for (const CLI::Option* o : turbulent_only) {
+      if (o->count() > 0) {
+        args->turbulent_only_given = o->get_name();
+        break;
+      }
+    }
+    run(*args);
+  });
 }
 
 const bool kSynthScadaRegistered = app::cli::register_command(

@@ -194,13 +194,17 @@ TEST_F(SynthScada, BadInputsNamed) {
       {{"--turbulence", "A", "--from-10min", p("cols.csv")}, {"cols.csv", "t_s"}},
       {{"--turbulence", "A", "--from-10min", "builtin:nope.csv"}, {"nope.csv"}},
       {{"--turbulence", "D", "--days", "1"}, {"--turbulence", "'D'"}},
-      {{"--mean-wind", "6.75", "--days", "1"}, {"--mean-wind", "need --turbulence"}},
+      {{"--mean-wind", "6.75", "--days", "1"}, {"--mean-wind", "needs --turbulence"}},
+      {{"--resolution", "1", "--days", "1"}, {"--resolution", "needs --turbulence"}},
+      {{"--turbulence", "A", "--mean-wind", "-3", "--days", "1"}, {"--mean-wind", "-3"}},
+      {{"--turbulence", "A", "--from-10min", p("neg.csv"), "--days", "1"},
+       {"--from-10min excludes"}},
       {{"--turbulence", "A", "--mean-wind", "6.75"}, {"--days must be given"}},
       {{"--turbulence", "A", "--mean-wind", "6.75", "--resolution", "7"}, {"--resolution"}},
       {{"--turbulence", "A", "--mean-wind", "6.75", "--rotor-inertia", "0"}, {"rotor inertia"}},
       {{"--turbulence", "A", "--mean-wind", "6.75", "--hub-height", "-5"}, {"hub height"}},
       {{"--turbulence", "A", "--mean-wind", "6.75", "--from-10min", p("neg.csv")},
-       {"exclude each other"}},
+       {"--from-10min excludes"}},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args{"synth-scada", "--out", p("out.csv")};
