@@ -2,13 +2,13 @@
 // (10-minute rows by default) with given site wind statistics, for history-mode runs
 // over years (`drivetwin damage`).
 //
-// Wind: 10-minute mean wind speeds with a Weibull(k, c) marginal and AR(1) persistence,
-// by a Gaussian copula: z_i = φ·z_{i−1} + √(1−φ²)·ε_i, ε ~ N(0,1), v_i = c·(−ln(1 − Φ(z_i)))^(1/k).
+// Wind: 10-minute mean wind speeds with a Weibull(k, c) marginal and two-scale persistence
+// (app/wind/synthetic_wind.hpp: a Gaussian copula over the sum of a slow and a fast AR(1)).
 // Defaults are fitted to the Kelmarsh turbine 1 10-minute data, January–June 2019
-// (shared/data/kelmarsh, Plumley 2022, CC-BY-4.0), by the method of moments: mean 5.98 m/s,
-// standard deviation 2.48 m/s → k = (σ/μ)^−1.086 = 2.60, c = μ/Γ(1 + 1/k) = 6.73 m/s;
-// lag-1 autocorrelation of the 10-minute means 0.951. These months are windier than the
-// annual mean at that site; pass --weibull-k/--weibull-c for other statistics.
+// (shared/data/kelmarsh, Plumley 2022, CC-BY-4.0): k = 2.60, c = 6.73 m/s by the method of
+// moments (mean 5.98 m/s, standard deviation 2.48 m/s); the persistence by the correlation at
+// lags from 10 minutes to a day. These months are windier than the annual mean at that site;
+// pass --weibull-k/--weibull-c for other statistics, --lag1 for the former single AR(1).
 // Operating point: the turbine controller's steady state of the wind load model
 // (model/wind): rotor speed and rotor torque; power = T·ω·η. Rows carry 10-minute means
 // only: no turbulence within the 10 minutes, no stops other than below cut-in / above cut-out.
@@ -35,7 +35,6 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
-#include <random>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,6 +48,7 @@
 #include "model/wind/rotor_model.hpp"
 #include "model/wind/turbulence.hpp"
 #include "model/wind/wind_load.hpp"
+#include "wind/synthetic_wind.hpp"
 
 namespace {
 
@@ -62,7 +62,8 @@ struct SynthArgs {
   double period_s = 600.0;
   double weibull_k = 2.60;
   double weibull_c = 6.73;
-  double lag1 = 0.951;
+  double lag1 = -1.0;  // ≥ 0: a single AR(1) with this lag-1 correlation per 10 minutes
+  app::wind::SyntheticWindParameters persistence;  // the two-scale defaults
   unsigned long long seed = 1;
   double start_s = 1420070400.0;  // 2015-01-01T00:00:00Z
   double days = 0.0;              // > 0: length in days instead of --years
@@ -83,36 +84,31 @@ struct SynthArgs {
 
 constexpr double kSynthSegmentS = 600.0;  // [s] one SCADA row: the turbulence segment
 
-class Normal {
- public:
-  explicit Normal(unsigned long long seed) : rng_(seed) {}
-  double next() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return spare_;
-    }
-    double u1 = uniform();
-    while (u1 <= 0.0) u1 = uniform();
-    const double u2 = uniform();
-    const double r = std::sqrt(-2.0 * std::log(u1));
-    spare_ = r * std::sin(2.0 * kPi * u2);
-    has_spare_ = true;
-    return r * std::cos(2.0 * kPi * u2);
+// The 10-minute mean wind generator of the arguments, for rows `period_s` apart.
+app::wind::SyntheticWind make_synthetic_wind(const SynthArgs& a, double period_s) {
+  app::wind::SyntheticWindParameters p = a.persistence;
+  p.weibull_k = a.weibull_k;
+  p.weibull_c = a.weibull_c;
+  if (a.lag1 >= 0.0) {
+    if (!(a.lag1 > 0.0 && a.lag1 < 1.0)) throw CommandError("--lag1 must be in (0, 1)");
+    p.slow_weight = 1.0;
+    p.slow_time_constant_s = -600.0 / std::log(a.lag1);
   }
-
- private:
-  double uniform() { return static_cast<double>(rng_() >> 11) * 0x1.0p-53; }
-  std::mt19937_64 rng_;
-  double spare_ = 0.0;
-  bool has_spare_ = false;
-};
+  const char* what = nullptr;
+  if (!app::wind::valid_synthetic_wind(p, period_s, &what)) {
+    throw CommandError(std::string("--weibull-k/--weibull-c/--slow-weight/--slow-time-constant/"
+                                   "--fast-lag1/--period: ") +
+                       what);
+  }
+  return {p, period_s, a.seed};
+}
 
 void run_synth_steady(const SynthArgs& a) {
   if (!(a.years > 0.0) || !(a.period_s > 0.0))
     throw CommandError("--years and --period must be > 0");
   if (!(a.weibull_k > 0.0) || !(a.weibull_c > 0.0))
     throw CommandError("--weibull-k and --weibull-c must be > 0");
-  if (!(a.lag1 >= 0.0 && a.lag1 < 1.0)) throw CommandError("--lag1 must be in [0, 1)");
+  app::wind::SyntheticWind wind_means = make_synthetic_wind(a, a.period_s);
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
   const model::wind::WindLoad wind(d.turbine);
   std::FILE* f = std::fopen(a.out.c_str(), "w");
@@ -120,15 +116,9 @@ void run_synth_steady(const SynthArgs& a) {
   std::fprintf(f, "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,torque_nm\n");
   const double length_s = a.days > 0.0 ? a.days * 86400.0 : a.years * 365.25 * 86400.0;
   const auto rows = static_cast<long long>(std::llround(length_s / a.period_s));
-  Normal normal(a.seed);
-  double z = normal.next();
-  const double innov = std::sqrt(1.0 - a.lag1 * a.lag1);
   const double eta = d.turbine.drivetrain_efficiency;
   for (long long i = 0; i < rows; ++i) {
-    if (i > 0) z = a.lag1 * z + innov * normal.next();
-    const double u = 0.5 * std::erfc(-z / std::sqrt(2.0));
-    const double v =
-        a.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / a.weibull_k);
+    const double v = wind_means.next();
     const model::wind::WindLoadOutput o = wind.steady_state(v);
     const double rpm = o.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
     const double p_kw = o.torque_nm * o.rotor_speed_rad_s * eta / 1e3;
@@ -281,16 +271,9 @@ void run_synth_turbulent(const SynthArgs& a) {
     const double length_s = a.days * 86400.0;
     const auto rows = static_cast<long long>(std::llround(length_s / kSynthSegmentS));
     means.reserve(static_cast<std::size_t>(rows));
-    Normal normal(a.seed);
-    double z = normal.next();
-    const double innov = std::sqrt(1.0 - a.lag1 * a.lag1);
+    app::wind::SyntheticWind wind_means = make_synthetic_wind(a, kSynthSegmentS);
     for (long long i = 0; i < rows; ++i) {
-      double v = a.mean_wind;
-      if (!a.mean_wind_given) {
-        if (i > 0) z = a.lag1 * z + innov * normal.next();
-        const double u = 0.5 * std::erfc(-z / std::sqrt(2.0));
-        v = a.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / a.weibull_k);
-      }
+      const double v = a.mean_wind_given ? a.mean_wind : wind_means.next();
       means.push_back({a.start_s + static_cast<double>(i) * kSynthSegmentS, v});
     }
   }
@@ -418,7 +401,17 @@ void setup_synth_scada(CLI::App& sub) {
   sub.add_option("--weibull-k", args->weibull_k, "Weibull shape k of the 10-min wind")
       ->capture_default_str();
   sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")->capture_default_str();
-  sub.add_option("--lag1", args->lag1, "Lag-1 autocorrelation of the Gaussian copula")
+  sub.add_option("--lag1", args->lag1,
+                 "A single AR(1) with this lag-1 correlation per 10 minutes (the former model; "
+                 "default: two-scale persistence fitted to Kelmarsh)");
+  sub.add_option("--slow-weight", args->persistence.slow_weight,
+                 "Two-scale persistence: variance share of the slow component")
+      ->capture_default_str();
+  sub.add_option("--slow-time-constant", args->persistence.slow_time_constant_s,
+                 "Two-scale persistence: slow component's time constant [s]")
+      ->capture_default_str();
+  sub.add_option("--fast-lag1", args->persistence.fast_lag1_10min,
+                 "Two-scale persistence: fast component's lag-1 correlation per 10 minutes")
       ->capture_default_str();
   sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
   sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")->capture_default_str();

@@ -16,6 +16,7 @@
 #include "cli/run.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
+#include "wind/synthetic_wind.hpp"
 
 namespace {
 namespace fs = std::filesystem;
@@ -173,6 +174,33 @@ TEST_F(SynthScada, TenMinuteWindsFromAFileAndFromTheBuiltInDay) {
   ASSERT_EQ(k.size(), 144u);
   EXPECT_EQ(k[0].t, 1557619200.0);  // 2019-05-12T00:00:00Z
   EXPECT_NEAR(k[0].wind, 7.373, 1e-3);
+}
+
+TEST_F(SynthScada, TenMinuteRowsCarryTheTwoScaleWindOrTheSingleAr1) {
+  // The steady mode's wind column is the two-scale generator's series for the seed (written with
+  // 3 decimals), and --lag1 switches to the single AR(1) w = 1, τ = −600 s/ln(lag1).
+  ASSERT_EQ(
+      run_synth({"synth-scada", "--days", "2", "--seed", "9", "--out", p("two.csv")}).exit_code, 0);
+  ASSERT_EQ(run_synth({"synth-scada", "--days", "2", "--seed", "9", "--lag1", "0.9", "--out",
+                       p("one.csv")})
+                .exit_code,
+            0);
+  app::wind::SyntheticWind two(app::wind::SyntheticWindParameters{}, 600.0, 9);
+  app::wind::SyntheticWindParameters ar1;
+  ar1.slow_weight = 1.0;
+  ar1.slow_time_constant_s = -600.0 / std::log(0.9);
+  app::wind::SyntheticWind one(ar1, 600.0, 9);
+  const auto rows_two = read_rows(p("two.csv")), rows_one = read_rows(p("one.csv"));
+  ASSERT_EQ(rows_two.size(), 288u);
+  ASSERT_EQ(rows_one.size(), 288u);
+  for (std::size_t i = 0; i < rows_two.size(); ++i) {
+    EXPECT_NEAR(rows_two[i].wind, two.next(), 5.1e-4) << "row " << i;
+    EXPECT_NEAR(rows_one[i].wind, one.next(), 5.1e-4) << "row " << i;
+  }
+  const SynthResult bad =
+      run_synth({"synth-scada", "--days", "1", "--slow-weight", "0", "--out", p("bad.csv")});
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.error.find("slow_weight"), std::string::npos) << bad.error;
 }
 
 TEST_F(SynthScada, BadInputsNamed) {
