@@ -19,7 +19,7 @@
 // from a rotor model driven by turbulent wind inside each 10-minute row. The 10-minute mean
 // winds come from an existing SCADA file (`--from-10min FILE`, e.g.
 // builtin:kelmarsh-day.csv; each row's time and mean wind), from a constant
-// (`--mean-wind V`), or from the Weibull + AR(1) generator above. Inside each row: IEC
+// (`--mean-wind V`), or from the two-scale Weibull generator above. Inside each row: IEC
 // 61400-1 normal turbulence with the Kaimal spectrum (model/wind/turbulence.hpp), averaged
 // over the rotor disc with IEC's exponential coherence (--point-wind: the hub point's wind,
 // an upper bound of the fluctuations), fed to the
@@ -467,7 +467,8 @@ void setup_synth_scada(CLI::App& sub) {
 
 const bool kSynthScadaRegistered = app::cli::register_command(
     {"synth-scada",
-     "Deterministic synthetic SCADA history (Weibull + AR(1) wind, steady-state turbine; "
+     "Deterministic synthetic SCADA history (Weibull wind with two-scale persistence, steady-state "
+     "turbine; "
      "or 1-s rows from turbulent wind through a rotor model, --turbulence)",
      &setup_synth_scada});
 
