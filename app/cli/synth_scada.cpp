@@ -468,8 +468,7 @@ void setup_synth_scada(CLI::App& sub) {
 const bool kSynthScadaRegistered = app::cli::register_command(
     {"synth-scada",
      "Deterministic synthetic SCADA history (Weibull wind with two-scale persistence, steady-state "
-     "turbine; "
-     "or 1-s rows from turbulent wind through a rotor model, --turbulence)",
+     "turbine; or 1-s rows from turbulent wind through a rotor model, --turbulence)",
      &setup_synth_scada});
 
 }  // namespace
