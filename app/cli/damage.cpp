@@ -119,6 +119,11 @@ nlohmann::json num(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
 
+nlohmann::json quantiles_json(const app::fatigue::Quantiles& q) {
+  return {{"min", q.min}, {"q1", q.q1},   {"median", q.median},
+          {"q3", q.q3},   {"max", q.max}, {"mean", q.mean}};
+}
+
 void run(const DamageArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   const model::Drivetrain drivetrain = app::config::load_drivetrain(args.drivetrain);
@@ -390,7 +395,8 @@ void run(const DamageArgs& args) {
     std::printf(
         "#   min %.3e  Q1 %.3e  median %.3e  Q3 %.3e  max %.3e  mean %.3e  (paper, its one day: "
         "%.3e)\n",
-        dist.min, dist.q1, dist.median, dist.q3, dist.max, dist.mean, kPaperDayDamage);
+        dist.all.min, dist.all.q1, dist.all.median, dist.all.q3, dist.all.max, dist.all.mean,
+        kPaperDayDamage);
     const app::fatigue::Quantiles& b = dist.band;
     if (b.count > 0) {
       std::printf(
@@ -481,25 +487,14 @@ void run(const DamageArgs& args) {
     for (const auto& i : h.issues)
       j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
     if (hopt.per_day) {
-      j["per_day"] = {{"channel", dc},
-                      {"full_days", dist.full_days},
-                      {"partial_days", dist.partial_days},
-                      {"min", dist.min},
-                      {"q1", dist.q1},
-                      {"median", dist.median},
-                      {"q3", dist.q3},
-                      {"max", dist.max},
-                      {"mean", dist.mean}};
-      const app::fatigue::Quantiles& b = dist.band;
-      j["per_day"]["paper_wind_band"] = {{"wind_mps", kPaperWindMps},
-                                         {"band_mps", kPaperWindBandMps},
-                                         {"days", b.count},
-                                         {"median", b.median},
-                                         {"q1", b.q1},
-                                         {"q3", b.q3},
-                                         {"min", b.min},
-                                         {"max", b.max},
-                                         {"mean", b.mean}};
+      j["per_day"] = quantiles_json(dist.all);
+      j["per_day"]["channel"] = dc;
+      j["per_day"]["full_days"] = dist.full_days;
+      j["per_day"]["partial_days"] = dist.partial_days;
+      j["per_day"]["paper_wind_band"] = quantiles_json(dist.band);
+      j["per_day"]["paper_wind_band"]["wind_mps"] = kPaperWindMps;
+      j["per_day"]["paper_wind_band"]["band_mps"] = kPaperWindBandMps;
+      j["per_day"]["paper_wind_band"]["days"] = dist.band.count;
       for (std::size_t i : dist.nearest) {
         j["per_day"]["nearest_paper_wind"].push_back({{"date", utc_date(h.days[i].day)},
                                                       {"mean_wind_mps", h.days[i].mean_wind_mps()},

@@ -272,13 +272,7 @@ DayDistribution day_distribution(const std::vector<DayRecord>& days, std::size_t
   }
   out.full_days = v.size();
   if (v.empty()) return out;
-  const Quantiles all = quantiles(std::move(v));
-  out.min = all.min;
-  out.max = all.max;
-  out.q1 = all.q1;
-  out.median = all.median;
-  out.q3 = all.q3;
-  out.mean = all.mean;
+  out.all = quantiles(std::move(v));
   out.band = quantiles(std::move(in_band));
   std::stable_sort(full.begin(), full.end(), [&](std::size_t a, std::size_t b) {
     return std::abs(days[a].mean_wind_mps() - wind_ref_mps) <

@@ -109,7 +109,7 @@ Quantiles quantiles(std::vector<double> sample);
 /// (the paper's one-day figure is the damage of a day at its check point's wind).
 struct DayDistribution {
   std::size_t full_days = 0, partial_days = 0;
-  double min = 0.0, q1 = 0.0, median = 0.0, q3 = 0.0, max = 0.0, mean = 0.0;  // [-] damage per day
+  Quantiles all;  // [-] damage per day of every full day (all.count == full_days)
   std::vector<std::size_t>
       nearest;  // indices into the days vector: full days by |mean wind − wind_ref|, closest first
   Quantiles band;  // [-] damage per day of the full days with |mean wind − wind_ref| ≤ band_mps

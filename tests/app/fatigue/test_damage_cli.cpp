@@ -67,9 +67,11 @@ double table_damage(const std::string& out, const std::string& component, const 
 }
 
 TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
-  // Arrange: two UTC days of 10-min rows at rated torque 1.23e6 N·m and 14 rpm.
+  // Arrange: two UTC days of 10-min rows at rated torque 1.23e6 N·m and 14 rpm; the wind column
+  // (not used: the torque is measured) says 12 m/s the first day and 6.8 m/s the second.
   std::string csv = "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,pitch_deg,torque_nm\n";
-  for (int i = 0; i < 288; ++i) csv += std::to_string(600 * i) + ",12,14,,,1230000\n";
+  for (int i = 0; i < 288; ++i)
+    csv += std::to_string(600 * i) + (i < 144 ? ",12" : ",6.8") + ",14,,,1230000\n";
   const fs::path scada = dir_ / "scada.csv", json = dir_ / "summary.json";
   std::ofstream(scada) << csv;
   // Act
@@ -111,6 +113,11 @@ TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
   // --per-day: two full days with the same damage, half the total each.
   EXPECT_EQ(j["per_day"]["full_days"], 2);
   EXPECT_NEAR(j["per_day"]["median"].get<double>(), hand / 2.0, 1e-9 * hand);
+  // The days at the paper's check point (6.75 ± 0.1 m/s): the second day only.
+  const auto& band = j["per_day"]["paper_wind_band"];
+  EXPECT_EQ(band["days"], 1);
+  EXPECT_DOUBLE_EQ(band["wind_mps"].get<double>(), 6.75);
+  EXPECT_NEAR(band["median"].get<double>(), hand / 2.0, 1e-9 * hand);
 }
 
 TEST_F(DamageCli, ASpectrumCachedByAnOlderCodeVersionIsNotReused) {

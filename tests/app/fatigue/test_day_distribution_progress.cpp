@@ -38,12 +38,13 @@ TEST(DayDistribution, QuartilesMedianAndNearestDaysFollowTheHandCalculation) {
   // Assert: |wind − 6.75| = 2.25, 1.75, 0.25, 0.25, 1.25 → days 2 and 3 (tie kept in order).
   EXPECT_EQ(dist.full_days, 5u);
   EXPECT_EQ(dist.partial_days, 1u);
-  EXPECT_DOUBLE_EQ(dist.min, 1e-6);
-  EXPECT_DOUBLE_EQ(dist.q1, 2e-6);
-  EXPECT_DOUBLE_EQ(dist.median, 3e-6);
-  EXPECT_DOUBLE_EQ(dist.q3, 4e-6);
-  EXPECT_DOUBLE_EQ(dist.max, 5e-6);
-  EXPECT_DOUBLE_EQ(dist.mean, 3e-6);
+  EXPECT_EQ(dist.all.count, 5u);
+  EXPECT_DOUBLE_EQ(dist.all.min, 1e-6);
+  EXPECT_DOUBLE_EQ(dist.all.q1, 2e-6);
+  EXPECT_DOUBLE_EQ(dist.all.median, 3e-6);
+  EXPECT_DOUBLE_EQ(dist.all.q3, 4e-6);
+  EXPECT_DOUBLE_EQ(dist.all.max, 5e-6);
+  EXPECT_DOUBLE_EQ(dist.all.mean, 3e-6);
   ASSERT_EQ(dist.nearest.size(), 2u);
   EXPECT_EQ(dist.nearest[0], 2u);
   EXPECT_EQ(dist.nearest[1], 3u);
