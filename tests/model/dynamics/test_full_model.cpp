@@ -211,6 +211,8 @@ TEST(FullModelModes, LowestTorsionalModesAgreeWithAHandAssembledTorsionalChain) 
 TEST(FullModelIntegrator, UndampedFreeVibrationConservesEnergy) {
   // Newmark's average-acceleration rule conserves ½vᵀMv + ½xᵀKx exactly for a linear
   // undamped system with constant K; rounding leaves ~1e-12 relative. Tolerance 1e-9.
+  // The rotor stands still: a turning carrier turns the intermediate mesh's direction
+  // (K changes) and adds the frame's Coriolis and centripetal terms.
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.rayleigh_eta = 0.0;
   d.dynamics.rayleigh_zeta = 0.0;
@@ -220,7 +222,7 @@ TEST(FullModelIntegrator, UndampedFreeVibrationConservesEnergy) {
   NewmarkIntegrator integ(m, 1.0 / 25600);
   Eigen::VectorXd x0 =
       m.stiffness.llt().solve(Eigen::VectorXd::LinSpaced(m.dofs(), -1.0, 1.0) * 1e4);
-  integ.reset(x0, Eigen::VectorXd::Zero(m.dofs()), {10.0, 0.0});
+  integ.reset(x0, Eigen::VectorXd::Zero(m.dofs()), {0.0, 0.0});
   auto energy = [&] {
     const Eigen::VectorXd& x = integ.displacement();
     const Eigen::VectorXd& v = integ.velocity();
@@ -300,6 +302,58 @@ TEST(SimulationInputs, NonPositiveSpeedIsRejectedWithTheFieldName) {
   EXPECT_NE(error.find("rotor_speed_rpm"), std::string::npos) << error;
   EXPECT_FALSE(simulate_full(model::paper_2mw(), {8.0, 1e5}, {0.0, 25600}, out, &error));
   EXPECT_NE(error.find("seconds"), std::string::npos) << error;
+}
+
+}  // namespace
+
+namespace {
+
+TEST(CarrierFrame, TurningTheCarrierIsPlacingThePlanetsThere) {
+  // The carrier carries the planets round: the model turned by ψ (its intermediate mesh
+  // seen from the carrier's axes turns backwards) must be the same gearbox as one built
+  // with its planets placed at +ψ — two different constructions of one physical state.
+  const model::Drivetrain d = model::paper_2mw();
+  const FullModel turning = paper_model(d);
+  for (double deg : {20.0, 50.0, 95.0, 200.0}) {
+    StructuralParameters placed_at;
+    placed_at.carrier_angle_rad = deg * kPi / 180.0;
+    std::string error;
+    const std::optional<FullModel> placed = build_full_model(d, placed_at, &error);
+    ASSERT_TRUE(placed) << error;
+    const double revs = deg / 360.0;
+    const Eigen::VectorXd x_turned = turning.static_deflection_at(kPaperTorqueNm, revs);
+    const Eigen::VectorXd x_placed = placed->static_deflection(kPaperTorqueNm);
+    for (std::size_t j = 0; j < turning.meshes.size(); ++j) {
+      const double a = turning.static_mesh_force(j, x_turned, revs);
+      const double b = placed->static_mesh_force(j, x_placed, 0.0);
+      EXPECT_NEAR(a / b, 1.0, 1e-9) << turning.meshes[j].id << " at " << deg << "°";
+    }
+  }
+}
+
+TEST(CarrierFrame, PlanetSharingFollowsTheCarrierAndEvensOutOverARevolution) {
+  // The floating sun is pushed sideways by the intermediate mesh's radial force, which is
+  // fixed in the housing; the planets pass it in turn. Planet n's share at carrier angle
+  // ψ + 120° is planet n+1's at ψ (it stands where n+1 stood), so over a revolution each
+  // planet carries exactly a third (quasi-static; 72 angles, trapezoidal mean).
+  const FullModel m = paper_model();
+  constexpr int kAngles = 72;
+  std::array<double, 3> mean{};
+  std::array<std::array<double, kAngles>, 3> share{};
+  for (int a = 0; a < kAngles; ++a) {
+    const double revs = static_cast<double>(a) / kAngles;
+    const Eigen::VectorXd x = m.static_deflection_at(kPaperTorqueNm, revs);
+    double total = 0.0;
+    for (int n = 0; n < 3; ++n) total += m.static_mesh_force(static_cast<std::size_t>(n), x, revs);
+    for (int n = 0; n < 3; ++n) {
+      share[n][a] = 3.0 * m.static_mesh_force(static_cast<std::size_t>(n), x, revs) / total;
+      mean[n] += share[n][a] / kAngles;
+    }
+  }
+  for (int n = 0; n < 3; ++n) EXPECT_NEAR(mean[n], 1.0, 1e-3) << "planet " << n + 1;
+  EXPECT_NEAR(share[0][kAngles / 3], share[1][0], 1e-6);
+  EXPECT_NEAR(share[1][kAngles / 3], share[2][0], 1e-6);
+  EXPECT_NEAR(share[2][kAngles / 3], share[0][0], 1e-6);
 }
 
 }  // namespace
