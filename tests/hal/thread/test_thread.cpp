@@ -63,12 +63,13 @@ TEST(Thread, NameStackAndNiceAreWhatWasAsked) {
   const Seen s = run(a, &r);
   // Assert: raising the nice value needs no privilege, so everything is granted.
   EXPECT_EQ(s.name, "dt-test-batch");
-  EXPECT_EQ(s.stack_bytes, 256u * 1024u);
+  // At least what was asked (sanitizers enlarge stacks), and what the report says.
+  EXPECT_GE(s.stack_bytes, 256u * 1024u);
+  EXPECT_EQ(s.stack_bytes, r.stack_bytes);
   EXPECT_EQ(s.policy, SCHED_BATCH);
   EXPECT_EQ(s.nice, 5);
   EXPECT_TRUE(r.policy_applied);
   EXPECT_TRUE(r.warning.empty()) << r.warning;
-  EXPECT_EQ(r.stack_bytes, 256u * 1024u);
 }
 
 TEST(Thread, LongNamesAreCutToFifteenCharacters) {
