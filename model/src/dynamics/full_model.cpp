@@ -334,7 +334,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           const Eigen::Vector2d nxy = info.normal.head<2>();
           const Eigen::Vector2d uab = (info.driven_centre_m - info.driver_centre_m).normalized();
           MeshExcitation te;
-          te.amplitude_m = (is_a ? 1.0 : -1.0) * ecc * nxy.norm();
+          // The run-out moves the flank towards the mate (interference, δ grows): e = −that.
+          te.amplitude_m = (is_a ? -1.0 : 1.0) * ecc * nxy.norm();
           te.pattern = {cos_table, gm.order,
                         (phi0 - std::atan2(nxy.y(), nxy.x())) / kTwoPi};
           model.meshes[gm.mesh].excitations.push_back(te);
@@ -650,7 +651,7 @@ Eigen::VectorXd FullModel::mesh_excitation_force(double rotor_revolutions) const
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
   for (const VaryingStiffness& v : meshes) {
     if (v.excitations.empty()) continue;
-    f -= v.stiffness_n_m(rotor_revolutions) * v.excitation_m(rotor_revolutions) *
+    f += v.stiffness_n_m(rotor_revolutions) * v.excitation_m(rotor_revolutions) *
          v.direction(0, psi);
   }
   return f;
@@ -681,12 +682,12 @@ Eigen::VectorXd FullModel::static_deflection_at(double input_torque_nm,
   const double psi = carrier_angle_rad(rotor_revolutions);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
   for (const ForceTerm& t : forces) f += t.mean_scale(input_torque_nm) * t.pattern;
-  // The mean transmission error pushes like a force: −u·k̄·ē.
+  // The mean transmission error pushes like a force: +u·k̄·ē.
   for (const VaryingStiffness& v : meshes) {
     double e = 0.0;
     for (const MeshExcitation& x : v.excitations)
       e += x.amplitude_m * (x.pattern.order == 0.0 ? x.pattern.value(0.0) : x.pattern.table.mean());
-    if (e != 0.0) f -= v.mean_n_m * e * v.direction(0, psi);
+    if (e != 0.0) f += v.mean_n_m * e * v.direction(0, psi);
   }
   if (rotor_revolutions == 0.0) return stiffness.llt().solve(f);
   return stiffness_at(rotor_revolutions).llt().solve(f);
@@ -698,7 +699,7 @@ double FullModel::static_mesh_force(std::size_t i, const Eigen::VectorXd& x,
   double e = 0.0;
   for (const MeshExcitation& m : v.excitations)
     e += m.amplitude_m * (m.pattern.order == 0.0 ? m.pattern.value(0.0) : m.pattern.table.mean());
-  return v.mean_n_m * (v.direction(0, carrier_angle_rad(rotor_revolutions)).dot(x) + e);
+  return v.mean_n_m * (v.direction(0, carrier_angle_rad(rotor_revolutions)).dot(x) - e);
 }
 
 std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralParameters& s,
@@ -997,7 +998,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const int n_dof = model.dofs();
   model.rayleigh_eta = dp.rayleigh_eta;
   model.rayleigh_zeta = dp.rayleigh_zeta;
-  model.frame_order = 1.0;  // the carrier is the rotor shaft (the input of the planetary stage)
+  // The carrier is the rotor shaft (the input of the planetary stage).
+  model.frame_order = s.carrier_turns ? 1.0 : 0.0;
   model.carrier_frame_xy.push_back({carrier.x, carrier.y});
   model.carrier_frame_xy.push_back({ringn.x, ringn.y});
   for (const Node& p : planets) model.carrier_frame_xy.push_back({p.x, p.y});
@@ -1100,7 +1102,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const double hss_torque_ratio = ims_torque_ratio / kin.stage_ratio(2);
   parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0,
                 kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio,
-                true);
+                s.carrier_turns);
   parallel_mesh("high_speed", (*ims)[kG3Node], (*hss)[kG4Node], hs_geo, -1.0, kin.mesh_hz(2, 60.0),
                 dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, false);
 

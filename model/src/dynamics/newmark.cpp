@@ -139,7 +139,7 @@ void NewmarkIntegrator::step() {
 double NewmarkIntegrator::mesh_force_n(std::size_t i) const {
   const VaryingStiffness& v = m_.meshes[i];
   return v.stiffness_n_m(revs_) *
-         (v.direction(0, m_.carrier_angle_rad(revs_)).dot(x_) + v.excitation_m(revs_));
+         (v.direction(0, m_.carrier_angle_rad(revs_)).dot(x_) - v.excitation_m(revs_));
 }
 
 double NewmarkIntegrator::bearing_force_n(std::size_t i, int c) const {

@@ -313,7 +313,9 @@ TEST(CarrierFrame, TurningTheCarrierIsPlacingThePlanetsThere) {
   // seen from the carrier's axes turns backwards) must be the same gearbox as one built
   // with its planets placed at +ψ — two different constructions of one physical state.
   const model::Drivetrain d = model::paper_2mw();
-  const FullModel turning = paper_model(d);
+  StructuralParameters turns;
+  turns.carrier_turns = true;
+  const FullModel turning = *build_full_model(d, turns);
   for (double deg : {20.0, 50.0, 95.0, 200.0}) {
     StructuralParameters placed_at;
     placed_at.carrier_angle_rad = deg * kPi / 180.0;
@@ -336,7 +338,9 @@ TEST(CarrierFrame, PlanetSharingFollowsTheCarrierAndEvensOutOverARevolution) {
   // fixed in the housing; the planets pass it in turn. Planet n's share at carrier angle
   // ψ + 120° is planet n+1's at ψ (it stands where n+1 stood), so over a revolution each
   // planet carries exactly a third (quasi-static; 72 angles, trapezoidal mean).
-  const FullModel m = paper_model();
+  StructuralParameters turns;
+  turns.carrier_turns = true;
+  const FullModel m = *build_full_model(model::paper_2mw(), turns);
   constexpr int kAngles = 72;
   std::array<double, 3> mean{};
   std::array<std::array<double, kAngles>, 3> share{};

@@ -84,7 +84,8 @@ TEST(Rom, StaticMeshForcesEqualTheFullModelsExactly) {
 
 TEST(Rom, UndampedFreeVibrationConservesModalEnergy) {
   // With constant stiffness and no damping each mode's exact propagator is a rotation:
-  // ½q̇² + ½ω²q² is conserved to rounding. Tolerance 1e-9 over 5000 steps.
+  // ½q̇² + ½ω²q² is conserved to rounding. Tolerance 1e-9 over 5000 steps. The rotor stands
+  // still: a turning carrier turns the intermediate mesh (the stiffness changes).
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.rayleigh_eta = 0.0;
   d.dynamics.rayleigh_zeta = 0.0;
@@ -101,11 +102,11 @@ TEST(Rom, UndampedFreeVibrationConservesModalEnergy) {
     const auto& v = r.modal_velocity();
     return 0.5 * v.squaredNorm() + 0.5 * (data->omega2.array() * q.array().square()).sum();
   };
-  rom.step({10.0, 0.0}, out);  // ... released: free vibration about zero
+  rom.step({0.0, 0.0}, out);  // ... released: free vibration about zero
   const double e0 = energy(rom);
   double worst = 0.0;
   for (int i = 0; i < 5000; ++i) {
-    rom.step({10.0, 0.0}, out);
+    rom.step({0.0, 0.0}, out);
     worst = std::max(worst, std::abs(energy(rom) / e0 - 1.0));
   }
   EXPECT_GT(e0, 0.0);

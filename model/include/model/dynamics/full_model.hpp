@@ -87,6 +87,9 @@ struct StructuralParameters {
   double sensor_angle_rad =
       1.5707963267948966;  // [rad] radial sensor direction, from +x (+y: vertical)
   double carrier_angle_rad = 0.0;  // [rad] carrier angle at which the planets are placed
+  // The carrier carries the planets round (the carrier frame turns, header comment). false:
+  // the planets stay where they were placed (the frame does not turn: frame_order = 0).
+  bool carrier_turns = true;
 };
 
 /// A periodic factor of the rotor angle: table(order·N_rotor + phase), N_rotor the rotor
@@ -102,15 +105,15 @@ struct Modulation {
 };
 
 /// A displacement excitation of a mesh along its line of action [m]: the no-load
-/// transmission error, positive when the teeth interfere (it compresses the mesh):
-/// e(t) = amplitude·pattern(N_rotor). An eccentric gear's run-out, a static transmission
-/// error over the mesh cycle.
+/// transmission error e(t) = amplitude·pattern(N_rotor), positive when the teeth stand
+/// apart (the mesh force is k(t)·(δ − e)). An eccentric gear's run-out, a static
+/// transmission error over the mesh cycle.
 struct MeshExcitation {
   double amplitude_m = 0.0;  // [m]
   Modulation pattern;        // [-]
 };
 
-/// A time-varying stiffness: restoring force −k(t)·Σ_c u_c (u_cᵀ x + e(t)),
+/// A time-varying stiffness: restoring force −k(t)·Σ_c u_c (u_cᵀ x − e(t)),
 /// k(t) = mean·shape(order·N_rotor + phase)·Π modulations(N_rotor), e(t) the sum of the
 /// excitations (rank-1 elements only; 0 for most).
 ///
@@ -233,7 +236,7 @@ struct FullModel {
   /// without the meshes' transmission error (mesh_excitation_force()).
   Eigen::VectorXd force(double rotor_revolutions, double input_torque_nm,
                         double rotor_hz = 0.0) const;
-  /// −Σ u(ψ)·k(t)·e(t) over the meshes with an excitation [N, N·m].
+  /// Σ u(ψ)·k(t)·e(t) over the meshes with an excitation [N, N·m].
   Eigen::VectorXd mesh_excitation_force(double rotor_revolutions) const;
   /// Carrier angle ψ at a rotor angle [rad].
   double carrier_angle_rad(double rotor_revolutions) const;
