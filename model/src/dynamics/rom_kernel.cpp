@@ -205,6 +205,7 @@ namespace {
                                         double* __restrict g, double* __restrict zs,
                                         const RomKernelOutputs& out) noexcept {
   const int n_dofs = m.dofs;
+  if (n_dofs % kLanes != 0 || n_dofs > kN) __builtin_unreachable();  // rom.cpp: whole vectors
   const int r = m.turning_mesh;  // −1: no turning mesh
   const double cpsi = in.cos_psi, spsi = in.sin_psi;
   // The time-varying coefficients at t_{n+1}: every look-up at its phase; two constants.
@@ -231,7 +232,7 @@ namespace {
   double dk_path[kKernelPaths];
   for (int j = 0; j < kKernelPaths; ++j)
     dk_path[j] = m.path_mean[j] * (val[kKernelLookupPaths + j] - 1.0);
-  double force[kKernelForces];
+  double force[kKernelForces] = {};  // force[0]: the input torque (rom.cpp); 0 if none
   const double hz2 = in.rotor_hz * in.rotor_hz;
   for (int j = 0; j < m.forces; ++j) {
     const double* fr = m.force_frame + 3 * j;
@@ -277,11 +278,18 @@ namespace {
 
   // h = Φᵀf(t_{n+1}) − W_b·f_b − W_p·f_p and the predictor r (q⁺ without the implicit
   // mesh term and the transmission error).
+  // The forces first, a column at a time (their count is the model's); then one fused pass
+  // with the fixed number of bearing and path columns, which the compiler unrolls.
   alignas(64) double h[kN];
   alignas(64) double rp[kN];
+  for (int i = 0; i < n_dofs; ++i) h[i] = force[0] * m.w_force[i];
+  for (int j = 1; j < m.forces; ++j) {
+    const double fj = force[j];
+    const double* column = m.w_force + j * kN;
+    for (int i = 0; i < n_dofs; ++i) h[i] += fj * column[i];
+  }
   for (int i = 0; i < n_dofs; ++i) {
-    double hi = 0.0;
-    for (int j = 0; j < m.forces; ++j) hi += force[j] * m.w_force[j * kN + i];
+    double hi = h[i];
     for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
     for (int j = 0; j < kKernelPaths; ++j) hi -= fp[j] * m.w_path[j * kN + i];
     h[i] = hi;
@@ -364,7 +372,6 @@ namespace {
   }
   double eff[kMB];
   for (int j = 0; j < kMB; ++j) eff[j] = ys[j] - kn[j];
-  const int basis = r >= 0 ? kMB : kM;
 
   // Corrector: g⁺ = h − W eff, q⁺ = r − b1q ⊙ W eff, v⁺ from the propagators; the seat
   // accelerations S q̈⁺ = S (g⁺ − c ⊙ v⁺ − ω² ⊙ q⁺) in the same pass.
@@ -376,7 +383,7 @@ namespace {
     for (int l = 0; l < kLanes; ++l) {
       const int i = ib + l;
       double wy = 0.0;
-      for (int j = 0; j < basis; ++j) wy += eff[j] * m.w_basis[j * kN + i];
+      for (int j = 0; j < kMB; ++j) wy += eff[j] * m.w_basis[j * kN + i];
       const double gn = h[i] - wy;
       const double vn = m.pvq[i] * q[i] + m.pvv[i] * v[i] + m.b0v[i] * g[i] + m.b1v[i] * gn;
       const double qn = rp[i] - m.b1q[i] * wy;
@@ -393,7 +400,7 @@ namespace {
   out.acceleration_m_s2[1] = sum_lanes(acc1);
 
   // Read-out at t_{n+1}: R q⁺ = z − C ys (z includes C·kn).
-  for (int j = 0; j < basis; ++j) {
+  for (int j = 0; j < kMB; ++j) {
     const double* column = m.readout_correction + j * kZpad;
     for (int b = 0; b < kZv; ++b) {
       Mesh8 cb;
