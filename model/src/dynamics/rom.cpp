@@ -479,10 +479,62 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   return data;
 }
 
-Rom::Rom(const RomData& data) noexcept : data_(&data) {}
+Rom::Rom(const RomData& data) noexcept : data_(&data) { bind_kernel(); }
+
+void Rom::bind_kernel() noexcept {
+  const RomData& d = *data_;
+  kernel_ = detail::RomKernelModel{d.dofs,
+                                     d.lookups,
+                                     d.force_count,
+                                     d.path_count,
+                                     d.turning_mesh,
+                                     d.excitation,
+                                     d.pqq.data(),
+                                     d.pqv.data(),
+                                     d.b0q.data(),
+                                     d.b1q.data(),
+                                     d.pvq.data(),
+                                     d.pvv.data(),
+                                     d.b0v.data(),
+                                     d.b1v.data(),
+                                     d.damping_1_s.data(),
+                                     d.omega2.data(),
+                                     d.w_force.data(),
+                                     d.w_bearing.data(),
+                                     d.w_path.data(),
+                                     d.w_basis.data(),
+                                     d.readout_by_dof.data(),
+                                     d.g_mesh.data(),
+                                     d.g_mesh_cos.data(),
+                                     d.g_mesh_sin.data(),
+                                     d.g_turning_2psi.data(),
+                                     d.g_extra.data(),
+                                     d.g_extra_self,
+                                     d.readout_correction.data(),
+                                     d.sensor_rows.data(),
+                                     d.term_order.data(),
+                                     d.term_phase_cycles.data(),
+                                     d.term_values.data(),
+                                     d.mesh_mean_n_m.data(),
+                                     d.mesh_shape.data(),
+                                     d.mesh_modulation.data(),
+                                     d.mesh_error0.data(),
+                                     d.mesh_error1.data(),
+                                     d.bearing_mean_n_m.data(),
+                                     d.path_mean_n_m.data(),
+                                     d.force_scale.data(),
+                                     d.force_per_nm.data(),
+                                     d.force_per_hz2.data(),
+                                     d.force_index0.data(),
+                                     d.force_index1.data(),
+                                     d.force_frame.data()};
+}
+
+
 
 void Rom::adopt(const RomData& next, const RomInputs& in) noexcept {
   data_ = &next;
+  bind_kernel();
   reset(in, revs_, t_);
 }
 
@@ -491,8 +543,8 @@ void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) no
   t_ = time_s;
   revs_ = rotor_revolutions;
   const double revs = rotor_revolutions;
-  const double psi = 2.0 * std::numbers::pi * d.frame_order * revs;
-  const double cpsi = std::cos(psi), spsi = std::sin(psi);
+  set_carrier_angle(revs);
+  const double cpsi = cos_psi_, spsi = sin_psi_;
   const double hz = in.rotor_speed_rpm / 60.0;
   const int r = d.turning_mesh;
   // Mean of a look-up over time (its table's mean; a constant's value).
@@ -566,64 +618,42 @@ void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) no
   }
 }
 
+void Rom::set_carrier_angle(double revs) noexcept {
+  const double turns = data_->frame_order * revs;
+  const double psi = 2.0 * std::numbers::pi * (turns - std::floor(turns));
+  cos_psi_ = std::cos(psi);
+  sin_psi_ = std::sin(psi);
+  steps_since_exact_ = 0;
+}
+
 void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const RomData& d = *data_;
   const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
-  const double psi = 2.0 * std::numbers::pi * d.frame_order * revs_next;
-  const double cpsi = std::cos(psi), spsi = std::sin(psi);
+  // The carrier angle's cosine and sine, turned by this step's small angle (Taylor terms to
+  // Δψ⁴, Δψ ≤ 1e-4 rad: exact to rounding) and recomputed exactly every 4096 steps.
+  if (d.frame_order != 0.0) {
+    if (++steps_since_exact_ >= 4096) {
+      set_carrier_angle(revs_next);
+    } else {
+      const double dpsi = 2.0 * std::numbers::pi * d.frame_order * (revs_next - revs_);
+      const double d2 = dpsi * dpsi;
+      const double cd = 1.0 - 0.5 * d2 * (1.0 - d2 * (1.0 / 12.0));
+      const double sd = dpsi * (1.0 - d2 * (1.0 / 6.0));
+      const double c = cos_psi_ * cd - sin_psi_ * sd;
+      sin_psi_ = sin_psi_ * cd + cos_psi_ * sd;
+      cos_psi_ = c;
+    }
+  }
+  const double cpsi = cos_psi_, spsi = sin_psi_;
 
   // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
-  const detail::RomKernelModel model{d.dofs,
-                                     d.lookups,
-                                     d.force_count,
-                                     d.turning_mesh,
-                                     d.excitation,
-                                     d.pqq.data(),
-                                     d.pqv.data(),
-                                     d.b0q.data(),
-                                     d.b1q.data(),
-                                     d.pvq.data(),
-                                     d.pvv.data(),
-                                     d.b0v.data(),
-                                     d.b1v.data(),
-                                     d.damping_1_s.data(),
-                                     d.omega2.data(),
-                                     d.w_force.data(),
-                                     d.w_bearing.data(),
-                                     d.w_path.data(),
-                                     d.w_basis.data(),
-                                     d.readout_by_dof.data(),
-                                     d.g_mesh.data(),
-                                     d.g_mesh_cos.data(),
-                                     d.g_mesh_sin.data(),
-                                     d.g_turning_2psi.data(),
-                                     d.g_extra.data(),
-                                     d.g_extra_self,
-                                     d.readout_correction.data(),
-                                     d.sensor_rows.data(),
-                                     d.term_order.data(),
-                                     d.term_phase_cycles.data(),
-                                     d.term_values.data(),
-                                     d.mesh_mean_n_m.data(),
-                                     d.mesh_shape.data(),
-                                     d.mesh_modulation.data(),
-                                     d.mesh_error0.data(),
-                                     d.mesh_error1.data(),
-                                     d.bearing_mean_n_m.data(),
-                                     d.path_mean_n_m.data(),
-                                     d.force_scale.data(),
-                                     d.force_per_nm.data(),
-                                     d.force_per_hz2.data(),
-                                     d.force_index0.data(),
-                                     d.force_index1.data(),
-                                     d.force_frame.data()};
   const detail::RomKernelInputs kin{revs_next, in.input_torque_nm, in.rotor_speed_rpm / 60.0, cpsi,
                                     spsi};
   const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_.data()};
   const detail::RomKernelOutputs outputs{out.mesh_force_n.data(), out.bearing_force_x_n.data(),
                                          out.bearing_force_y_n.data(),
                                          out.acceleration_m_s2.data()};
-  detail::rom_step_kernel(model, kin, state, outputs);
+  detail::rom_step_kernel(kernel_, kin, state, outputs);
   // Bearings described in the carrier's axes: their forces turned into the housing's.
   for (int j = 0; j < d.bearing_count; ++j) {
     if (!d.bearing_carrier_frame[j]) continue;

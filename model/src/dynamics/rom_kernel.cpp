@@ -200,13 +200,20 @@ namespace {
 // The step proper. The state arrays are `__restrict`: the kernel reads and writes them
 // only through these pointers, so the corrector writes them in place without the
 // compiler guarding every store against the model data.
+// kTurning: a mesh turns with the carrier (its a, b basis columns and the extra column);
+// kPaths: the model has explicit path couplings. Both fixed per model: four instantiations,
+// so a model without them streams none of their columns.
+template <bool kTurning, bool kPaths>
 [[gnu::always_inline]] inline void step(const RomKernelModel& m, const RomKernelInputs& in,
                                         double* __restrict q, double* __restrict v,
                                         double* __restrict g, double* __restrict zs,
                                         const RomKernelOutputs& out) noexcept {
+  constexpr int kBasis = kTurning ? kMB : kM;
+  constexpr int kP = kPaths ? kKernelPaths : 0;
   const int n_dofs = m.dofs;
   if (n_dofs % kLanes != 0 || n_dofs > kN) __builtin_unreachable();  // rom.cpp: whole vectors
-  const int r = m.turning_mesh;  // −1: no turning mesh
+  const int r = kTurning ? m.turning_mesh : 0;  // the turning mesh (kTurning only)
+  if (r < 0 || r >= kM) __builtin_unreachable();
   const double cpsi = in.cos_psi, spsi = in.sin_psi;
   // The time-varying coefficients at t_{n+1}: every look-up at its phase; two constants.
   alignas(64) double val[kKernelLookups + 2];
@@ -217,11 +224,15 @@ namespace {
   for (int j = 0; j < kM; ++j) {
     k_mesh[j] = m.mesh_mean[j] * val[m.mesh_shape[j]] * val[m.mesh_modulation[j]];
     dk[j] = k_mesh[j] - m.mesh_mean[j];
-    err[j] = val[m.mesh_error0[j]] + val[m.mesh_error1[j]];
+  }
+  if (m.excitation) {
+    for (int j = 0; j < kM; ++j) err[j] = val[m.mesh_error0[j]] + val[m.mesh_error1[j]];
+  } else {
+    err = Mesh8{};
   }
   // The turning mesh carries its whole stiffness along its direction at ψ, and the extra
   // column takes back the mean along the direction at ψ = 0 that the modal diagonal holds.
-  if (r >= 0) dk[r] = k_mesh[r];
+  if constexpr (kTurning) dk[r] = k_mesh[r];
   double k_bearing[kKernelBearings];
   double dk_bearing[kB];  // per W_b column
   for (int j = 0; j < kKernelBearings; ++j) {
@@ -229,8 +240,8 @@ namespace {
     k_bearing[j] = mean * val[kKernelLookupBearings + j];
     dk_bearing[2 * j] = dk_bearing[2 * j + 1] = k_bearing[j] - mean;
   }
-  double dk_path[kKernelPaths];
-  for (int j = 0; j < kKernelPaths; ++j)
+  double dk_path[kKernelPaths] = {};
+  for (int j = 0; j < kP; ++j)
     dk_path[j] = m.path_mean[j] * (val[kKernelLookupPaths + j] - 1.0);
   double force[kKernelForces] = {};  // force[0]: the input torque (rom.cpp); 0 if none
   const double hz2 = in.rotor_hz * in.rotor_hz;
@@ -245,7 +256,7 @@ namespace {
   // Left uninitialised on purpose (per step): the factorisation writes every member it reads.
   MeshFactors fac;  // NOLINT(cppcoreguidelines-pro-type-member-init)
   Mesh8 g_extra{};  // the extra column of G at ψ (turning mesh only)
-  if (r < 0) {
+  if constexpr (!kTurning) {
     for (int j = 0; j < kM; ++j) {
       Mesh8 gj;
       __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
@@ -273,8 +284,8 @@ namespace {
   // Explicit bearing fluctuation and path forces, at the read-out of t_n.
   double fb[kB];
   for (int j = 0; j < kB; ++j) fb[j] = dk_bearing[j] * zs[kKernelRowBearings + j];
-  double fp[kKernelPaths];
-  for (int j = 0; j < kKernelPaths; ++j) fp[j] = dk_path[j] * zs[kKernelRowPaths + j];
+  double fp[kKernelPaths] = {};
+  for (int j = 0; j < kP; ++j) fp[j] = dk_path[j] * zs[kKernelRowPaths + j];
 
   // h = Φᵀf(t_{n+1}) − W_b·f_b − W_p·f_p and the predictor r (q⁺ without the implicit
   // mesh term and the transmission error).
@@ -282,16 +293,19 @@ namespace {
   // with the fixed number of bearing and path columns, which the compiler unrolls.
   alignas(64) double h[kN];
   alignas(64) double rp[kN];
-  for (int i = 0; i < n_dofs; ++i) h[i] = force[0] * m.w_force[i];
-  for (int j = 1; j < m.forces; ++j) {
-    const double fj = force[j];
-    const double* column = m.w_force + j * kN;
-    for (int i = 0; i < n_dofs; ++i) h[i] += fj * column[i];
+  const bool more_forces = m.forces > 1;
+  if (more_forces) {
+    for (int i = 0; i < n_dofs; ++i) h[i] = force[1] * m.w_force[kN + i];
+    for (int j = 2; j < m.forces; ++j) {
+      const double fj = force[j];
+      const double* column = m.w_force + j * kN;
+      for (int i = 0; i < n_dofs; ++i) h[i] += fj * column[i];
+    }
   }
   for (int i = 0; i < n_dofs; ++i) {
-    double hi = h[i];
+    double hi = force[0] * m.w_force[i] + (more_forces ? h[i] : 0.0);
     for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
-    for (int j = 0; j < kKernelPaths; ++j) hi -= fp[j] * m.w_path[j * kN + i];
+    for (int j = 0; j < kP; ++j) hi -= fp[j] * m.w_path[j * kN + i];
     h[i] = hi;
     rp[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
   }
@@ -321,11 +335,11 @@ namespace {
   double kn[kMB] = {};
   if (m.excitation) {
     for (int j = 0; j < kM; ++j) kn[j] = k_mesh[j] * err[j];
-    if (r >= 0) {
+    if constexpr (kTurning) {
       kn[kM] = cpsi * kn[r];
       kn[kM + 1] = spsi * kn[r];
     }
-    for (int j = 0; j < kMB; ++j) {
+    for (int j = 0; j < kBasis; ++j) {
       const double* column = m.readout_correction + j * kZpad;
       for (int b = 0; b < kZv; ++b) {
         Mesh8 cb;
@@ -340,7 +354,7 @@ namespace {
   // A non-physical table (a non-positive pivot) falls back to the explicit estimate A Wᵀ r.
   Mesh8 z8 = z[0];
   double z9 = 0.0;
-  if (r >= 0) {
+  if constexpr (kTurning) {
     const double zc = z[0][r], za = z[kKernelRowTurning / kM][kKernelRowTurning % kM],
                  zb = z[kKernelRowTurning / kM][kKernelRowTurning % kM + 1];
     z8 += (cpsi * za + spsi * zb) * kUnit[r];
@@ -349,7 +363,7 @@ namespace {
   Mesh8 y = dk * z8;
   if (invertible) solve_mesh_system(fac, y);
   double y9 = 0.0;
-  if (r >= 0 && invertible) {
+  if (kTurning && invertible) {
     const double d9 = -m.mesh_mean[r];
     Mesh8 s = dk * g_extra;
     solve_mesh_system(fac, s);
@@ -365,7 +379,7 @@ namespace {
   double ys[kMB];
   for (int j = 0; j < kM; ++j) ys[j] = y[j];
   ys[kM] = ys[kM + 1] = 0.0;
-  if (r >= 0) {
+  if constexpr (kTurning) {
     ys[kM] = cpsi * y[r] + y9;
     ys[kM + 1] = spsi * y[r];
     ys[r] = y[r] + y9;
@@ -383,7 +397,7 @@ namespace {
     for (int l = 0; l < kLanes; ++l) {
       const int i = ib + l;
       double wy = 0.0;
-      for (int j = 0; j < kMB; ++j) wy += eff[j] * m.w_basis[j * kN + i];
+      for (int j = 0; j < kBasis; ++j) wy += eff[j] * m.w_basis[j * kN + i];
       const double gn = h[i] - wy;
       const double vn = m.pvq[i] * q[i] + m.pvv[i] * v[i] + m.b0v[i] * g[i] + m.b1v[i] * gn;
       const double qn = rp[i] - m.b1q[i] * wy;
@@ -400,7 +414,7 @@ namespace {
   out.acceleration_m_s2[1] = sum_lanes(acc1);
 
   // Read-out at t_{n+1}: R q⁺ = z − C ys (z includes C·kn).
-  for (int j = 0; j < kMB; ++j) {
+  for (int j = 0; j < kBasis; ++j) {
     const double* column = m.readout_correction + j * kZpad;
     for (int b = 0; b < kZv; ++b) {
       Mesh8 cb;
@@ -414,7 +428,7 @@ namespace {
 
   // Forces at t_{n+1}: k(t_{n+1}) times the deflection.
   for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = k_mesh[j] * (z_next[j] - err[j]);
-  if (r >= 0) {
+  if constexpr (kTurning) {
     out.mesh_force_n[r] = k_mesh[r] * (z_next[r] + cpsi * z_next[kKernelRowTurning] +
                                        spsi * z_next[kKernelRowTurning + 1] - err[r]);
   }
@@ -428,7 +442,18 @@ namespace {
 DRIVETWIN_ROM_KERNEL_CLONES
 void rom_step_kernel(const RomKernelModel& m, const RomKernelInputs& in, const RomKernelState& s,
                      const RomKernelOutputs& out) noexcept {
-  step(m, in, s.q, s.v, s.g, s.z, out);
+  const bool turning = m.turning_mesh >= 0, paths = m.paths > 0;
+  if (turning) {
+    if (paths) {
+      step<true, true>(m, in, s.q, s.v, s.g, s.z, out);
+    } else {
+      step<true, false>(m, in, s.q, s.v, s.g, s.z, out);
+    }
+  } else if (paths) {
+    step<false, true>(m, in, s.q, s.v, s.g, s.z, out);
+  } else {
+    step<false, false>(m, in, s.q, s.v, s.g, s.z, out);
+  }
 }
 
 const char* rom_step_kernel_isa() noexcept {

@@ -83,6 +83,7 @@
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/periodic_table.hpp"
+#include "model/dynamics/rom_kernel_model.hpp"
 #include "model/dynamics/rom_terms.hpp"
 
 namespace model::dynamics {
@@ -300,6 +301,11 @@ class Rom {
   alignas(64) std::array<double, kRomReadoutRows> z_{};  // the read-out R q
   double t_ = 0.0;
   double revs_ = 0.0;
+  double cos_psi_ = 1.0, sin_psi_ = 0.0;  // the carrier angle at revs_
+  int steps_since_exact_ = 0;
+  detail::RomKernelModel kernel_{};  // pointers into *data_ for the step kernel
+  void set_carrier_angle(double rotor_revolutions) noexcept;
+  void bind_kernel() noexcept;
 };
 
 }  // namespace model::dynamics
