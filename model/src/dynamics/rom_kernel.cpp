@@ -57,6 +57,7 @@ static_assert(sizeof(Mesh8) == kM * sizeof(double), "one Mesh8 per mesh vector")
 
 // The identity's columns as whole vectors: setting one element of a vector in place
 // goes through memory and stalls the next load of the whole vector (store forwarding).
+constexpr Mesh8 kOnes = {1, 1, 1, 1, 1, 1, 1, 1};
 constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
                              {0, 0, 1, 0, 0, 0, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0},
                              {0, 0, 0, 0, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 1, 0, 0},
@@ -200,6 +201,26 @@ namespace {
 // The step proper. The state arrays are `__restrict`: the kernel reads and writes them
 // only through these pointers, so the corrector writes them in place without the
 // compiler guarding every store against the model data.
+// h = the forces − W_b·f_b − W_p·f_p (h holds the forces after the first when kMore) and
+// the predictor r, in one pass with the fixed number of bearing and path columns.
+template <int kP, bool kMore>
+[[gnu::always_inline]] inline void predictor(const RomKernelModel& m, const int n_dofs,
+                                             const double force0, const double* __restrict fb,
+                                             const double* __restrict fp,
+                                             const double* __restrict q,
+                                             const double* __restrict v,
+                                             const double* __restrict g, double* __restrict h,
+                                             double* __restrict rp) noexcept {
+  for (int i = 0; i < n_dofs; ++i) {
+    double hi = force0 * m.w_force[i];
+    if constexpr (kMore) hi += h[i];
+    for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
+    for (int j = 0; j < kP; ++j) hi -= fp[j] * m.w_path[j * kN + i];
+    h[i] = hi;
+    rp[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
+  }
+}
+
 // kTurning: a mesh turns with the carrier (its a, b basis columns and the extra column);
 // kPaths: the model has explicit path couplings. Both fixed per model: four instantiations,
 // so a model without them streams none of their columns.
@@ -263,15 +284,22 @@ template <bool kTurning, bool kPaths>
       col[j] = dk * gj + kUnit[j];
     }
   } else {
+    // Only row and column r turn: G_rj(ψ) = G0_rj + cos ψ·Gc_rj + sin ψ·Gs_rj.
     const double c2 = cpsi * cpsi - spsi * spsi, s2 = 2.0 * spsi * cpsi;
     for (int j = 0; j < kM; ++j) {
-      Mesh8 g0, gc, gs;
-      __builtin_memcpy(&g0, m.g_mesh + j * kM, sizeof g0);
-      __builtin_memcpy(&gc, m.g_mesh_cos + j * kM, sizeof gc);
-      __builtin_memcpy(&gs, m.g_mesh_sin + j * kM, sizeof gs);
-      Mesh8 gj = g0 + cpsi * gc + spsi * gs;
-      if (j == r) gj += (c2 * m.g_turning_2psi[0] + s2 * m.g_turning_2psi[1]) * kUnit[r];
-      col[j] = dk * gj + kUnit[j];
+      Mesh8 gj;
+      __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
+      const double turn = cpsi * m.g_mesh_cos[j * kM + r] + spsi * m.g_mesh_sin[j * kM + r];
+      col[j] = dk * gj + kUnit[j] + (dk[r] * turn) * kUnit[r];
+    }
+    {
+      Mesh8 gc, gs;
+      __builtin_memcpy(&gc, m.g_mesh_cos + r * kM, sizeof gc);
+      __builtin_memcpy(&gs, m.g_mesh_sin + r * kM, sizeof gs);
+      // Column r: its turning parts (the diagonal's cos ψ, sin ψ terms are in gc, gs at row r,
+      // already added by the loop above; here the off-diagonal ones and the 2ψ terms).
+      col[r] += dk * ((cpsi * gc + spsi * gs) * (kOnes - kUnit[r]) +
+                      (c2 * m.g_turning_2psi[0] + s2 * m.g_turning_2psi[1]) * kUnit[r]);
     }
     Mesh8 e0, ec, es;
     __builtin_memcpy(&e0, m.g_extra, sizeof e0);
@@ -302,12 +330,10 @@ template <bool kTurning, bool kPaths>
       for (int i = 0; i < n_dofs; ++i) h[i] += fj * column[i];
     }
   }
-  for (int i = 0; i < n_dofs; ++i) {
-    double hi = force[0] * m.w_force[i] + (more_forces ? h[i] : 0.0);
-    for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
-    for (int j = 0; j < kP; ++j) hi -= fp[j] * m.w_path[j * kN + i];
-    h[i] = hi;
-    rp[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
+  if (more_forces) {
+    predictor<kP, true>(m, n_dofs, force[0], fb, fp, q, v, g, h, rp);
+  } else {
+    predictor<kP, false>(m, n_dofs, force[0], fb, fp, q, v, g, h, rp);
   }
 
   // z = R r, the read-out of the predictor, as a sum of the read-out matrix's columns (no
