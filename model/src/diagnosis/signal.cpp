@@ -130,7 +130,17 @@ std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
   std::vector<double> out(n, 0.0);
   if (n < 2) return out;
   const Fft fft(fft_size_at_least(n));
-  std::vector<Complex> spec = padded_spectrum(x, n, fft);
+  // Tukey taper over the first and last kCpwTaper of the record: whitened, the step
+  // at the record's ends (a line whose period does not divide the record leaks) would
+  // otherwise become an impulse at both ends, the most impulsive thing in the signal.
+  std::vector<double> tapered(x, x + n);
+  const auto edge = static_cast<std::size_t>(kCpwTaper * static_cast<double>(n));
+  for (std::size_t i = 0; i < edge; ++i) {
+    const double w = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(i) / static_cast<double>(edge)));
+    tapered[i] *= w;
+    tapered[n - 1 - i] *= w;
+  }
+  std::vector<Complex> spec = padded_spectrum(tapered.data(), n, fft);
   double top = 0.0;
   for (const Complex& c : spec) top = std::max(top, std::abs(c));
   const double floor = 1e-12 * top;

@@ -95,7 +95,7 @@ TEST(Envelope, OfAnAmplitudeModulatedCarrierIsTheModulation) {
 
 TEST(CepstralPrewhitening, FlattensTheMagnitudeSpectrumAndKeepsThePhase) {
   // Lines of very different amplitude plus noise; after CPW every line has |X| = 1
-  // (the real cepstrum zeroed except at quefrency 0) and the phase is unchanged.
+  // (the real cepstrum zeroed except at quefrency 0) and the phase is the tapered input's.
   const std::size_t n = 4096;
   std::vector<double> x(n);
   std::mt19937_64 rng(5);
@@ -108,7 +108,13 @@ TEST(CepstralPrewhitening, FlattensTheMagnitudeSpectrumAndKeepsThePhase) {
   std::vector<md::Complex> in(n), ws(n), xs(n);
   for (std::size_t i = 0; i < n; ++i) in[i] = w[i];
   fft.forward(in.data(), ws.data());
-  for (std::size_t i = 0; i < n; ++i) in[i] = x[i];
+  // The phase is that of x tapered at its ends as cepstral_prewhiten does (Tukey).
+  const auto edge = static_cast<std::size_t>(md::kCpwTaper * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t from_end = std::min(i, n - 1 - i);
+    const double taper = from_end < edge ? 0.5 * (1.0 - std::cos(kPi * from_end / edge)) : 1.0;
+    in[i] = x[i] * taper;
+  }
   fft.forward(in.data(), xs.data());
   for (std::size_t k = 1; k < n / 2; k += 13) {
     EXPECT_NEAR(std::abs(ws[k]), 1.0, 1e-9) << k;

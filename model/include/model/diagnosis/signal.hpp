@@ -63,9 +63,14 @@ std::vector<Complex> band_analytic(const double* x, std::size_t n, double fs_hz,
 std::vector<double> squared_envelope(const double* x, std::size_t n, double fs_hz, double f_lo_hz,
                                      double f_hi_hz);
 
+/// Share of the record tapered at each end before cepstral prewhitening (Tukey).
+inline constexpr double kCpwTaper = 0.02;
+
 /// Cepstral prewhitening: x_w = IFFT(X/|X|) over a zero-padded FFT, truncated to n
 /// samples: the real cepstrum set to zero at every quefrency but zero, i.e. the spectral
-/// envelope (all deterministic lines and resonances) flattened, the phase kept.
+/// envelope (all deterministic lines and resonances) flattened, the phase kept. x is
+/// first tapered over kCpwTaper of its length at each end (see signal.cpp); analyse the
+/// result away from its ends.
 std::vector<double> cepstral_prewhiten(const double* x, std::size_t n);
 
 /// Real cepstrum c[q] = IFFT(ln|X|)[q], q = 0..n−1 in samples (of the time or angle
