@@ -198,7 +198,7 @@ TEST_F(ScadaCsv, MissingFileIsReportedNotThrown) {
 }
 
 TEST_F(ScadaCsv, StreamsTheRealKelmarshFileWithoutErrors) {
-  const std::string path = DRIVETWIN_SHARED_DIR "/data/kelmarsh/kelmarsh-t1-2019-h1.csv";
+  const std::string path = DRIVETWIN_SHARED_DIR "/data/kelmarsh/kelmarsh-t1-2019.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
   hal::ScadaCsvReader reader;
   ASSERT_TRUE(reader.open(path, hal::kelmarsh_scada_columns())) << reader.error();
