@@ -218,7 +218,8 @@ void Diagnoser::start(const DiagnosisInput& input) {
   report_ = DiagnosisReport{};
   report_.drivetrain = drivetrain_.name;
   report_.reference_shaft = catalogue_.reference_shaft;
-  cancel_requested_.store(false, std::memory_order_relaxed);
+  cancel_requested_ = false;
+  stepped_ = false;
   simulations_ = 0;
   stage_ = DiagnosisStage::kSpeed;
 }
@@ -240,6 +241,7 @@ DiagnosisStep Diagnoser::finish() {
 void Diagnoser::publish() {
   DiagnosisSummary s;
   s.generation = ++generation_;
+  stepped_ = true;
   s.finished = stage_ == DiagnosisStage::kDone;
   s.cancelled = report_.status == DiagnosisStatus::kCancelled;
   s.status = report_.status;
@@ -260,14 +262,14 @@ void Diagnoser::publish() {
     e.confidence = c.confidence;
     for (std::size_t k = 0; k < c.parameters.size() && k < kMaxEffectParameters; ++k) e.parameters[k] = c.parameters[k].second;
   }
-  published_.publish(s);
+  summary_ = s;
 }
 
 DiagnosisStep Diagnoser::step() {
   if (stage_ == DiagnosisStage::kIdle) return DiagnosisStep::kIdle;
   if (stage_ == DiagnosisStage::kDone)
     return report_.status == DiagnosisStatus::kOk ? DiagnosisStep::kFinished : DiagnosisStep::kFailed;
-  if (cancel_requested_.load(std::memory_order_relaxed)) return fail(DiagnosisStatus::kCancelled, "cancelled");
+  if (cancel_requested_) return fail(DiagnosisStatus::kCancelled, "cancelled");
   switch (stage_) {
     case DiagnosisStage::kSpeed:
       if (!step_speed()) return DiagnosisStep::kFailed;
@@ -301,6 +303,7 @@ DiagnosisStep Diagnoser::step() {
     case DiagnosisStage::kDone:
       break;
   }
+  publish();
   return DiagnosisStep::kRunning;
 }
 

@@ -6,11 +6,9 @@
 // crack, a ±1.5 % speed drift and noise; the expected answer follows from how it was made.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <random>
-#include <thread>
 #include <vector>
 
 #include "model/calibration/lumped_simulator.hpp"
@@ -200,20 +198,24 @@ TEST(Diagnoser, ReportsNothingWhenOnlyTheParametersDrifted) {
   for (const md::CandidateResult& c : d.report().candidates) EXPECT_FALSE(c.accepted) << md::effect_id(c.effect);
 }
 
-TEST(Diagnoser, CancelFromAnotherThreadEndsTheRunAndPublishesIt) {
+TEST(Diagnoser, CancelEndsTheRunAtTheNextStepAndTheSummarySaysSo) {
   md::RomEffectSimulator unused(paper(), 0.0);
   md::Diagnoser probe(paper(), unused);
   ToneEffectSimulator sim(probe.catalogue());
   md::Diagnoser d(paper(), sim, config());
   const Recording r = record(probe.catalogue(), drifted(), 0.0, 14.0, 3);
-  d.start(input_of(r));
-  ASSERT_EQ(d.step(), md::DiagnosisStep::kRunning);  // speed
-  std::thread other([&] { d.cancel(); });
-  other.join();
-  EXPECT_EQ(d.step(), md::DiagnosisStep::kCancelled);
   md::DiagnosisSummary s;
+  d.start(input_of(r));
+  EXPECT_FALSE(d.read_result(s));  // nothing before the first step
+  ASSERT_EQ(d.step(), md::DiagnosisStep::kRunning);  // speed
+  ASSERT_TRUE(d.read_result(s));
+  EXPECT_FALSE(s.finished);
+  EXPECT_EQ(s.stage, md::DiagnosisStage::kAnalyse);
+  d.cancel();
+  EXPECT_EQ(d.step(), md::DiagnosisStep::kCancelled);
   ASSERT_TRUE(d.read_result(s));
   EXPECT_TRUE(s.cancelled);
+  EXPECT_TRUE(s.finished);
 }
 
 TEST(Diagnoser, RefusesARecordingShorterThanTheAnalysisNeeds) {

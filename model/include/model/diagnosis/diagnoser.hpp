@@ -1,8 +1,13 @@
 #pragma once
-// The diagnosis (issue 14) as step-wise, cancellable work with an atomically published
-// result, in the shape of model::calibration::Calibrator: a low-priority thread owns
-// the Diagnoser and calls start() and then step() until it returns a final status;
-// cancel() and read_result() may be called from any thread at any time.
+// The diagnosis (issue 14) as step-wise, cancellable work, in the shape of
+// model::calibration::Calibrator: one thread (in the box: the low-priority calibration
+// thread) owns the Diagnoser and calls start() and then step() until it returns a final
+// status. Every member, cancel() and read_result() included, is called from that thread
+// only: like the Calibrator, the Diagnoser has no thread protocol of its own. Its
+// summary (DiagnosisSummary) is trivially copyable so that the application publishes it
+// atomically to other threads through its mailboxes (app/loop/mailbox.hpp, Latest<T>),
+// after every step if it likes (read_result() is valid from the first step on), and
+// relays a cancel request from another thread.
 //
 // What the steps do, in order (each step is one bounded piece: one analysis, one
 // calibrator step or one simulation):
@@ -42,22 +47,21 @@
 // on the hold-out half.
 //
 // Memory: start() and step() allocate (analysis buffers, the dynamics model per
-// simulation): a low-priority worker thread, never the real-time loop. The published
-// summary is fixed-size and trivially copyable.
+// simulation): a low-priority worker thread, never the real-time loop. The summary is
+// fixed-size and trivially copyable.
 
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "model/calibration/calibrator.hpp"
 #include "model/diagnosis/analysis.hpp"
 #include "model/diagnosis/effect_model.hpp"
 #include "model/diagnosis/locate.hpp"
-#include "model/diagnosis/seqlock.hpp"
 #include "model/diagnosis/signatures.hpp"
 #include "model/diagnosis/speed_tracking.hpp"
 #include "model/dsp/mesh_features.hpp"
@@ -192,6 +196,8 @@ struct DiagnosisSummary {
   std::array<Entry, kMaxReported> effects{};
 };
 
+static_assert(std::is_trivially_copyable_v<DiagnosisSummary>);
+
 enum class DiagnosisStep : std::uint8_t { kIdle, kRunning, kFinished, kCancelled, kFailed };
 
 class Diagnoser {
@@ -205,10 +211,15 @@ class Diagnoser {
   void start(const DiagnosisInput& input);
   /// One bounded piece of work; kRunning until the run ends.
   DiagnosisStep step();
-  /// Requests the run to stop at the next step(); any thread.
-  void cancel() { cancel_requested_.store(true, std::memory_order_relaxed); }
-  /// The last published summary; any thread, lock-free.
-  bool read_result(DiagnosisSummary& out) const { return published_.read(out); }
+  /// Requests the run to stop at the next step() (owning thread).
+  void cancel() { cancel_requested_ = true; }
+  /// The summary as of the last step (finished = the run ended); false before the
+  /// first step of a run. Owning thread; trivially copyable for a mailbox.
+  bool read_result(DiagnosisSummary& out) const {
+    if (!stepped_) return false;
+    out = summary_;
+    return true;
+  }
 
   DiagnosisStage stage() const { return stage_; }
   const DiagnosisReport& report() const { return report_; }
@@ -237,9 +248,10 @@ class Diagnoser {
   std::unique_ptr<Work> work_;
   DiagnosisReport report_;
   DiagnosisStage stage_ = DiagnosisStage::kIdle;
-  std::atomic<bool> cancel_requested_{false};
-  Seqlock<DiagnosisSummary> published_;
-  std::uint32_t generation_ = 0;
+  bool cancel_requested_ = false;
+  DiagnosisSummary summary_{};
+  std::uint32_t generation_ = 0;  // +1 per summary, across runs
+  bool stepped_ = false;          // a step of the current run has made a summary
   std::size_t simulations_ = 0;
 };
 
