@@ -589,26 +589,26 @@ std::optional<BundleError> parse_scada_csv(const std::string& text, const std::s
     if (res == ScadaReadResult::kError) return error(file, "", strip_file(reader.error()));
     const std::string at =
         "row " + std::to_string(row.row) + " (line " + std::to_string(row.line) + ")";
-    for (ScadaField f : {ScadaField::kTime, ScadaField::kWindSpeed}) {
-      if (!row.has(f)) {
-        return error(file, at + ", column '" + scada_field_name(f) + "'",
-                     "empty; expected a number in every row");
-      }
+    if (!row.has_time()) {
+      return error(file, at + ", column 't_s'", "empty; expected a number in every row");
+    }
+    if (!row.has(ScadaQuantity::kWindSpeed)) {
+      return error(file, at + ", column 'wind_speed_mps'", "empty; expected a number in every row");
     }
     BundleScadaRow r;
-    r.t_s = row.get(ScadaField::kTime);
-    r.wind_speed_mps = row.get(ScadaField::kWindSpeed);
+    r.t_s = row.time_s();
+    r.wind_speed_mps = row.get(ScadaQuantity::kWindSpeed);
     if (!out.empty() && r.t_s <= out.back().t_s) {
       return error(file, at + ", column 't_s'",
                    format_double(r.t_s) + "; expected t_s to increase from row to row");
     }
-    auto opt = [&](ScadaField f) {
+    auto opt = [&](ScadaQuantity f) {
       return row.has(f) ? std::optional<double>(row.get(f)) : std::nullopt;
     };
-    r.rotor_speed_rpm = opt(ScadaField::kRotorSpeed);
-    r.power_kw = opt(ScadaField::kPower);
-    r.pitch_deg = opt(ScadaField::kPitch);
-    r.torque_nm = opt(ScadaField::kTorque);
+    r.rotor_speed_rpm = opt(ScadaQuantity::kRotorSpeed);
+    r.power_kw = opt(ScadaQuantity::kPower);
+    r.pitch_deg = opt(ScadaQuantity::kPitch);
+    r.torque_nm = opt(ScadaQuantity::kRotorTorque);
     out.push_back(r);
   }
   return std::nullopt;
