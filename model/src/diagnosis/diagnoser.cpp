@@ -56,6 +56,25 @@ double spectral_residual(const Spectra& rec, const Spectra& sim, double max_hz) 
   return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
 }
 
+// The same sum over the lines of `windows` only (per point, line indices of the
+// recording's spectrum in the given domain).
+double signature_residual(const Spectra& rec, const Spectra& sim, Domain domain,
+                          const std::array<std::vector<std::size_t>, kPoints>& windows) {
+  double miss = 0.0, total = 0.0;
+  for (std::size_t p = 0; p < kPoints; ++p) {
+    const OrderSpectrum& m = domain == Domain::kEnvelope ? rec[p].envelope : rec[p].spectrum;
+    const OrderSpectrum& s = domain == Domain::kEnvelope ? sim[p].envelope : sim[p].spectrum;
+    for (std::size_t k : windows[p]) {
+      if (k >= m.amplitude.size()) continue;
+      const double a_s = k < s.amplitude.size() ? s.amplitude[k] : 0.0;
+      const double d = m.amplitude[k] - a_s;
+      miss += d * d;
+      total += m.amplitude[k] * m.amplitude[k];
+    }
+  }
+  return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
+}
+
 SpectrumTrace trace(const OrderSpectrum& s, double ref_hz, double max_hz, std::size_t points) {
   SpectrumTrace t;
   if (s.amplitude.empty() || points == 0) return t;
@@ -705,6 +724,33 @@ bool Diagnoser::step_refit() {
   c.residual_fit_effect = spectral_residual(w.rec_a, half, max_hz);
   c.residual_holdout_calibrated = spectral_residual(w.rec_b, w.sim_cal_half, max_hz);
   c.residual_holdout_effect = spectral_residual(w.rec_b, half, max_hz);
+  // Its signature: the windows of its lines (the fit lines for a resonance).
+  std::array<std::vector<std::size_t>, kPoints> windows;
+  for (std::size_t p = 0; p < kPoints; ++p) {
+    const OrderSpectrum& rs = h.domain == Domain::kEnvelope ? w.rec_b[p].envelope : w.rec_b[p].spectrum;
+    if (rs.amplitude.empty()) continue;
+    const double r = static_cast<double>(rs.revolutions);
+    auto add = [&](double order, double tol) {
+      const auto lo = static_cast<long long>(std::floor(order * (1.0 - tol) * r - 2.5));
+      const auto hi = static_cast<long long>(std::ceil(order * (1.0 + tol) * r + 2.5));
+      for (long long k = std::max(1LL, lo); k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
+        windows[p].push_back(static_cast<std::size_t>(k));
+    };
+    if (h.effect == Effect::kHousingResonance) {
+      for (const FitLine& l : w.lines)
+        if (l.point == p) add(l.order, 0.0);
+    } else {
+      const double top = static_cast<double>(rs.amplitude.size() - 3) / r;
+      for (const SignatureLine& l : h.lines)
+        if (l.order * (1.0 + h.tolerance) <= top) add(l.order, h.tolerance);
+    }
+    std::sort(windows[p].begin(), windows[p].end());
+    windows[p].erase(std::unique(windows[p].begin(), windows[p].end()), windows[p].end());
+  }
+  c.signature_fit_calibrated = signature_residual(w.rec_a, w.sim_cal_half, h.domain, windows);
+  c.signature_fit_effect = signature_residual(w.rec_a, half, h.domain, windows);
+  c.signature_holdout_calibrated = signature_residual(w.rec_b, w.sim_cal_half, h.domain, windows);
+  c.signature_holdout_effect = signature_residual(w.rec_b, half, h.domain, windows);
   // Its lines' evidence on the hold-out half (against calibration alone).
   const bool env = h.domain == Domain::kEnvelope;
   c.holdout_evidence = 0.0;
@@ -740,52 +786,53 @@ bool Diagnoser::step_refit() {
 
 void Diagnoser::step_decide() {
   const double gate = 1.0 - config_.min_improvement;
-  // BIC on the hold-out half: n·ln(residual) + k·ln(n) against calibration alone.
+  auto judged = [](const CandidateResult& c) {
+    return c.modelled && c.signature_holdout_calibrated > 0.0 && c.signature_holdout_effect > 0.0;
+  };
   std::vector<std::size_t> pass;
   for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
     CandidateResult& c = report_.candidates[i];
-    if (!c.modelled || c.residual_holdout_calibrated <= 0.0 || !c.verdict.empty()) continue;
-    char text[240];
-    const double ratio = c.residual_holdout_effect / c.residual_holdout_calibrated;
+    if (!judged(c) || !c.verdict.empty()) continue;
+    char text[260];
+    const double ratio = c.signature_holdout_effect / c.signature_holdout_calibrated;
     if (ratio > gate) {
-      std::snprintf(text, sizeof text, "on the hold-out half it leaves %.0f %% of the calibrated residual (needs ≤ %.0f %%)",
+      std::snprintf(text, sizeof text,
+                    "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines (needs ≤ %.0f %%)",
                     100.0 * ratio, 100.0 * gate);
     } else if (c.holdout_evidence < config_.locate.min_evidence) {
       std::snprintf(text, sizeof text, "its lines are not significant on the hold-out half (evidence %.0f < %.0f)",
                     c.holdout_evidence, config_.locate.min_evidence);
-    } else if (c.residual_fit_effect > c.residual_fit_calibrated) {
-      std::snprintf(text, sizeof text, "it worsens the half it was fitted on");
+    } else if (c.signature_fit_effect >= c.signature_fit_calibrated) {
+      std::snprintf(text, sizeof text, "it does not improve the half it was fitted on");
+    } else if (c.residual_holdout_effect > 1.02 * c.residual_holdout_calibrated) {
+      std::snprintf(text, sizeof text, "it raises the hold-out half's total residual from %.3f to %.3f",
+                    c.residual_holdout_calibrated, c.residual_holdout_effect);
     } else {
-      std::snprintf(text, sizeof text, "on the hold-out half it leaves %.0f %% of the calibrated residual, its lines' evidence %.0f",
-                    100.0 * ratio, c.holdout_evidence);
+      std::snprintf(text, sizeof text,
+                    "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines "
+                    "(%.3f → %.3f), its lines' evidence %.0f",
+                    100.0 * ratio, c.signature_holdout_calibrated, c.signature_holdout_effect, c.holdout_evidence);
       pass.push_back(i);
     }
     c.verdict = text;
   }
-  // Posterior weights over calibration alone and every modelled candidate.
-  double z0 = 0.0;
-  std::vector<double> bic(report_.candidates.size(), 0.0);
-  double best = 0.0;  // min of BIC − BIC_0
+  // Posterior weights over calibration alone (Δ = 0) and every judged candidate.
   std::vector<double> delta(report_.candidates.size(), 0.0);
+  double best = 0.0;
   for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
     const CandidateResult& c = report_.candidates[i];
-    if (!c.modelled || c.residual_holdout_calibrated <= 0.0 || c.residual_holdout_effect <= 0.0) continue;
+    if (!judged(c)) continue;
     const double n = static_cast<double>(std::max<std::size_t>(c.lines, 1));
     const double k = static_cast<double>(c.parameters.size());
-    delta[i] = n * std::log(c.residual_holdout_effect / c.residual_holdout_calibrated) + k * std::log(std::max(n, 2.0));
+    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) + k * std::log(std::max(n, 2.0));
     best = std::min(best, delta[i]);
   }
-  z0 = std::exp(-0.5 * (0.0 - best));
-  double z = z0;
-  for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
-    const CandidateResult& c = report_.candidates[i];
-    if (!c.modelled || c.residual_holdout_effect <= 0.0) continue;
-    z += std::exp(-0.5 * (delta[i] - best));
-  }
+  double z = std::exp(-0.5 * (0.0 - best));
+  for (std::size_t i = 0; i < report_.candidates.size(); ++i)
+    if (judged(report_.candidates[i])) z += std::exp(-0.5 * (delta[i] - best));
   for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
     CandidateResult& c = report_.candidates[i];
-    if (!c.modelled || c.residual_holdout_effect <= 0.0) continue;
-    c.confidence = std::exp(-0.5 * (delta[i] - best)) / z;
+    if (judged(c)) c.confidence = std::exp(-0.5 * (delta[i] - best)) / z;
   }
   std::sort(pass.begin(), pass.end(), [&](std::size_t a, std::size_t b) {
     return report_.candidates[a].confidence > report_.candidates[b].confidence;

@@ -28,15 +28,20 @@
 //               parameters held at their calibrated values, then optionally the
 //               calibrator run again with the effect switched on), then simulated and
 //               compared on half B, which the fit never saw;
-//  7. decide  — a hypothesis is reported when, on half B,
-//                 (a) the residual with its term is at most (1 − min_improvement) × the
-//                     calibrated residual — it explains a significant part of what
-//                     calibration alone left, on data it was not fitted to — and
-//                 (b) its lines are significant there too (locate.hpp's evidence ≥
-//                     min_evidence), and it did not worsen half A;
+//  7. decide  — judged on its signature: the lines of its kinematic family (±2.5 lines,
+//               ± its slip tolerance) in its domain at every point, where the signature
+//               residual is Σ(a_m − a_s)² / Σ a_m² over those lines alone (calibration's
+//               misfit elsewhere, e.g. of mesh harmonics a foreign gearbox puts elsewhere,
+//               neither hides nor helps it). A hypothesis is reported when, on half B,
+//                 (a) its signature residual with its term is at most (1 − min_improvement)
+//                     × the calibrated one — it explains a significant part of what
+//                     calibration alone left in its own lines, on data it was not fitted to;
+//                 (b) its lines are significant there (locate.hpp's evidence ≥ min_evidence);
+//                 (c) it improved half A's signature too and does not raise half B's total
+//                     residual (the contract's) by more than 2 %;
 //               confidence: the posterior weight of its Bayesian information criterion
-//               on half B, BIC = n·ln(residual) + k·ln(n) (n the number of its
-//               significant lines, k its parameter count) against calibration alone and
+//               on half B's signature residual, BIC = n·ln(residual) + k·ln(n) (n its
+//               significant lines, k its parameter count), against calibration alone and
 //               every other modelled candidate; reported effects are ordered by it, and a
 //               further effect is reported only if its lines are not mostly (> 50 %) those
 //               of one already reported;
@@ -80,7 +85,7 @@ struct DiagnoserConfig {
   std::size_t max_candidates = 3;           // hypotheses refitted
   std::size_t fit_evaluations = 10;         // per candidate, probes included
   std::size_t recalibration_evaluations = 0;  // calibrator with the effect on (0: not run)
-  double min_improvement = 0.10;            // [-] of the calibrated hold-out residual
+  double min_improvement = 0.25;            // [-] of the calibrated hold-out signature residual
   double settle_s = 0.5;                    // [s] simulated and discarded per simulation
   std::size_t min_revolutions = 64;         // [-] reference revolutions the analysis needs at least
   std::size_t fit_revolutions = 64;         // [-] at least, per fit evaluation
@@ -148,6 +153,8 @@ struct CandidateResult {
   EffectSetting setting;       // fitted, for the final simulation
   double residual_fit_calibrated = 0.0, residual_fit_effect = 0.0;          // half A
   double residual_holdout_calibrated = 0.0, residual_holdout_effect = 0.0;  // half B
+  double signature_fit_calibrated = 0.0, signature_fit_effect = 0.0;        // half A, its lines
+  double signature_holdout_calibrated = 0.0, signature_holdout_effect = 0.0;  // half B, its lines
   double holdout_evidence = 0.0;  // Σ w·(m/n)² of its significant lines on half B
   std::size_t lines = 0;          // its significant lines on half B (n of the BIC)
   std::size_t evaluations = 0;
