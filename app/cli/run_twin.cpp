@@ -33,6 +33,7 @@ struct RunTwinArgs {
   double duration_s = 0.0;
   std::string state_dir;
   std::string json;
+  bool lockstep = false;
 };
 
 std::atomic<bool> g_run_twin_stop{false};
@@ -132,6 +133,7 @@ void run_twin_command(const RunTwinArgs& a) {
   o.speed = parse_speed(a.speed.empty() ? (a.replay.empty() ? "1" : "max") : a.speed);
   o.duration_s = a.duration_s;
   o.print_config = a.print_config;
+  o.lockstep = a.lockstep;
   g_run_twin_stop = false;
   o.stop = &g_run_twin_stop;
   struct sigaction sa {};
@@ -172,6 +174,9 @@ void setup_run_twin(CLI::App& sub) {
                  "the end of the replay)")
       ->check(CLI::Range(0.0, 1e9));
   sub.add_option("--state-dir", a->state_dir, "override twin.state_dir");
+  sub.add_flag("--lockstep", a->lockstep,
+               "replay / simulated buses: wait for the calibration thread at each window, so "
+               "that the run, calibration included, repeats bit for bit");
   sub.add_option("--json", a->json, "write a JSON summary (damage per channel, counters)");
   sub.callback([a] { run_twin_command(*a); });
 }

@@ -104,8 +104,8 @@ double scada_period_s(const std::string& csv, const hal::ScadaColumns& columns) 
   hal::ScadaRow row;
   double prev = std::nan("");
   while (dt.size() < 1000 && r.next(row) == hal::ScadaReadResult::kRow) {
-    if (!row.has(hal::ScadaField::kTime)) continue;
-    const double t = row.get(hal::ScadaField::kTime);
+    const double t = row.time_s();
+    if (std::isnan(t)) continue;
     if (!std::isnan(prev) && t > prev) dt.push_back(t - prev);
     prev = t;
   }
@@ -123,7 +123,7 @@ std::optional<hal::ScadaColumns> columns_for(const std::string& csv, std::string
     hal::ScadaCsvReader r;
     if (r.open(csv, *cols)) {
       hal::ScadaRow row;
-      if (r.next(row) == hal::ScadaReadResult::kRow && row.has(hal::ScadaField::kTime)) {
+      if (r.next(row) == hal::ScadaReadResult::kRow && !std::isnan(row.time_s())) {
         chosen = spec;
         return cols;
       }
@@ -566,6 +566,11 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     cc.start();
     for (;;) {
       if (opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed)) break;
+      if (stepped && opt.lockstep) {
+        while (twin->windows_outstanding() > 0 &&
+               !(opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed)))
+          std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
       const CycleClock::Tick t = cc.wait();
       if (end_ns > 0 && t.now.count() >= end_ns) break;
       manual_clock.set(t.now);

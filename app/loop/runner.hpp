@@ -39,7 +39,11 @@ struct RunOptions {
                        // 0 = as fast as possible
   double duration_s =
       0.0;  // [s] stop after this much loop time (0: the end of the replay, or a signal)
-  bool print_config = false;    // log the effective configuration at start
+  bool print_config = false;  // log the effective configuration at start
+  /// Replay / simulated buses: before each cycle, wait while the calibration thread holds a
+  /// window, so that a calibrated model arrives at a cycle that does not depend on the
+  /// machine: the whole run, calibration included, repeats bit for bit.
+  bool lockstep = false;
   std::ostream* log = nullptr;  // where log lines go (nullptr: stderr)
   /// Test hook: called on the RT thread once, after its set-up and before the first cycle.
   std::function<void()> on_rt_start;

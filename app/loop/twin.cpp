@@ -227,7 +227,7 @@ void Twin::adopt_calibrated(const supervisor::SupervisorDecision& d) {
       } else {
         shadow_data_ = next;
         shadow_ = model::dynamics::Rom(*next);
-        shadow_.reset(d.rom, rom_.rotor_revolutions(), rom_.time_s());
+        shadow_.reset(d.rom, rom_);  // at the running ROM's exact time and angle
         shadow_settle_s_ = model::dynamics::rom_settle_time_s(*next);
         shadow_steps_left_ = static_cast<std::int64_t>(std::ceil(shadow_settle_s_ / next->dt_s));
       }
@@ -381,6 +381,12 @@ void Twin::cycle(hal::Timestamp now) {
     next_checkpoint_ += from_seconds(settings_.checkpoint_interval_s);
   }
   if (cycle_index_ % static_cast<std::uint64_t>(settings_.publish_divisor) == 0) publish(now);
+}
+
+std::size_t Twin::windows_outstanding() const {
+  const std::size_t held = window_ != nullptr ? 1 : 0;
+  const std::size_t free = mail_.windows_free.size();
+  return Mailboxes::kWindows > free + held ? Mailboxes::kWindows - free - held : 0;
 }
 
 void Twin::checkpoint() {

@@ -161,6 +161,10 @@ class Twin {
   /// Publishes a snapshot now (the last cycle's state), e.g. at shutdown.
   void publish(hal::Timestamp now);
 
+  /// Calibration windows the calibration thread holds now (RT thread): a lockstep replay
+  /// waits for 0 so that what the calibration hands back arrives at a reproducible cycle.
+  std::size_t windows_outstanding() const;
+
   const model::fatigue::DamageAccumulator& accumulator() const { return *accumulator_; }
   const LoopCounters& counters() const { return counters_; }
   const Snapshot& last_snapshot() const { return snapshot_; }

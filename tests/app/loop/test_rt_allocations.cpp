@@ -91,8 +91,8 @@ TEST(RtAllocations, NoneOnTheRealTimeThreadOverAReplayWithFullRateCmsAndCalibrat
 
 TEST(RtAllocations, NoneWhileACalibratedModelIsHandedOverAndAdopted) {
   // Arrange: a recording of a gearbox 25 % stiffer in every mesh than the description the
-  // twin starts from (paper-2mw, ROM, 10 s at 25.6 kHz, with its tacho), replayed at real
-  // time so that the calibration thread has the time to calibrate and hand a model over.
+  // twin starts from (paper-2mw, ROM, 10 s at 25.6 kHz, with its tacho), replayed in
+  // lockstep with the calibration thread (the replay waits while it holds a window).
   TempDir dir("dt-rt-adopt");
   model::Drivetrain truth = model::paper_2mw();
   truth.dynamics.mesh_stiffness_scale = {1.25, 1.25, 1.25};
@@ -127,7 +127,8 @@ TEST(RtAllocations, NoneWhileACalibratedModelIsHandedOverAndAdopted) {
   c.state_dir = (dir.path / "state").string();
   app::loop::RunOptions o;
   o.replay = (dir.path / "bundle").string();
-  o.speed = 1.0;
+  o.speed = 0.0;
+  o.lockstep = true;
   std::ostringstream log;
   o.log = &log;
   o.on_rt_start = [] { t_on_rt_thread = true; };
@@ -143,6 +144,13 @@ TEST(RtAllocations, NoneWhileACalibratedModelIsHandedOverAndAdopted) {
   EXPECT_TRUE(s.last.status_word & app::results::kStatusCalibrated);
   EXPECT_TRUE(std::filesystem::exists(dir.path / "state" / "calibration.txt"));
   EXPECT_EQ(g_rt_allocations.load() - rt_before, 0) << log.str();
+  // In lockstep the whole run, calibration included, repeats bit for bit.
+  c.state_dir = (dir.path / "state2").string();
+  const app::loop::RunSummary again = app::loop::run_twin(c, o);
+  EXPECT_EQ(again.last.counters.rom_adoptions, s.last.counters.rom_adoptions);
+  ASSERT_EQ(again.damage.size(), s.damage.size());
+  for (std::size_t i = 0; i < s.damage.size(); ++i)
+    EXPECT_EQ(again.damage[i], s.damage[i]) << s.channel_names[i];
 }
 
 }  // namespace
