@@ -41,6 +41,7 @@
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
 #include "model/dsp/order_tracking.hpp"
+#include "recording/bundle_check.hpp"
 #include "signal/speed_reference.hpp"
 
 namespace {
@@ -174,14 +175,17 @@ double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& m
 
 void run(const CalibrateArgs& args) {
   const fs::path dir(args.bundle);
-  // Drivetrain first: its range validates the bundle's operating point.
-  hal::BundleReadResult read = hal::read_bundle(dir);
-  if (!read) throw CommandError(read.error.to_string());
-  const hal::Recording& rec = *read.recording;
-  std::string dt_name = args.drivetrain.empty() ? rec.drivetrain : args.drivetrain;
-  if (args.drivetrain.empty() && fs::exists(dir / rec.drivetrain))
-    dt_name = (dir / rec.drivetrain).string();
-  const model::Drivetrain drivetrain = app::config::load_drivetrain(dt_name);
+  // The bundle validation layer (app/recording/bundle_check.hpp): format, units, the
+  // turbine's range, metadata against the signal, torque from the wind when not recorded.
+  app::recording::CheckedBundle bundle;
+  try {
+    bundle = app::recording::load_bundle(dir, {args.drivetrain});
+  } catch (const app::recording::BundleCheckError& e) {
+    throw CommandError(e.what());
+  }
+  for (const auto& note : bundle.notes) std::fprintf(stderr, "calibrate: note: %s\n", note.c_str());
+  const hal::Recording& rec = bundle.recording;
+  const model::Drivetrain& drivetrain = bundle.drivetrain;
   const model::Kinematics kinematics(drivetrain);
 
   // Measurement channels, by the description's measurement points.
@@ -294,19 +298,9 @@ void run(const CalibrateArgs& args) {
   }
 
   mc::OperatingPoint op{rec.operating_point.rotor_speed_rpm, 0.0};
-  // Mean rotor speed from the speed reference; torque as recorded (else rated share by the cube law
-  // of speed).
+  // Mean rotor speed from the speed reference; torque as recorded, else from the wind.
   op.rotor_speed_rpm = hss_hz / kinematics.overall_ratio() * 60.0;
-  if (rec.operating_point.input_torque_nm) {
-    op.input_torque_nm = *rec.operating_point.input_torque_nm;
-  } else {
-    const double r = op.rotor_speed_rpm / drivetrain.turbine.rated_rotor_speed_rpm;
-    op.input_torque_nm = drivetrain.turbine.rated_torque_nm * std::min(1.0, r * r);
-    std::fprintf(stderr,
-                 "calibrate: note: no input_torque_nm in the bundle; using %.0f N·m (rated × "
-                 "(n/n_rated)²)\n",
-                 op.input_torque_nm);
-  }
+  op.input_torque_nm = bundle.input_torque_nm;  // recorded, or the wind model's (noted above)
   calibrator->set_measurement(measured, op);
 
   const model::DynamicsParameters before = mc::with_nominal_damping(drivetrain.dynamics);
