@@ -639,7 +639,8 @@ bool Diagnoser::step_refit() {
       for (const SignatureLine& l : h.lines) {
         const double top = static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
         if (l.order * (1.0 + h.tolerance) > top) continue;
-        const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate);
+        const std::vector<double> sync = envelope_exclusions(catalogue_);
+        const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
         if (!m.significant) continue;
         w.lines.push_back({p, h.domain, m.order, h.tolerance > 0.0 ? 2.5 / static_cast<double>(rs.revolutions) / m.order : 0.0,
                            m.measured, m.noise, l.weight});
@@ -773,7 +774,8 @@ bool Diagnoser::step_refit() {
     for (const SignatureLine& l : h.lines) {
       const double top = static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
       if (l.order * (1.0 + h.tolerance) > top) continue;
-      const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate);
+      const std::vector<double> sync = envelope_exclusions(catalogue_);
+      const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
       if (m.significant) {
         c.holdout_evidence += l.weight * (m.measured * m.measured) / (m.noise * m.noise);
         ++c.lines;

@@ -55,8 +55,8 @@ struct Case {
   md::AngleMap rec_map, sim_map;
 };
 
-template <typename Effect>
-Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
+template <typename Effect, typename SimExtra>
+Case make_case2(Effect&& effect, SimExtra&& sim_extra, double duration = 10.0, unsigned seed = 1) {
   Case c;
   const Drift s;
   const auto n = static_cast<std::size_t>(duration * kFs);
@@ -68,11 +68,16 @@ Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
     const double t = static_cast<double>(i) / kFs;
     const double th = s.theta(t);
     c.rec[i] = healthy(th) + effect(t, th) + gauss(rng);
-    c.sim[i] = healthy(kHss * t);
+    c.sim[i] = healthy(kHss * t) + sim_extra(kHss * t);
   }
   c.rec_map = md::AngleMap::from_pulses(pulses(s, duration));
   c.sim_map = md::AngleMap::constant(kHss);
   return c;
+}
+
+template <typename Effect>
+Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
+  return make_case2(effect, [](double) { return 0.0; }, duration, seed);
 }
 
 struct Analysed {
@@ -178,6 +183,50 @@ TEST(Locate, FindsNothingWhenTheRecordingIsTheSimulationPlusNoise) {
   Analysed a;
   analyse(make_case([](double, double) { return 0.0; }), cat, a);
   for (const auto& s : a.result.ranking) EXPECT_LT(s.score, 0.05) << md::effect_id(cat.hypotheses[s.hypothesis].effect);
+}
+
+}  // namespace
+
+namespace {
+
+// A comb of lines: every hss harmonic 1..120 with a slowly varying amplitude.
+double comb(double th, const std::vector<double>& gain) {
+  double v = 0.0;
+  for (int k = 1; k <= 120; ++k) v += gain[k] * 0.05 / std::sqrt(k) * std::cos(2 * kPi * k * th + 0.37 * k * k);
+  return v;
+}
+
+TEST(Locate, FitsAResonanceWhenEveryLineOfABandIsAmplifiedAlongOneTransmissibilityCurve) {
+  const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
+  // The recording: every line × |H(f)| of a 600 Hz resonator with 3 % damping.
+  std::vector<double> ones(121, 1.0), h(121, 1.0);
+  for (int k = 1; k <= 120; ++k) {
+    const double r = k * kHss / 600.0, z = 0.03;
+    h[k] = std::sqrt((1 + 4 * z * z * r * r) / ((1 - r * r) * (1 - r * r) + 4 * z * z * r * r));
+  }
+  const Case c = make_case2([&](double, double th) { return comb(th, h); }, [&](double th) { return comb(th, ones); });
+  Analysed a;
+  analyse(c, cat, a);
+  const md::ResidualFeature* band = nullptr;
+  for (const auto& f : a.result.features)
+    if (f.domain == md::FeatureDomain::kBand) band = &f;
+  ASSERT_NE(band, nullptr);
+  EXPECT_NEAR(band->resonance_hz, 600.0, 30.0);
+  ASSERT_FALSE(a.result.ranking.empty());
+  EXPECT_EQ(md::effect_id(top(cat, a.result).effect), std::string("housing_resonance"));
+}
+
+TEST(Locate, FindsNoResonanceInAMisfitThatScattersFromLineToLine) {
+  // A foreign gearbox's lines: each line's gain drawn at random (±10 dB), no common curve.
+  const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
+  std::vector<double> ones(121, 1.0), g(121, 1.0);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  for (int k = 1; k <= 120; ++k) g[k] = std::pow(10.0, u(rng) / 20.0);
+  const Case c = make_case2([&](double, double th) { return comb(th, g); }, [&](double th) { return comb(th, ones); });
+  Analysed a;
+  analyse(c, cat, a);
+  for (const auto& f : a.result.features) EXPECT_NE(f.domain, md::FeatureDomain::kBand) << f.resonance_hz;
 }
 
 }  // namespace
