@@ -89,8 +89,8 @@ void run(const CheckArgs& a) {
   const auto steps = static_cast<long long>(std::llround(a.period_s * a.sample_rate_hz));
   for (std::size_t k = 0; k < a.rows; ++k) {
     if (rows.next(row) != hal::ScadaReadResult::kRow) throw CommandError(rows.error());
-    const double rpm = row.get(hal::ScadaField::kRotorSpeed),
-                 torque = std::abs(row.get(hal::ScadaField::kTorque));
+    const double rpm = row.get(hal::ScadaQuantity::kRotorSpeed),
+                 torque = std::abs(row.get(hal::ScadaQuantity::kRotorTorque));
     const model::dynamics::RomInputs in{rpm, torque};
     if (k == 0) rom->reset(in);
     for (long long i = 0; i < steps; ++i) {

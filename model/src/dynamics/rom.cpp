@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace model::dynamics {
@@ -482,78 +483,127 @@ Rom::Rom(const RomData& data) noexcept : data_(&data) { bind_kernel(); }
 
 void Rom::bind_kernel() noexcept {
   const RomData& d = *data_;
-  kernel_ = detail::RomKernelModel{d.dofs,
-                                     d.lookups,
-                                     d.force_count,
-                                     d.path_count,
-                                     d.turning_mesh,
-                                     d.excitation,
-                                     d.pqq.data(),
-                                     d.pqv.data(),
-                                     d.b0q.data(),
-                                     d.b1q.data(),
-                                     d.pvq.data(),
-                                     d.pvv.data(),
-                                     d.b0v.data(),
-                                     d.b1v.data(),
-                                     d.damping_1_s.data(),
-                                     d.omega2.data(),
-                                     d.w_force.data(),
-                                     d.w_bearing.data(),
-                                     d.w_path.data(),
-                                     d.w_basis.data(),
-                                     d.readout_by_dof.data(),
-                                     d.g_mesh.data(),
-                                     d.g_mesh_cos.data(),
-                                     d.g_mesh_sin.data(),
-                                     d.g_turning_2psi.data(),
-                                     d.g_extra.data(),
-                                     d.g_extra_self,
-                                     d.readout_correction.data(),
-                                     d.sensor_rows.data(),
-                                     d.term_order.data(),
-                                     d.term_phase_cycles.data(),
-                                     d.term_values.data(),
-                                     d.mesh_mean_n_m.data(),
-                                     d.mesh_shape.data(),
-                                     d.mesh_modulation.data(),
-                                     d.mesh_error0.data(),
-                                     d.mesh_error1.data(),
-                                     d.bearing_mean_n_m.data(),
-                                     d.path_mean_n_m.data(),
-                                     d.force_scale.data(),
-                                     d.force_per_nm.data(),
-                                     d.force_per_hz2.data(),
-                                     d.force_index0.data(),
-                                     d.force_index1.data(),
-                                     d.force_frame.data()};
+  kernel_ = detail::RomKernelModel{d.dofs, d.lookups, d.force_count, d.path_count, d.turning_mesh,
+                                   d.excitation, d.pqq.data(),
+                                   d.pqv.data(),
+                                   d.b0q.data(),
+                                   d.b1q.data(),
+                                   d.pvq.data(),
+                                   d.pvv.data(),
+                                   d.b0v.data(),
+                                   d.b1v.data(),
+                                   d.damping_1_s.data(),
+                                   d.omega2.data(),
+                                   d.w_force.data(),
+                                   d.w_bearing.data(),
+                                   d.w_path.data(),
+                                   d.w_basis.data(),
+                                   d.readout_by_dof.data(),
+                                   d.g_mesh.data(),
+                                   d.g_mesh_cos.data(),
+                                   d.g_mesh_sin.data(),
+                                   d.g_turning_2psi.data(),
+                                   d.g_extra.data(),
+                                   d.g_extra_self,
+                                   d.readout_correction.data(),
+                                   d.sensor_rows.data(),
+                                   d.term_order.data(),
+                                   phase_base_.data(),
+                                   d.term_values.data(),
+                                   d.mesh_mean_n_m.data(),
+                                   d.mesh_shape.data(),
+                                   d.mesh_modulation.data(),
+                                   d.mesh_error0.data(),
+                                   d.mesh_error1.data(),
+                                   d.bearing_mean_n_m.data(),
+                                   d.path_mean_n_m.data(),
+                                   d.force_scale.data(),
+                                   d.force_per_nm.data(),
+                                   d.force_per_hz2.data(),
+                                   d.force_index0.data(),
+                                   d.force_index1.data(),
+                                   d.force_frame.data()};
 }
 
-
+namespace {
+// frac(order·whole) without the rounding of the product: whole is exact in a double
+// (|whole| < 2^53), p + e = order·whole exactly (fma), and p − floor(p) is exact.
+double frac_of_product(double order, std::int64_t whole) noexcept {
+  const auto w = static_cast<double>(whole);
+  const double p = order * w;
+  const double e = std::fma(order, w, -p);
+  double f = (p - std::floor(p)) + e;
+  f -= std::floor(f);
+  return f;
+}
+double wrap_cycles(double x) noexcept { return x - std::floor(x); }
+}  // namespace
 
 void Rom::adopt(const RomData& next, const RomInputs& in) noexcept {
+  const double t = time_s();  // the old model's step
   data_ = &next;
   bind_kernel();
-  reset(in, revs_, t_);
+  reset_at(in, whole_revs_, frac_revs_, t, 0);
 }
 
 void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) noexcept {
+  const double whole = std::floor(rotor_revolutions);
+  reset_at(in, static_cast<std::int64_t>(whole), rotor_revolutions - whole, time_s, 0);
+}
+
+void Rom::reset(const RomInputs& in, const Rom& at) noexcept {
+  reset_at(in, at.whole_revs_, at.frac_revs_, at.time_s(), 0);
+}
+
+void Rom::set_angle(std::int64_t whole, double fraction) noexcept {
+  if (!std::isfinite(fraction)) fraction = 0.0;  // a non-finite speed: keep the whole count
+  const double carry = std::floor(fraction);
+  whole_revs_ = whole + static_cast<std::int64_t>(carry);
+  frac_revs_ = fraction - carry;
+  if (frac_revs_ >= 1.0) {  // fraction just below an integer rounded up
+    frac_revs_ = 0.0;
+    ++whole_revs_;
+  }
   const RomData& d = *data_;
-  t_ = time_s;
-  revs_ = rotor_revolutions;
-  const double revs = rotor_revolutions;
-  set_carrier_angle(revs);
+  for (int t = 0; t < kRomLookups; ++t)
+    phase_base_[t] = wrap_cycles(frac_of_product(d.term_order[t], whole_revs_) +
+                                 wrap_cycles(d.term_phase_cycles[t]));
+  psi_base_ = frac_of_product(d.frame_order, whole_revs_);
+  const double psi = 2.0 * std::numbers::pi * wrap_cycles(psi_base_ + d.frame_order * frac_revs_);
+  cos_psi_ = std::cos(psi);
+  sin_psi_ = std::sin(psi);
+  steps_since_exact_ = 0;
+}
+
+void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
+                   std::int64_t steps) noexcept {
+  const RomData& d = *data_;
+  t0_ = t0;
+  steps_ = steps;
+  set_angle(whole, fraction);
   const double cpsi = cos_psi_, spsi = sin_psi_;
   const double hz = in.rotor_speed_rpm / 60.0;
   const int r = d.turning_mesh;
-  // Mean of a look-up over time (its table's mean; a constant's value).
-  const auto mean_of = [&d](int t) {
+  // Value of look-up t at the current angle (RomData::lookup's arithmetic on the split angle).
+  const auto now = [&](int t) {
     if (t == kLookupOne) return 1.0;
     if (t == kLookupZero || t < 0 || t >= d.lookups) return 0.0;
+    const double x = d.term_order[t] * frac_revs_ + phase_base_[t];
+    const double pos = (x - std::floor(x)) * static_cast<double>(PeriodicTable::kSize);
+    const int i = std::min(static_cast<int>(pos), static_cast<int>(PeriodicTable::kSize) - 1);
+    const double w = pos - i;
+    const double* table = d.term_values.data() + t * static_cast<int>(PeriodicTable::kSize);
+    return table[i] + w * (table[(i + 1) % static_cast<int>(PeriodicTable::kSize)] - table[i]);
+  };
+  // Mean of a look-up over time (its table's mean; a constant's value).
+  const auto mean_of = [&](int t) {
+    if (t == kLookupOne) return 1.0;
+    if (t == kLookupZero || t < 0 || t >= d.lookups) return 0.0;
+    if (d.term_order[t] == 0.0) return now(t);
     double s = 0.0;
     for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
       s += d.term_values[static_cast<std::size_t>(t) * PeriodicTable::kSize + i];
-    return d.term_order[t] == 0.0 ? d.lookup(t, 0.0) : s / PeriodicTable::kSize;
+    return s / PeriodicTable::kSize;
   };
   // Static equilibrium under the mean stiffness at this carrier angle and the mean forces:
   // (Λ + k̄_r[W_r(ψ)W_r(ψ)ᵀ − W_r(0)W_r(0)ᵀ]) q = Φᵀf̄ + Σ W_j k̄_j ē_j, by Woodbury (rank 2).
@@ -563,7 +613,7 @@ void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) no
     const double a = d.force_scale[j] + d.force_per_nm[j] * in.input_torque_nm + d.force_per_hz2[j] * hz * hz;
     const double* fr = d.force_frame.data() + 3 * j;
     f.noalias() += (a * mean_of(d.force_index0[j]) * mean_of(d.force_index1[j]) * fr[0]) * d.w_force.col(j);
-    f_now.noalias() += (a * d.lookup(d.force_index0[j], revs) * d.lookup(d.force_index1[j], revs) *
+    f_now.noalias() += (a * now(d.force_index0[j]) * now(d.force_index1[j]) *
                         (fr[0] + fr[1] * cpsi + fr[2] * spsi)) *
                        d.w_force.col(j);
   }
@@ -594,18 +644,17 @@ void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) no
   for (int k = 0; k < kRomReadoutRows; ++k) z_[k] = d.readout_by_dof.row(k).dot(q_);
   g_ = f_now;
   for (int j = 0; j < d.bearing_count; ++j) {
-    const double dk = d.bearing_mean_n_m[j] * (d.lookup(kRomMeshes + j, revs) - 1.0);
+    const double dk = d.bearing_mean_n_m[j] * (now(kRomMeshes + j) - 1.0);
     g_.noalias() -= (dk * z_[kRowBearings + 2 * j]) * d.w_bearing.col(2 * j);
     g_.noalias() -= (dk * z_[kRowBearings + 2 * j + 1]) * d.w_bearing.col(2 * j + 1);
   }
   for (int j = 0; j < d.path_count; ++j) {
-    const double dk = d.path_mean_n_m[j] * (d.lookup(kRomMeshes + kRomBearings + j, revs) - 1.0);
+    const double dk = d.path_mean_n_m[j] * (now(kRomMeshes + kRomBearings + j) - 1.0);
     g_.noalias() -= (dk * z_[kRowPaths + j]) * d.w_path.col(j);
   }
   for (int j = 0; j < d.mesh_count; ++j) {
-    const double k = d.mesh_mean_n_m[j] * d.lookup(d.mesh_shape[j], revs) *
-                     d.lookup(d.mesh_modulation[j], revs);
-    const double e = d.lookup(d.mesh_error0[j], revs) + d.lookup(d.mesh_error1[j], revs);
+    const double k = d.mesh_mean_n_m[j] * now(d.mesh_shape[j]) * now(d.mesh_modulation[j]);
+    const double e = now(d.mesh_error0[j]) + now(d.mesh_error1[j]);
     if (j == r) {
       // k(z(ψ) − e) along W_r(ψ), less the diagonal's k̄ z(0) along W_r(0).
       const double z_psi = w_r.dot(q_), z_0 = w_0.dot(q_);
@@ -617,24 +666,23 @@ void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) no
   }
 }
 
-void Rom::set_carrier_angle(double revs) noexcept {
-  const double turns = data_->frame_order * revs;
-  const double psi = 2.0 * std::numbers::pi * (turns - std::floor(turns));
-  cos_psi_ = std::cos(psi);
-  sin_psi_ = std::sin(psi);
-  steps_since_exact_ = 0;
-}
-
 void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   const RomData& d = *data_;
-  const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
+  // The angle within the current revolution (may pass 1 in this step; the phases stay
+  // continuous: order·(f − 1) + frac(order·(w + 1)) = order·f + frac(order·w) mod 1).
+  const double revs_next = frac_revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
   // The carrier angle's cosine and sine, turned by this step's small angle (Taylor terms to
-  // Δψ⁴, Δψ ≤ 1e-4 rad: exact to rounding) and recomputed exactly every 4096 steps.
+  // Δψ⁴, Δψ ≤ 1e-4 rad: exact to rounding) and recomputed exactly every 4096 steps and at
+  // every revolution (set_angle).
   if (d.frame_order != 0.0) {
     if (++steps_since_exact_ >= 4096) {
-      set_carrier_angle(revs_next);
+      const double psi =
+          2.0 * std::numbers::pi * wrap_cycles(psi_base_ + d.frame_order * revs_next);
+      cos_psi_ = std::cos(psi);
+      sin_psi_ = std::sin(psi);
+      steps_since_exact_ = 0;
     } else {
-      const double dpsi = 2.0 * std::numbers::pi * d.frame_order * (revs_next - revs_);
+      const double dpsi = 2.0 * std::numbers::pi * d.frame_order * (revs_next - frac_revs_);
       const double d2 = dpsi * dpsi;
       const double cd = 1.0 - 0.5 * d2 * (1.0 - d2 * (1.0 / 12.0));
       const double sd = dpsi * (1.0 - d2 * (1.0 / 6.0));
@@ -660,8 +708,12 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
     out.bearing_force_x_n[j] = fx * cpsi - fy * spsi;
     out.bearing_force_y_n[j] = fx * spsi + fy * cpsi;
   }
-  revs_ = revs_next;
-  t_ += d.dt_s;
+  ++steps_;
+  if (revs_next >= 0.0 && revs_next < 1.0) {
+    frac_revs_ = revs_next;
+  } else {
+    set_angle(whole_revs_, revs_next);  // a revolution completed (or reversed): once per rev
+  }
 }
 
 double rom_settle_time_s(const RomData& d, double fraction) noexcept {

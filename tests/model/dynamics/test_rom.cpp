@@ -232,6 +232,51 @@ TEST(Rom, AReplacementStartedAtTheRunningAngleConvergesWithinItsSettleTime) {
   EXPECT_LT(last_diff, 2e-3 * (hi - lo));
 }
 
+TEST(Rom, TwentyYearsOfRotationLeaveItsPhasesAndTimeExact) {
+  // 20 years at 15 rpm is 1.58e8 rotor revolutions and 6.3e8 s. A ROM jumped there must
+  // run on as a ROM started near zero whose term phases were advanced by frac(order·W),
+  // W the whole revolutions (computed here independently, in long double): same outputs,
+  // and time advancing by exactly Δt per step. An angle summed in one double would lose
+  // 2e-4 of each step's increment there (ulp 3e-8 rev), a tenth of a mesh cycle per second.
+  // Arrange: paper-2mw at a coarse step and cut-off (same physics, cheap under QEMU).
+  constexpr double kCoarseDt = 1.0 / 4096;
+  const auto data = build_rom(paper_model(), kCoarseDt, 1500.0);
+  ASSERT_TRUE(data);
+  constexpr std::int64_t kWhole = 157'788'000;        // 20 × 365.25 d × 86400 s × 15/60 rev/s
+  constexpr double kFraction = 0.875;                 // crosses a whole revolution below
+  constexpr double kTime = 20 * 365.25 * 86400.0;     // [s]
+  auto shifted = std::make_unique<RomData>(*data);
+  for (int t = 0; t < kRomLookups; ++t) {
+    const long double x = static_cast<long double>(data->term_order[t]) * kWhole;
+    shifted->term_phase_cycles[t] =
+        static_cast<double>(x - std::floor(x)) + data->term_phase_cycles[t];
+  }
+  const RomInputs in{15.0, 8.0e5};
+  Rom aged(*data), young(*shifted);
+  aged.reset(in, static_cast<double>(kWhole) + kFraction, kTime);
+  young.reset(in, kFraction, 0.0);
+  ASSERT_EQ(aged.whole_revolutions(), kWhole);
+  // Act: one second (0.25 rev, through a revolution boundary).
+  constexpr int kSteps = 4096;
+  RomOutputs a, y;
+  double worst = 0.0, lo = 1e300, hi = -1e300;
+  for (int i = 0; i < kSteps; ++i) {
+    aged.step(in, a);
+    young.step(in, y);
+    for (int j = 0; j < data->mesh_count; ++j)
+      worst = std::max(worst, std::abs(a.mesh_force_n[j] - y.mesh_force_n[j]));
+    lo = std::min(lo, y.mesh_force_n[7]);
+    hi = std::max(hi, y.mesh_force_n[7]);
+  }
+  // Assert
+  EXPECT_EQ(aged.whole_revolutions(), kWhole + 1);
+  EXPECT_EQ(young.whole_revolutions(), 1);
+  EXPECT_NEAR(aged.revolution_fraction(), young.revolution_fraction(), 1e-12);
+  EXPECT_LT(worst, 1e-6 * (hi - lo)) << "mesh force range " << hi - lo << " N";
+  EXPECT_NEAR(aged.time_s() - kTime, kSteps * kCoarseDt, 2e-7);  // ulp(6.3e8 s) = 1.2e-7 s
+  EXPECT_EQ(aged.steps(), kSteps);
+}
+
 TEST(Rom, SettleTimeIsTheSlowestModesDecayByHand) {
   // Arrange: two modes by hand. Underdamped ω² = 100, c = 2: envelope e^{−t};
   // overdamped ω² = 1, c = 10: slow root (10 − √96)/2 = 0.10102 1/s.

@@ -71,10 +71,21 @@
 // adopt() (or a second Rom is reset() at the running one's time and rotor angle), which
 // restarts from the new model's static equilibrium without restarting time or angle;
 // rom_settle_time_s() says how long the start transient takes to decay.
+//
+// Time and rotor angle stay exact over the box's lifetime: time is an integer step count
+// (t = t₀ + n·Δt), the rotor angle an integer count of whole revolutions plus a fraction in
+// [0, 1), and every time-varying term's phase at the start of the current revolution,
+// frac(order·whole + phase), is kept per term (recomputed, error-free, once per
+// revolution). The step then evaluates order·fraction + that phase: a number below the
+// order + 1 whatever the angle, so a speed of 15 rpm after 20 years (1.6e8 rev) advances
+// the phases as exactly as on the first day. (Accumulating the angle in one double, its
+// increment of ~1e-5 rev per step would be rounded to ulp(1.6e8 rev) = 3e-8 rev: a 0.3 %
+// speed error, whole mesh cycles of phase lost per second.)
 
 #include <Eigen/Dense>
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -280,6 +291,9 @@ class Rom {
   /// `rotor_revolutions` [rev] and time `time_s` [s] (both 0 at a first start; a
   /// replacement ROM takes the running one's). RT-safe.
   void reset(const RomInputs& in, double rotor_revolutions = 0.0, double time_s = 0.0) noexcept;
+  /// The same at `at`'s exact time and rotor angle (a replacement started beside the running
+  /// ROM: no rounding of a lifetime's angle through one double). RT-safe.
+  void reset(const RomInputs& in, const Rom& at) noexcept;
   /// Switches to `next` (e.g. calibrated parameters; must outlive its use) and restarts
   /// from its static equilibrium under `in`, keeping time and rotor angle. The start
   /// transient decays within rom_settle_time_s(next). RT-safe (no allocation).
@@ -288,8 +302,15 @@ class Rom {
   void step(const RomInputs& in, RomOutputs& out) noexcept;
 
   const RomData& data() const noexcept { return *data_; }
-  double time_s() const noexcept { return t_; }
-  double rotor_revolutions() const noexcept { return revs_; }
+  /// [s] t₀ + steps·Δt (exact up to one rounding, at any age).
+  double time_s() const noexcept { return t0_ + static_cast<double>(steps_) * data_->dt_s; }
+  /// [rev] the rotor angle (for reports: one double; the step uses the exact split below).
+  double rotor_revolutions() const noexcept {
+    return static_cast<double>(whole_revs_) + frac_revs_;
+  }
+  std::int64_t whole_revolutions() const noexcept { return whole_revs_; }
+  double revolution_fraction() const noexcept { return frac_revs_; }  // [rev] in [0, 1)
+  std::int64_t steps() const noexcept { return steps_; }  // [-] steps since the last reset
   const RomData::Vec& modal_displacement() const noexcept { return q_; }
   const RomData::Vec& modal_velocity() const noexcept { return v_; }
 
@@ -299,13 +320,24 @@ class Rom {
   alignas(64) RomData::Vec v_ = RomData::Vec::Zero();
   alignas(64) RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
   alignas(64) std::array<double, kRomReadoutRows> z_{};  // the read-out R q
-  double t_ = 0.0;
-  double revs_ = 0.0;
-  double cos_psi_ = 1.0, sin_psi_ = 0.0;  // the carrier angle at revs_
-  int steps_since_exact_ = 0;
-  detail::RomKernelModel kernel_{};  // pointers into *data_ for the step kernel
-  void set_carrier_angle(double rotor_revolutions) noexcept;
+  // Sets the angle (whole + fraction, normalised to [0, 1)) and every look-up's phase and
+  // the carrier angle at it.
+  void set_angle(std::int64_t whole, double fraction) noexcept;
+  void reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
+                std::int64_t steps) noexcept;
   void bind_kernel() noexcept;
+
+  double t0_ = 0.0;            // [s] time at the last reset
+  std::int64_t steps_ = 0;     // [-] steps since
+  std::int64_t whole_revs_ = 0;  // [rev] whole rotor revolutions
+  double frac_revs_ = 0.0;       // [rev] in [0, 1)
+  // frac(order·whole_revs_ + phase) per look-up [cycles] (RomData's look-up layout).
+  alignas(64) std::array<double, kRomLookups> phase_base_{};
+  // The carrier angle ψ at the current angle: cos, sin, and ψ/2π at the start of the
+  // current revolution, frac(frame_order·whole_revs_) [cycles].
+  double cos_psi_ = 1.0, sin_psi_ = 0.0, psi_base_ = 0.0;
+  int steps_since_exact_ = 0;
+  detail::RomKernelModel kernel_{};  // pointers into *data_ and phase_base_ for the kernel
 };
 
 }  // namespace model::dynamics
