@@ -627,9 +627,9 @@ double ForceTerm::mean_scale(double input_torque_nm, double rotor_hz) const {
 }
 
 Eigen::MatrixXd FullModel::damping() const {
+  if (modal_damping.size() > 0) return modal_damping;
   Eigen::MatrixXd c = rayleigh_zeta * stiffness;
   c.diagonal() += rayleigh_eta * mass;
-  if (damping_correction.size() > 0) c += damping_correction;
   return c;
 }
 
@@ -1197,6 +1197,20 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     model.damping_correction(seats[i].sensor_dof, seats[i].sensor_dof) -= dp.rayleigh_eta * m;
   }
   if (!add_effects(d, kin, es, model, error)) return std::nullopt;
+  if (model.damping_correction.size() > 0) {
+    // Classical damping over the modes of (K̄, M) (full_model.hpp: modal_damping).
+    const Eigen::VectorXd inv_sqrt_m = model.mass.cwiseSqrt().cwiseInverse();
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es_modes(
+        inv_sqrt_m.asDiagonal() * model.stiffness * inv_sqrt_m.asDiagonal());
+    const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * es_modes.eigenvectors();
+    Eigen::VectorXd c(phi.cols());
+    for (Eigen::Index i = 0; i < phi.cols(); ++i) {
+      c[i] = model.rayleigh_eta + model.rayleigh_zeta * es_modes.eigenvalues()[i] +
+             phi.col(i).dot(model.damping_correction * phi.col(i));
+    }
+    const Eigen::MatrixXd m_phi = model.mass.asDiagonal() * phi;
+    model.modal_damping = m_phi * c.asDiagonal() * m_phi.transpose();
+  }
   return model;
 }
 

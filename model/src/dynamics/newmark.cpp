@@ -75,7 +75,7 @@ void NewmarkIntegrator::add_forces(double revs, const Eigen::VectorXd& x, const 
 
 void NewmarkIntegrator::subtract_mean_stiffness_and_damping(const Eigen::VectorXd& x,
                                                              const Eigen::VectorXd& v) {
-  if (m_.damping_correction.size() == 0) {
+  if (m_.modal_damping.size() == 0) {
     // C v = ηM v + ζK̄ v: one product with K̄.
     rhs_.noalias() = -(m_.stiffness * (x + m_.rayleigh_zeta * v));
     rhs_.array() -= m_.rayleigh_eta * m_.mass.array() * v.array();

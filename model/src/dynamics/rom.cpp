@@ -241,12 +241,10 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (int i = 0; i < total; ++i) {
     const double om2 = w2[i];
     const double om = std::sqrt(om2);
-    // Rayleigh's modal damping; an element with its own damper (damping_correction) adds
-    // its modal share (the off-diagonal coupling it also makes is left out: light damping,
-    // separated modes).
+    // Rayleigh's modal damping, or the model's modal damping (full_model.hpp) projected:
+    // exact for the retained modes, the diagonal for the correction vectors.
     double c = m.rayleigh_eta + m.rayleigh_zeta * om2;
-    if (m.damping_correction.size() > 0)
-      c += phi_r.col(i).dot(m.damping_correction * phi_r.col(i));
+    if (m.modal_damping.size() > 0) c = phi_r.col(i).dot(m.modal_damping * phi_r.col(i));
     d.omega_rad_s[i] = om;
     d.omega2[i] = om2;
     d.damping_1_s[i] = c;

@@ -223,14 +223,19 @@ struct FullModel {
   // DOF pairs (x, y) described in the carrier frame: the carrier, ring, planets and the
   // sun shaft's nodes. They carry the Coriolis and centripetal terms of the turning frame.
   std::vector<std::array<int, 2>> carrier_frame_xy;
-  // Added to ηM + ζK̄: elements with their own damping instead of Rayleigh's (a housing
-  // resonance). Empty: none.
+  // Elements with their own damping instead of Rayleigh's (a housing resonance): what they
+  // change in ηM + ζK̄. Empty: none. With one, the model's damping is modal (below).
   Eigen::MatrixXd damping_correction;
+  // C when damping_correction is not empty: classical (modal) damping, C = MΦ·diag(c_i)·ΦᵀM
+  // over every mode of (K̄, M), c_i = η + ζω_i² + φ_iᵀ·damping_correction·φ_i — each mode
+  // keeps Rayleigh's damping plus the share of the elements' own dampers it strains (the
+  // modal strain energy method), and the reduced model's diagonal damping is then this one.
+  Eigen::MatrixXd modal_damping;
 
   int dofs() const { return static_cast<int>(mass.size()); }
   /// Index of a named DOF, −1 if absent.
   int dof(std::string_view name) const;
-  /// C = ηM + ζK̄ + damping_correction.
+  /// C = ηM + ζK̄, or modal_damping when elements bring their own damping.
   Eigen::MatrixXd damping() const;
   /// Sum of the external forces at (rotor revolutions, torque, rotor frequency) [N, N·m],
   /// without the meshes' transmission error (mesh_excitation_force()).
