@@ -131,7 +131,8 @@ Eigen::VectorXd mesh_direction(int dofs, const Node& a, const Node& b, const Mes
   return u;
 }
 
-// ---- effects (model/drivetrain/effects.hpp) as terms of the equations of motion ------------------
+// ---- effects (model/drivetrain/effects.hpp) as terms of the equations of motion
+// ------------------
 
 struct SeatRef {
   std::string bearing;
@@ -194,7 +195,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
   const double o_hss = -o_ims * kin.stage_ratio(2);
   const Gear* ring_gear = d.gear(ps.gears[2]);
   const Gear* planet_gear = d.gear(ps.gears[1]);
-  const double o_planet = -static_cast<double>(ring_gear->teeth) / planet_gear->teeth;  // rel. carrier
+  const double o_planet =
+      -static_cast<double>(ring_gear->teeth) / planet_gear->teeth;  // rel. carrier
   auto shaft_order = [&](std::string_view shaft) {
     if (shaft == ps.output_shaft) return o_sun;
     if (shaft == is.output_shaft) return o_ims;
@@ -264,7 +266,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
   auto add_bearing_force = [&](const BearingBodies& b, const std::string& id, double amplitude,
                                const PeriodicTable& pulse, double po, const PeriodicTable& tx,
                                const PeriodicTable& ty, double o, int group) {
-    auto term = [&](const Eigen::VectorXd& pattern, const PeriodicTable& t, std::array<double, 3> frame) {
+    auto term = [&](const Eigen::VectorXd& pattern, const PeriodicTable& t,
+                    std::array<double, 3> frame) {
       ForceTerm f;
       f.id = id;
       f.pattern = pattern;
@@ -292,7 +295,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
   int impact_groups = 0;
   for (std::size_t ei = 0; ei < d.effects.size(); ++ei) {
     const Effect& e = d.effects[ei];
-    const std::string what = "effect '" + std::string(effect_id(e.kind)) + "' at '" + e.location + "'";
+    const std::string what =
+        "effect '" + std::string(effect_id(e.kind)) + "' at '" + e.location + "'";
     switch (e.kind) {
       case EffectKind::kToothCrack: {
         // The stiffness of every mesh of the gear drops by `stiffness_loss` while the cracked
@@ -308,8 +312,9 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           Modulation m;
           m.table = table_of([&](double x) {
             const double u = wrap_half(x);
-            return std::abs(u) < 0.5 * width ? 1.0 - loss * 0.5 * (1.0 + std::cos(kTwoPi * u / width))
-                                             : 1.0;
+            return std::abs(u) < 0.5 * width
+                       ? 1.0 - loss * 0.5 * (1.0 + std::cos(kTwoPi * u / width))
+                       : 1.0;
           });
           m.order = gm.order;
           m.phase_cycles = (phi0 - gm.contact_angle) / kTwoPi * (gm.order < 0 ? -1.0 : 1.0);
@@ -336,8 +341,7 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           MeshExcitation te;
           // The run-out moves the flank towards the mate (interference, δ grows): e = −that.
           te.amplitude_m = (is_a ? -1.0 : 1.0) * ecc * nxy.norm();
-          te.pattern = {cos_table, gm.order,
-                        (phi0 - std::atan2(nxy.y(), nxy.x())) / kTwoPi};
+          te.pattern = {cos_table, gm.order, (phi0 - std::atan2(nxy.y(), nxy.x())) / kTwoPi};
           model.meshes[gm.mesh].excitations.push_back(te);
           const double kappa = -0.75 / (0.75 * geo.transverse_contact_ratio + 0.25) /
                                (geo.base_pitch_m * std::sin(geo.transverse_pressure_angle_rad));
@@ -358,7 +362,7 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
         const double width_m = *e.parameter("defect_width_mm") * 1e-3;
         BearingBodies bodies;
         const Bearing* b = nullptr;
-        double o_r = 0.0;        // rotating race, per rotor revolution (native frame)
+        double o_r = 0.0;  // rotating race, per rotor revolution (native frame)
         bool outer_turns = false;
         Eigen::Vector2d load(0.0, 0.0);  // bearing load direction in the native frame
         const Eigen::VectorXd& x1 = unit_deflection();
@@ -380,16 +384,19 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           o_r = o_planet;
           outer_turns = true;
           // Force of the pin on the planet ~ planet − pin deflection.
-          load = Eigen::Vector2d(x1[p.x] - x1[es.carrier.x] + es.r_carrier * std::sin(psi_k) * x1[es.carrier.t],
-                                 x1[p.y] - x1[es.carrier.y] - es.r_carrier * std::cos(psi_k) * x1[es.carrier.t]);
+          load = Eigen::Vector2d(
+              x1[p.x] - x1[es.carrier.x] + es.r_carrier * std::sin(psi_k) * x1[es.carrier.t],
+              x1[p.y] - x1[es.carrier.y] - es.r_carrier * std::cos(psi_k) * x1[es.carrier.t]);
         } else {
           b = d.bearing(e.location);
           static constexpr std::array<const char*, 6> kIds{"b1", "b2", "b3", "b4", "b5", "b6"};
-          const int i = static_cast<int>(
-              std::find_if(kIds.begin(), kIds.end(), [&](const char* id) { return e.location == id; }) -
-              kIds.begin());
+          const int i =
+              static_cast<int>(std::find_if(kIds.begin(), kIds.end(),
+                                            [&](const char* id) { return e.location == id; }) -
+                               kIds.begin());
           if (b == nullptr || i >= 6) {
-            fail(error, "drivetrain '" + d.name + "': " + what + ": no such bearing in the dynamics model");
+            fail(error, "drivetrain '" + d.name + "': " + what +
+                            ": no such bearing in the dynamics model");
             return false;
           }
           const Node& nd = *es.bearing_nodes[static_cast<std::size_t>(i)];
@@ -407,12 +414,15 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
                                  x1[nd.y] - (bodies.out_y >= 0 ? x1[bodies.out_y] : 0.0));
         }
         const double theta_l = load.squaredNorm() > 0.0 ? std::atan2(load.y(), load.x()) : 0.0;
-        const double gamma = b->element_diameter_m / b->pitch_diameter_m * std::cos(b->contact_angle_rad);
+        const double gamma =
+            b->element_diameter_m / b->pitch_diameter_m * std::cos(b->contact_angle_rad);
         const double nb = b->elements;
         // Cage speed relative to the stationary race, slowed by the slip.
         const double o_cage = o_r * 0.5 * (outer_turns ? 1.0 + gamma : 1.0 - gamma) * (1.0 - slip);
-        const double d_outer = b->pitch_diameter_m + b->element_diameter_m * std::cos(b->contact_angle_rad);
-        const double d_inner = b->pitch_diameter_m - b->element_diameter_m * std::cos(b->contact_angle_rad);
+        const double d_outer =
+            b->pitch_diameter_m + b->element_diameter_m * std::cos(b->contact_angle_rad);
+        const double d_inner =
+            b->pitch_diameter_m - b->element_diameter_m * std::cos(b->contact_angle_rad);
         // Load zone (Stribeck, ε = ½): q = cos^p of the angle from the load direction within
         // ±90°, p = 10/9 for rollers, 3/2 for balls.
         const double p_exp = b->type == BearingType::kRoller ? 10.0 / 9.0 : 1.5;
@@ -424,7 +434,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
         // defect, as a fraction of the impact period (at least three table samples).
         auto pulse_table = [](double fraction) {
           const double w = std::clamp(fraction, 3.0 / PeriodicTable::kSize, 0.5);
-          return table_of([w](double x) { return x < w ? std::sin(std::numbers::pi * x / w) : 0.0; });
+          return table_of(
+              [w](double x) { return x < w ? std::sin(std::numbers::pi * x / w) : 0.0; });
         };
         const bool on_outer = e.kind == EffectKind::kBearingOuterRaceDefect;
         const bool on_inner = e.kind == EffectKind::kBearingInnerRaceDefect;
@@ -434,13 +445,16 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
         if (e.kind == EffectKind::kBearingBallDefect) {
           // A defect on a rolling element strikes both races once per element revolution
           // (2·BSF), carried round by the cage through the load zone.
-          const double bsf = b->pitch_diameter_m / (2.0 * b->element_diameter_m) * (1.0 - gamma * gamma);
+          const double bsf =
+              b->pitch_diameter_m / (2.0 * b->element_diameter_m) * (1.0 - gamma * gamma);
           const double po = 2.0 * bsf * std::abs(o_r) * (1.0 - slip);
-          const PeriodicTable pulse = pulse_table(2.0 * width_m / (std::numbers::pi * b->element_diameter_m));
-          add_bearing_force(bodies, id, force, pulse, po,
-                            table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
-                            table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }),
-                            o_cage, group);
+          const PeriodicTable pulse =
+              pulse_table(2.0 * width_m / (std::numbers::pi * b->element_diameter_m));
+          add_bearing_force(
+              bodies, id, force, pulse, po,
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }),
+              o_cage, group);
         } else if (stationary_race) {
           // A defect on the stationary race sits in the load zone: every element passing it
           // strikes, along the load direction, at Nb × the cage speed.
@@ -456,10 +470,11 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           const double po = nb * std::abs(o_r - o_cage);
           const double race = on_outer ? d_outer : d_inner;
           const PeriodicTable pulse = pulse_table(width_m * nb / (std::numbers::pi * race));
-          add_bearing_force(bodies, id, force, pulse, po,
-                            table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
-                            table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }),
-                            o_r, group);
+          add_bearing_force(
+              bodies, id, force, pulse, po,
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }), o_r,
+              group);
         }
         break;
       }
@@ -524,7 +539,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
         }
         f.amplitude = ratio * delta / lever;
         f.per_newton_metre = true;
-        f.shape = table_of([r1](double x) { return std::cos(2.0 * kTwoPi * x) + r1 * std::cos(kTwoPi * x); });
+        f.shape = table_of(
+            [r1](double x) { return std::cos(2.0 * kTwoPi * x) + r1 * std::cos(kTwoPi * x); });
         f.order = shaft_order(e.location);
         model.forces.push_back(std::move(f));
         break;
@@ -540,7 +556,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
         for (const SeatRef& seat : es.seats) {
           static constexpr std::array<const char*, 6> kIds{"b1", "b2", "b3", "b4", "b5", "b6"};
           const auto i = std::find_if(kIds.begin(), kIds.end(),
-                                      [&](const char* id) { return seat.bearing == id; }) - kIds.begin();
+                                      [&](const char* id) { return seat.bearing == id; }) -
+                         kIds.begin();
           const Eigen::Vector2d c = es.bearing_nodes[static_cast<std::size_t>(i)]->centre;
           const double theta_seat = std::atan2(c.y(), c.x());
           const PeriodicTable h = table_of([&](double x) {
@@ -564,7 +581,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           for (double& s : v.shape.values) s /= mean;
           v.order = fo;
           v.phase_cycles = 0.0;
-          model.stiffness.noalias() += v.mean_n_m * v.directions.col(0) * v.directions.col(0).transpose();
+          model.stiffness.noalias() +=
+              v.mean_n_m * v.directions.col(0) * v.directions.col(0).transpose();
           model.paths.push_back(std::move(v));
         }
         break;
@@ -621,8 +639,7 @@ double ForceTerm::mean_scale(double input_torque_nm, double rotor_hz) const {
   if (per_newton_metre) a *= input_torque_nm;
   if (per_rotor_hz_squared) a *= rotor_hz * rotor_hz;
   a *= order == 0.0 ? shape.value(phase_cycles) : shape.mean();
-  for (const Modulation& m : modulations)
-    a *= m.order == 0.0 ? m.value(0.0) : m.table.mean();
+  for (const Modulation& m : modulations) a *= m.order == 0.0 ? m.value(0.0) : m.table.mean();
   return a;
 }
 
@@ -665,8 +682,8 @@ Eigen::MatrixXd FullModel::stiffness_at(double rotor_revolutions) const {
       if (!v.rotates()) continue;
       for (int c = 0; c < v.directions.cols(); ++c) {
         const Eigen::VectorXd u = v.direction(c, psi);
-        k.noalias() += v.mean_n_m * (u * u.transpose() -
-                                     v.directions.col(c) * v.directions.col(c).transpose());
+        k.noalias() += v.mean_n_m *
+                       (u * u.transpose() - v.directions.col(c) * v.directions.col(c).transpose());
       }
     }
   }
@@ -815,7 +832,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   std::vector<Node> planets;
   std::vector<double> psi;
   for (int n = 0; n < ps.planets; ++n) {
-    const double p = s.carrier_angle_rad + 2.0 * std::numbers::pi * n / ps.planets;  // equally spaced
+    const double p =
+        s.carrier_angle_rad + 2.0 * std::numbers::pi * n / ps.planets;  // equally spaced
     const std::string name = "planet" + std::to_string(n + 1);
     Node pn;
     pn.x = as.add_dof(name + ".x", planet.mass_kg);
@@ -1000,6 +1018,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   model.rayleigh_zeta = dp.rayleigh_zeta;
   // The carrier is the rotor shaft (the input of the planetary stage).
   model.frame_order = s.carrier_turns ? 1.0 : 0.0;
+  model.frame_inertia = s.frame_inertia;
   model.carrier_frame_xy.push_back({carrier.x, carrier.y});
   model.carrier_frame_xy.push_back({ringn.x, ringn.y});
   for (const Node& p : planets) model.carrier_frame_xy.push_back({p.x, p.y});
@@ -1059,6 +1078,28 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n,
                                rp_geo.base_radius2_m, 1.0 - sun_torque_ratio, 0.0, ps.planets});
     add_varying(model.meshes, std::move(v));
+  }
+
+  // Pin position errors (StructuralParameters::planet_pin_error_m): both meshes of the planet
+  // close by e·(n·w) = e·cos α_t.
+  if (s.planet_pin_error_m.size() > static_cast<std::size_t>(ps.planets)) {
+    fail(error, "structure: planet_pin_error_m has " + std::to_string(s.planet_pin_error_m.size()) +
+                    " entries for " + std::to_string(ps.planets) + " planets");
+    return std::nullopt;
+  }
+  for (std::size_t n = 0; n < s.planet_pin_error_m.size(); ++n) {
+    const double e = s.planet_pin_error_m[n];
+    if (!std::isfinite(e)) {
+      fail(error, "structure: planet_pin_error_m[" + std::to_string(n) + "] must be finite");
+      return std::nullopt;
+    }
+    if (e == 0.0) continue;
+    for (std::size_t j : {n, n + static_cast<std::size_t>(ps.planets)}) {
+      MeshExcitation x;
+      x.amplitude_m = -e * std::cos(alpha);
+      x.pattern = {PeriodicTable::constant(1.0), 0.0, 0.0};
+      model.meshes[j].excitations.push_back(x);
+    }
   }
 
   // ---- parallel helical meshes -----------------------------------------------------------------
@@ -1160,7 +1201,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     model.sensors.push_back(sensor);
   }
 
-  // ---- effects (effects.hpp) ---------------------------------------------------------------------
+  // ---- effects (effects.hpp)
+  // ---------------------------------------------------------------------
   if (d.effects.empty()) return model;
   EffectSites es;
   es.sun_shaft = &*sun_shaft;
@@ -1177,7 +1219,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   es.sensor_dir = sensor_dir;
   es.torque_ratio = {1.0, sun_torque_ratio, ims_torque_ratio, hss_torque_ratio};
   for (int i = 0; i < 6; ++i) es.bearing_nodes[i] = sites[i].node;
-  for (const Seat& seat : seats) es.seats.push_back({seat.bearing, seat.x, seat.y, seat.sensor_dof});
+  for (const Seat& seat : seats)
+    es.seats.push_back({seat.bearing, seat.x, seat.y, seat.sensor_dof});
   for (std::size_t i = 0; i < seats.size(); ++i) {
     const Effect* e = housing_effects[i];
     if (e == nullptr) continue;
@@ -1191,7 +1234,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     dir[seats[i].sensor_dof] = 1.0;
     dir[seats[i].x] = -sensor_dir.x();
     dir[seats[i].y] = -sensor_dir.y();
-    if (model.damping_correction.size() == 0) model.damping_correction = Eigen::MatrixXd::Zero(n_dof, n_dof);
+    if (model.damping_correction.size() == 0)
+      model.damping_correction = Eigen::MatrixXd::Zero(n_dof, n_dof);
     model.damping_correction.noalias() +=
         (2.0 * xi * std::sqrt(k * m) - dp.rayleigh_zeta * k) * dir * dir.transpose();
     model.damping_correction(seats[i].sensor_dof, seats[i].sensor_dof) -= dp.rayleigh_eta * m;
@@ -1234,8 +1278,8 @@ void randomise_impacts(FullModel& model, double jitter, double seconds, double r
     const double period = 1.0 / order;  // [rotor revolutions]
     // The deterministic train's first impact (shape(order·N + phase) starts at x = 0), one
     // period early so that the record opens inside a train.
-    const double phase = terms.front()->order > 0.0 ? terms.front()->phase_cycles
-                                                    : -terms.front()->phase_cycles;
+    const double phase =
+        terms.front()->order > 0.0 ? terms.front()->phase_cycles : -terms.front()->phase_cycles;
     std::vector<double> events;
     for (double n = -period - (phase - std::floor(phase)) * period; n <= last_rev;) {
       events.push_back(n);

@@ -14,7 +14,8 @@ NewmarkIntegrator::NewmarkIntegrator(const FullModel& model, double dt_s) : m_(m
       g.element = &v;
       g.first = rank;
       g.turning = v.rotates();
-      g.size = g.turning ? 3 * static_cast<int>(v.directions.cols()) : static_cast<int>(v.directions.cols());
+      g.size = g.turning ? 3 * static_cast<int>(v.directions.cols())
+                         : static_cast<int>(v.directions.cols());
       rank += g.size;
       groups_.push_back(g);
     }
@@ -60,12 +61,13 @@ void NewmarkIntegrator::fill_delta_k(double revs) {
   }
 }
 
-void NewmarkIntegrator::add_forces(double revs, const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+void NewmarkIntegrator::add_forces(double revs, const Eigen::VectorXd& x,
+                                   const Eigen::VectorXd& v) {
   const double rotor_hz = op_.rotor_speed_rpm / 60.0;
   rhs_ += m_.force(revs, op_.input_torque_nm, rotor_hz);
   rhs_ += m_.mesh_excitation_force(revs);
   // Coriolis −2Ωm J ẋ and centripetal +Ω²m x on the carrier frame's translations.
-  const double omega = 2.0 * std::numbers::pi * m_.frame_order * rotor_hz;
+  const double omega = m_.frame_inertia ? 2.0 * std::numbers::pi * m_.frame_order * rotor_hz : 0.0;
   for (const auto& p : m_.carrier_frame_xy) {
     const double mass = m_.mass[p[0]];
     rhs_[p[0]] += mass * (2.0 * omega * v[p[1]] + omega * omega * x[p[0]]);
@@ -74,7 +76,7 @@ void NewmarkIntegrator::add_forces(double revs, const Eigen::VectorXd& x, const 
 }
 
 void NewmarkIntegrator::subtract_mean_stiffness_and_damping(const Eigen::VectorXd& x,
-                                                             const Eigen::VectorXd& v) {
+                                                            const Eigen::VectorXd& v) {
   if (m_.modal_damping.size() == 0) {
     // C v = ηM v + ζK̄ v: one product with K̄.
     rhs_.noalias() = -(m_.stiffness * (x + m_.rayleigh_zeta * v));

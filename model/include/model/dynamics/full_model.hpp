@@ -85,11 +85,19 @@ struct StructuralParameters {
   double ims_axis_angle_rad = 0.0;                  // [rad] sun-shaft → ims centre line, from +x
   double hss_axis_angle_rad = 1.5707963267948966;   // [rad] ims → hss centre line, from +x
   double sensor_angle_rad =
-      1.5707963267948966;  // [rad] radial sensor direction, from +x (+y: vertical)
+      1.5707963267948966;          // [rad] radial sensor direction, from +x (+y: vertical)
   double carrier_angle_rad = 0.0;  // [rad] carrier angle at which the planets are placed
   // The carrier carries the planets round (the carrier frame turns, header comment). false:
   // the planets stay where they were placed (the frame does not turn: frame_order = 0).
   bool carrier_turns = true;
+  // Tangential position error of each planet's pin on the carrier [m], + ahead in the
+  // carrier's sense of rotation (a manufacturing tolerance; none by default). A pin ahead
+  // closes both of its planet's meshes by e·cos α_t: a constant transmission error
+  // −e·cos α_t on each (MeshExcitation), so that planet takes more of the torque.
+  std::vector<double> planet_pin_error_m;
+  // The turning frame's Coriolis and centripetal forces (Newmark). false: left out, as the
+  // reduced model leaves them (to measure what that costs: test_fidelity.cpp).
+  bool frame_inertia = true;
 };
 
 /// A periodic factor of the rotor angle: table(order·N_rotor + phase), N_rotor the rotor
@@ -133,8 +141,8 @@ struct VaryingStiffness {
   double phase_cycles = 0.0;   // [cycles]
   std::vector<Modulation> modulations;      // [-] multiply k(t) (effects.hpp: a cracked tooth, ...)
   std::vector<MeshExcitation> excitations;  // [m] transmission error along u (rank 1 only)
-  Eigen::MatrixXd rotation_cos;  // [-] dofs × rank, or empty (a fixed element)
-  Eigen::MatrixXd rotation_sin;  // [-]
+  Eigen::MatrixXd rotation_cos;             // [-] dofs × rank, or empty (a fixed element)
+  Eigen::MatrixXd rotation_sin;             // [-]
   // A rank-2 element (a bearing) whose two columns are x and y of the carrier frame: its
   // forces are turned into the housing frame when reported.
   bool carrier_frame_xy = false;
@@ -223,6 +231,7 @@ struct FullModel {
   // DOF pairs (x, y) described in the carrier frame: the carrier, ring, planets and the
   // sun shaft's nodes. They carry the Coriolis and centripetal terms of the turning frame.
   std::vector<std::array<int, 2>> carrier_frame_xy;
+  bool frame_inertia = true;  // StructuralParameters::frame_inertia
   // Elements with their own damping instead of Rayleigh's (a housing resonance): what they
   // change in ηM + ζK̄. Empty: none. With one, the model's damping is modal (below).
   Eigen::MatrixXd damping_correction;
