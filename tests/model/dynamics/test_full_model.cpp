@@ -7,8 +7,10 @@
 #include <Eigen/Eigenvalues>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
@@ -358,6 +360,61 @@ TEST(CarrierFrame, PlanetSharingFollowsTheCarrierAndEvensOutOverARevolution) {
   EXPECT_NEAR(share[0][kAngles / 3], share[1][0], 1e-6);
   EXPECT_NEAR(share[1][kAngles / 3], share[2][0], 1e-6);
   EXPECT_NEAR(share[2][kAngles / 3], share[0][0], 1e-6);
+}
+
+}  // namespace
+
+namespace {
+
+using namespace model::dynamics;
+
+// Mean share of each planet's sun mesh over a carrier revolution (quasi-static, 36 angles).
+std::array<double, 3> mean_planet_shares(const StructuralParameters& s) {
+  const FullModel m = *build_full_model(model::paper_2mw(), s);
+  constexpr int kAngles = 36;
+  std::array<double, 3> mean{};
+  for (int a = 0; a < kAngles; ++a) {
+    const double revs = static_cast<double>(a) / kAngles;
+    const Eigen::VectorXd x = m.static_deflection_at(kPaperTorqueNm, revs);
+    double total = 0.0;
+    for (int n = 0; n < 3; ++n) total += m.static_mesh_force(static_cast<std::size_t>(n), x, revs);
+    for (int n = 0; n < 3; ++n)
+      mean[n] += 3.0 * m.static_mesh_force(static_cast<std::size_t>(n), x, revs) / total / kAngles;
+  }
+  return mean;
+}
+
+TEST(CarrierFrame, APinAheadMakesItsPlanetCarryMoreInProportionToTheError) {
+  // A pin ahead in the carrier's sense of rotation closes both of its planet's meshes: that
+  // planet carries more over every revolution and the other two less; small errors act
+  // linearly (the meshes are linear springs about the loaded state), so twice the error
+  // gives twice the excess share.
+  StructuralParameters small, twice;
+  small.planet_pin_error_m = {20e-6};
+  twice.planet_pin_error_m = {40e-6};
+  const std::array<double, 3> a = mean_planet_shares(small);
+  const std::array<double, 3> b = mean_planet_shares(twice);
+  RecordProperty("share_planet1_20um", std::to_string(a[0]));
+  EXPECT_GT(a[0], 1.005);
+  EXPECT_LT(a[1], 1.0);
+  EXPECT_LT(a[2], 1.0);
+  EXPECT_NEAR((b[0] - 1.0) / (a[0] - 1.0), 2.0, 0.02);
+  // Three planets on a sun that floats on its shaft: the sun moves towards the planet that is
+  // ahead, so the other two share the relief equally (by symmetry, to the 1 % the carrier's
+  // other loads allow).
+  EXPECT_NEAR(a[1], a[2], 0.01 * (1.0 - a[1]) + 1e-3);
+}
+
+TEST(CarrierFrame, PinErrorsBeyondThePlanetCountOrNotFiniteAreRefused) {
+  StructuralParameters s;
+  s.planet_pin_error_m = {0.0, 0.0, 0.0, 1e-6};
+  std::string error;
+  EXPECT_FALSE(build_full_model(model::paper_2mw(), s, &error));
+  EXPECT_NE(error.find("planet_pin_error_m has 4 entries for 3 planets"), std::string::npos)
+      << error;
+  s.planet_pin_error_m = {0.0, std::nan("")};
+  EXPECT_FALSE(build_full_model(model::paper_2mw(), s, &error));
+  EXPECT_NE(error.find("planet_pin_error_m[1] must be finite"), std::string::npos) << error;
 }
 
 }  // namespace
