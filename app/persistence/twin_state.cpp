@@ -51,7 +51,9 @@ class Reader {
   /// A count that must be ≤ limit.
   bool count(std::uint32_t& v, std::size_t limit, const char* what) {
     if (!u32(v)) return false;
-    if (v > limit) return fail(std::string(what) + " " + std::to_string(v) + " exceeds " + std::to_string(limit));
+    if (v > limit)
+      return fail(std::string(what) + " " + std::to_string(v) + " exceeds " +
+                  std::to_string(limit));
     return true;
   }
   bool done() {
@@ -137,7 +139,9 @@ double rebin(const std::uint64_t* src, std::uint32_t src_bins, double src_fs, do
     const long double v = static_cast<long double>(src[src_bins]) * scale;
     total += v;
     const bool inside = overflow_max < dst_fs;
-    const auto j = inside ? std::min<std::uint32_t>(dst_bins - 1, static_cast<std::uint32_t>(overflow_max / static_cast<double>(wd)))
+    const auto j = inside ? std::min<std::uint32_t>(
+                                dst_bins - 1,
+                                static_cast<std::uint32_t>(overflow_max / static_cast<double>(wd)))
                           : dst_bins;
     acc[j] += v;
     if (!inside) into_overflow = std::max(into_overflow, overflow_max);
@@ -270,37 +274,42 @@ std::optional<TwinState> decode_twin_state(const StateRecord& record, std::strin
   };
   TwinState s;
   const StateSection* sec = nullptr;
-  if (auto e = need(TwinSection::kLayout, kLayoutVersion, "layout", sec); !e.empty()) return fail(e);
+  if (auto e = need(TwinSection::kLayout, kLayoutVersion, "layout", sec); !e.empty())
+    return fail(e);
   if (sec == nullptr) return fail("no layout section");
   std::uint32_t n = 0;
   {
     Reader r(*sec, "layout");
     bool ok = r.f64(s.layout.tick_s) && r.u32(s.layout.bins) &&
               r.count(n, fat::kMaxChannels, "channel count");
-    if (ok && (s.layout.bins == 0 || s.layout.bins > fat::kMaxBins)) ok = r.fail("bins " + std::to_string(s.layout.bins) + " out of range");
-    if (ok && !(s.layout.tick_s > 0.0 && std::isfinite(s.layout.tick_s))) ok = r.fail("tick is not a positive number");
+    if (ok && (s.layout.bins == 0 || s.layout.bins > fat::kMaxBins))
+      ok = r.fail("bins " + std::to_string(s.layout.bins) + " out of range");
+    if (ok && !(s.layout.tick_s > 0.0 && std::isfinite(s.layout.tick_s)))
+      ok = r.fail("tick is not a positive number");
     for (std::uint32_t c = 0; ok && c < n; ++c) {
       std::string key;
       double fs = 0.0;
       std::uint32_t src = 0;
       ok = r.str(key) && r.f64(fs) && r.u32(src);
-      if (ok && !(fs > 0.0 && std::isfinite(fs))) ok = r.fail("channel " + key + ": full scale is not a positive number");
+      if (ok && !(fs > 0.0 && std::isfinite(fs)))
+        ok = r.fail("channel " + key + ": full scale is not a positive number");
       s.layout.keys.push_back(key);
       s.layout.full_scale.push_back(fs);
       s.layout.source_count.push_back(src);
     }
     if (!ok || !r.done()) return fail(r.error());
   }
-  if (auto e = need(TwinSection::kAccumulator, kAccumulatorSectionVersion, "accumulator", sec); !e.empty())
+  if (auto e = need(TwinSection::kAccumulator, kAccumulatorSectionVersion, "accumulator", sec);
+      !e.empty())
     return fail(e);
   if (sec == nullptr) return fail("no accumulator section");
   {
     s.accumulator = std::make_unique<fat::AccumulatorState>();
     fat::AccumulatorState& a = *s.accumulator;
     Reader r(*sec, "accumulator");
-    bool ok = r.u32(a.version) && r.u64(a.config_hash) && r.u64(a.elapsed_ticks) && r.u64(a.rotor_rev_q) &&
-              r.u64(a.valid_steps) && r.u64(a.bad_load_steps) && r.u64(a.bad_speed_steps) &&
-              r.u64(a.zero_dt_steps);
+    bool ok = r.u32(a.version) && r.u64(a.config_hash) && r.u64(a.elapsed_ticks) &&
+              r.u64(a.rotor_rev_q) && r.u64(a.valid_steps) && r.u64(a.bad_load_steps) &&
+              r.u64(a.bad_speed_steps) && r.u64(a.zero_dt_steps);
     a.channel_count = n;
     a.bins = s.layout.bins;
     for (std::uint32_t c = 0; ok && c < n; ++c) {
@@ -312,13 +321,15 @@ std::optional<TwinState> decode_twin_state(const StateRecord& record, std::strin
     }
     if (!ok || !r.done()) return fail(r.error());
   }
-  if (auto e = need(TwinSection::kRateHistory, kRateHistoryVersion, "rate history", sec); !e.empty())
+  if (auto e = need(TwinSection::kRateHistory, kRateHistoryVersion, "rate history", sec);
+      !e.empty())
     return fail(e);
   if (sec != nullptr) {
     RateHistoryRecord rh;
     Reader r(*sec, "rate history");
     std::uint32_t m = 0;
-    bool ok = r.f64(rh.interval_s) && r.u64(rh.short_window) && r.count(m, fat::kMaxChannels, "channel count");
+    bool ok = r.f64(rh.interval_s) && r.u64(rh.short_window) &&
+              r.count(m, fat::kMaxChannels, "channel count");
     for (std::uint32_t c = 0; ok && c < m; ++c) {
       RateHistoryRecord::Channel ch;
       std::uint32_t k = 0;
@@ -339,10 +350,12 @@ std::optional<TwinState> decode_twin_state(const StateRecord& record, std::strin
   if (sec != nullptr) {
     CalibrationRecord cr;
     Reader r(*sec, "calibration");
-    if (!(r.u32(cr.generation) && r.str(cr.format) && r.str(cr.text)) || !r.done()) return fail(r.error());
+    if (!(r.u32(cr.generation) && r.str(cr.format) && r.str(cr.text)) || !r.done())
+      return fail(r.error());
     s.calibration = std::move(cr);
   }
-  if (auto e = need(TwinSection::kRetired, kRetiredVersion, "retired", sec); !e.empty()) return fail(e);
+  if (auto e = need(TwinSection::kRetired, kRetiredVersion, "retired", sec); !e.empty())
+    return fail(e);
   if (sec != nullptr) {
     Reader r(*sec, "retired");
     std::uint32_t m = 0;
@@ -394,7 +407,8 @@ CarryOver restore_accumulator(const TwinState& saved, fat::DamageAccumulator& ac
                                   [&](const RetiredChannel& x) { return x.key == now.keys[c]; });
       if (r != retired.end()) {
         st->damage[c] = r->damage;
-        co.notes.push_back(now.keys[c] + ": retired damage " + std::to_string(r->damage) + " taken back");
+        co.notes.push_back(now.keys[c] + ": retired damage " + std::to_string(r->damage) +
+                           " taken back");
         retired.erase(r);
         ++co.returned;
       } else {
@@ -409,22 +423,24 @@ CarryOver restore_accumulator(const TwinState& saved, fat::DamageAccumulator& ac
     st->damage[c] = old.damage[o];
     st->damage_comp[c] = old.damage_comp[o];
     st->overflow_max[c] = old.overflow_max[o];
-    const double over = rebin(old.bin_ticks[o].data(), was.bins, was.full_scale[o], old.overflow_max[o],
-                              tick_scale, st->bin_ticks[c].data(), now.bins, now.full_scale[c]);
+    const double over =
+        rebin(old.bin_ticks[o].data(), was.bins, was.full_scale[o], old.overflow_max[o], tick_scale,
+              st->bin_ticks[c].data(), now.bins, now.full_scale[c]);
     st->overflow_max[c] = std::max(st->overflow_max[c], over);
     rebin(old.bin_rev_q[o].data(), was.bins, was.full_scale[o], old.overflow_max[o], 1.0L,
           st->bin_rev_q[c].data(), now.bins, now.full_scale[c]);
     if (was.bins != now.bins || was.full_scale[o] != now.full_scale[c])
-      co.notes.push_back(now.keys[c] + ": histogram re-binned (" + std::to_string(was.bins) + " bins to " +
-                         std::to_string(was.full_scale[o]) + " → " + std::to_string(now.bins) + " to " +
-                         std::to_string(now.full_scale[c]) + ")");
+      co.notes.push_back(now.keys[c] + ": histogram re-binned (" + std::to_string(was.bins) +
+                         " bins to " + std::to_string(was.full_scale[o]) + " → " +
+                         std::to_string(now.bins) + " to " + std::to_string(now.full_scale[c]) +
+                         ")");
   }
   for (std::size_t o = 0; o < was.keys.size(); ++o) {
     if (used[o]) continue;
     const double d = old.damage[o] + old.damage_comp[o];
     retired.push_back({was.keys[o], d, static_cast<double>(old.elapsed_ticks) * was.tick_s});
-    co.notes.push_back(was.keys[o] + ": not in this configuration; its damage " + std::to_string(d) +
-                       " is kept as retired");
+    co.notes.push_back(was.keys[o] + ": not in this configuration; its damage " +
+                       std::to_string(d) + " is kept as retired");
     ++co.retired;
   }
   const bool ok = acc.restore(*st);
@@ -432,14 +448,16 @@ CarryOver restore_accumulator(const TwinState& saved, fat::DamageAccumulator& ac
   return co;
 }
 
-bool restore_rate_histories(const RateHistoryRecord& rec, const std::vector<std::string>& saved_keys,
+bool restore_rate_histories(const RateHistoryRecord& rec,
+                            const std::vector<std::string>& saved_keys,
                             const std::vector<std::string>& keys,
                             std::vector<fat::DamageRateHistory>& histories,
                             std::vector<double>& boundary, std::string* note) {
   if (histories.empty()) return true;
   if (rec.interval_s != histories.front().interval_s()) {
     if (note)
-      *note = "rate history of " + std::to_string(rec.interval_s) + " s intervals not used (configured " +
+      *note = "rate history of " + std::to_string(rec.interval_s) +
+              " s intervals not used (configured " +
               std::to_string(histories.front().interval_s()) + " s): the RUL rates start afresh";
     return false;
   }

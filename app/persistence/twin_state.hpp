@@ -64,19 +64,19 @@ struct AccumulatorLayout {
   double tick_s = 0.0;  // [s]
   std::uint32_t bins = 0;
   std::vector<std::string> keys;
-  std::vector<double> full_scale;            // [MPa or N]
-  std::vector<std::uint32_t> source_count;   // [-]
+  std::vector<double> full_scale;           // [MPa or N]
+  std::vector<std::uint32_t> source_count;  // [-]
 };
 AccumulatorLayout layout_of(const model::fatigue::DamageAccumulator& acc);
 
 struct RateHistoryRecord {
-  double interval_s = 0.0;        // [s]
+  double interval_s = 0.0;         // [s]
   std::uint64_t short_window = 0;  // [-]
   struct Channel {
-    std::vector<double> increments;    // oldest first
+    std::vector<double> increments;  // oldest first
     double total_increment = 0.0;
     std::uint64_t total_intervals = 0;
-    double damage_at_boundary = 0.0;   // [-] lifetime damage at the last interval boundary
+    double damage_at_boundary = 0.0;  // [-] lifetime damage at the last interval boundary
   };
   std::vector<Channel> channels;  // layout order
 };
@@ -129,7 +129,8 @@ CarryOver restore_accumulator(const TwinState& saved, model::fatigue::DamageAccu
 /// the running `keys`); a channel without a saved history starts empty. `boundary` gets each
 /// channel's damage at the last interval boundary (its lifetime damage when it starts empty).
 /// A record of another interval length is not used (false, histories untouched).
-bool restore_rate_histories(const RateHistoryRecord& rec, const std::vector<std::string>& saved_keys,
+bool restore_rate_histories(const RateHistoryRecord& rec,
+                            const std::vector<std::string>& saved_keys,
                             const std::vector<std::string>& keys,
                             std::vector<model::fatigue::DamageRateHistory>& histories,
                             std::vector<double>& boundary, std::string* note);

@@ -41,8 +41,8 @@
 namespace app::signal {
 
 struct RomInputFilterSettings {
-  double corner_hz = 0.6;   // [Hz] 1/(2πτ) of each section
-  double period_s = 1e-3;   // [s] the loop's cycle period (update() interval)
+  double corner_hz = 0.6;  // [Hz] 1/(2πτ) of each section
+  double period_s = 1e-3;  // [s] the loop's cycle period (update() interval)
 };
 
 class RomInputFilter {

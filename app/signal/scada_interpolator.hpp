@@ -55,7 +55,7 @@ class ScadaInterpolator {
 
  private:
   struct Point {
-    double t = 0.0;  // [s]
+    double t = 0.0;            // [s]
     double v[2] = {0.0, 0.0};  // speed [rpm], torque [N·m]
   };
   const Point& point(std::size_t i) const;  // i-th oldest of count_

@@ -54,8 +54,17 @@ CREATE INDEX IF NOT EXISTS calibrations_by_time ON calibrations(t_unix_s);
 )sql";
 
 enum Stmt : std::size_t {
-  kBegin, kCommit, kRollback, kOperating, kIndicator, kDamage, kCalibration, kEvent, kChannel,
-  kChannelId, kStmtCount
+  kBegin,
+  kCommit,
+  kRollback,
+  kOperating,
+  kIndicator,
+  kDamage,
+  kCalibration,
+  kEvent,
+  kChannel,
+  kChannelId,
+  kStmtCount
 };
 constexpr std::array<const char*, kStmtCount> kSql{
     "BEGIN",
@@ -91,9 +100,9 @@ struct Last {
 };
 
 const char* status_name(int bit) {
-  static constexpr std::array<const char*, 8> kNames{"running", "degraded", "SCADA stale",
+  static constexpr std::array<const char*, 8> kNames{"running",   "degraded",        "SCADA stale",
                                                      "CMS fault", "keyphasor fault", "calibrated",
-                                                     "alarm", "overrun"};
+                                                     "alarm",     "overrun"};
   return bit >= 0 && bit < 8 ? kNames[static_cast<std::size_t>(bit)] : "?";
 }
 
@@ -120,7 +129,8 @@ struct TrendsWriter::Aggregate {
   struct Channel {
     Last damage, rul, rul_low;
     Stat load;
-    double before = std::numeric_limits<double>::quiet_NaN();  // damage at the previous interval's end
+    double before =
+        std::numeric_limits<double>::quiet_NaN();  // damage at the previous interval's end
   };
   std::vector<Channel> channels;
 
@@ -140,7 +150,8 @@ struct TrendsWriter::Aggregate {
   }
 };
 
-std::unique_ptr<TrendsWriter> TrendsWriter::open(const TrendsSettings& settings, std::string* error) {
+std::unique_ptr<TrendsWriter> TrendsWriter::open(const TrendsSettings& settings,
+                                                 std::string* error) {
   std::unique_ptr<TrendsWriter> w(new TrendsWriter(settings));
   const auto bad = [&](const std::string& what) -> std::unique_ptr<TrendsWriter> {
     if (error) {
@@ -167,7 +178,8 @@ std::unique_ptr<TrendsWriter> TrendsWriter::open(const TrendsSettings& settings,
     return bad("cannot create the schema");
   for (std::size_t i = 0; i < kStmtCount; ++i) {
     sqlite3_stmt* st = nullptr;
-    if (sqlite3_prepare_v3(w->db_, kSql[i], -1, SQLITE_PREPARE_PERSISTENT, &st, nullptr) != SQLITE_OK)
+    if (sqlite3_prepare_v3(w->db_, kSql[i], -1, SQLITE_PREPARE_PERSISTENT, &st, nullptr) !=
+        SQLITE_OK)
       return bad(std::string("cannot prepare ") + kSql[i]);
     w->stmts_[i] = st;
   }
@@ -183,7 +195,8 @@ std::unique_ptr<TrendsWriter> TrendsWriter::open(const TrendsSettings& settings,
     return bad("schema version " + std::to_string(existing) + " (this build writes " +
                std::to_string(kTrendsSchemaVersion) + "): move the file aside");
   sqlite3_stmt* m = nullptr;
-  bool meta_ok = sqlite3_prepare_v2(w->db_, "INSERT OR REPLACE INTO meta VALUES(?, ?)", -1, &m, nullptr) == SQLITE_OK;
+  bool meta_ok = sqlite3_prepare_v2(w->db_, "INSERT OR REPLACE INTO meta VALUES(?, ?)", -1, &m,
+                                    nullptr) == SQLITE_OK;
   for (const auto& [key, value] :
        {std::pair<std::string, std::string>{"schema_version", std::to_string(kTrendsSchemaVersion)},
         {"snapshot_version", std::to_string(loop::kSnapshotVersion)},
@@ -232,11 +245,14 @@ void TrendsWriter::set_max_size_bytes(std::uint64_t bytes) {
   settings_.max_size_bytes = bytes;
   sqlite3_stmt* q = nullptr;
   std::int64_t page = 4096;
-  if (sqlite3_prepare_v2(db_, "PRAGMA page_size", -1, &q, nullptr) == SQLITE_OK && sqlite3_step(q) == SQLITE_ROW)
+  if (sqlite3_prepare_v2(db_, "PRAGMA page_size", -1, &q, nullptr) == SQLITE_OK &&
+      sqlite3_step(q) == SQLITE_ROW)
     page = sqlite3_column_int64(q, 0);
   sqlite3_finalize(q);
   // 0 pages would mean "no change" to SQLite: no cap is its maximum, 4294967294 pages.
-  const std::uint64_t pages = bytes == 0 ? 4294967294ull : std::max<std::uint64_t>(1, bytes / static_cast<std::uint64_t>(page));
+  const std::uint64_t pages =
+      bytes == 0 ? 4294967294ull
+                 : std::max<std::uint64_t>(1, bytes / static_cast<std::uint64_t>(page));
   const std::string sql = "PRAGMA max_page_count = " + std::to_string(pages);
   (void)exec(sql.c_str(), "size limit");
 }
@@ -302,7 +318,9 @@ void TrendsWriter::close_interval(Aggregate& a) {
     b.i64(a.period_s).i64(t_unix).real(a.t_loop_start).i64(static_cast<std::int64_t>(a.samples));
     b.stat(a.speed).stat(a.torque).stat(a.wind).stat(a.power).real(mean(a.hss)).real(hi(a.age));
     b.i64(source).i64(a.status_any).i64(a.fault_any).real(a.generation.v).real(a.residual.v);
-    b.i64(static_cast<std::int64_t>(a.overruns_last - a.overruns_first)).real(hi(a.cycle)).real(hi(a.latency));
+    b.i64(static_cast<std::int64_t>(a.overruns_last - a.overruns_first))
+        .real(hi(a.cycle))
+        .real(hi(a.latency));
     ok = b.step();
     ++rows;
   }
@@ -399,13 +417,19 @@ void TrendsWriter::changes(const loop::Snapshot& p, const loop::Snapshot& s) {
           std::string("ROM inputs from ") + loop::to_string(s.torque_source));
   for (std::size_t i = 0; i < loop::kSnapshotPoints; ++i) {
     if (p.points[i].zone == s.points[i].zone) continue;
-    const bool alarm = s.points[i].zone == loop::VibrationZone::kC || s.points[i].zone == loop::VibrationZone::kD;
-    event(s.stamp_ns, alarm ? "alarm" : "zone", static_cast<int>(i) + 1, static_cast<double>(s.points[i].zone),
-          "point" + std::to_string(i + 1) + ": ISO 10816-21 zone " + loop::to_string(s.points[i].zone));
+    const bool alarm =
+        s.points[i].zone == loop::VibrationZone::kC || s.points[i].zone == loop::VibrationZone::kD;
+    event(s.stamp_ns, alarm ? "alarm" : "zone", static_cast<int>(i) + 1,
+          static_cast<double>(s.points[i].zone),
+          "point" + std::to_string(i + 1) + ": ISO 10816-21 zone " +
+              loop::to_string(s.points[i].zone));
   }
   if (s.calibration_generation != p.calibration_generation) {
     Binder b{stmts_[kCalibration]};
-    b.real(settings_.origin_unix_s + t).real(t).i64(s.calibration_generation).real(s.calibration_residual);
+    b.real(settings_.origin_unix_s + t)
+        .real(t)
+        .i64(s.calibration_generation)
+        .real(s.calibration_residual);
     for (std::size_t i = 0; i < loop::kSnapshotPoints; ++i)
       for (std::size_t k = 0; k < 3; ++k) b.real(s.fit[i][k]);
     if (b.step()) {
@@ -463,14 +487,16 @@ void TrendsWriter::add(const loop::Snapshot& s) {
       pt.accel_lf.add(ps.accel_rms_01_10_mps2);
       pt.rms.add(ps.rms_mps2);
       pt.kurtosis.add(ps.kurtosis);
-      if (ps.zone != loop::VibrationZone::kUnknown) pt.zone_max = std::max(pt.zone_max, static_cast<int>(ps.zone));
+      if (ps.zone != loop::VibrationZone::kUnknown)
+        pt.zone_max = std::max(pt.zone_max, static_cast<int>(ps.zone));
       for (std::size_t k = 0; k < 3; ++k) pt.f[k].add(s.fit[i][k]);
     }
     const std::size_t n = std::min<std::size_t>(s.channel_count, a.channels.size());
     for (std::size_t c = 0; c < n; ++c) {
       const results::ChannelResult& r = s.channels[c];
       Aggregate::Channel& ch = a.channels[c];
-      if (!std::isfinite(ch.before) && !std::isfinite(ch.damage.v)) ch.before = r.damage;  // first ever
+      if (!std::isfinite(ch.before) && !std::isfinite(ch.damage.v))
+        ch.before = r.damage;  // first ever
       ch.damage.add(r.damage);
       ch.rul.add(r.rul_h);
       ch.rul_low.add(r.rul_low_h);

@@ -41,12 +41,13 @@ namespace app::trends {
 inline constexpr int kTrendsSchemaVersion = 1;
 
 struct TrendsSettings {
-  std::string path;                          // the database file (created if missing)
-  double origin_unix_s = 0.0;                // [s] UTC time of loop time 0
-  std::string drivetrain;                    // description name (meta)
-  std::vector<std::string> channel_keys;     // damage channels, snapshot order ("component/detail/mode")
-  double retention_1min_s = 7 * 86400.0;     // [s]
-  double retention_10min_s = 365 * 86400.0;  // [s]
+  std::string path;            // the database file (created if missing)
+  double origin_unix_s = 0.0;  // [s] UTC time of loop time 0
+  std::string drivetrain;      // description name (meta)
+  std::vector<std::string>
+      channel_keys;  // damage channels, snapshot order ("component/detail/mode")
+  double retention_1min_s = 7 * 86400.0;      // [s]
+  double retention_10min_s = 365 * 86400.0;   // [s]
   double retention_events_s = 730 * 86400.0;  // [s]
   /// Hard cap on the file [bytes] (0: none): past it SQLite refuses to grow the file and the
   /// writer loses intervals (counted) until retention frees pages — a safety net under the
@@ -55,15 +56,15 @@ struct TrendsSettings {
 };
 
 struct TrendsStats {
-  std::uint64_t snapshots = 0;        // [-] added
-  std::uint64_t rows = 0;             // [-] rows written (all tables)
-  std::uint64_t intervals = 0;        // [-] intervals written (both tiers)
-  std::uint64_t events = 0;           // [-] events written
+  std::uint64_t snapshots = 0;          // [-] added
+  std::uint64_t rows = 0;               // [-] rows written (all tables)
+  std::uint64_t intervals = 0;          // [-] intervals written (both tiers)
+  std::uint64_t events = 0;             // [-] events written
   std::uint64_t events_suppressed = 0;  // [-] a bit's changes within a minute of its last event
-  std::uint64_t errors = 0;           // [-] failed statements / transactions
-  std::uint64_t lost_intervals = 0;   // [-] intervals whose rows were lost to an error
-  std::uint64_t out_of_order = 0;     // [-] snapshots older than the open interval (ignored)
-  std::string last_error;             // what SQLite said, with the statement's purpose
+  std::uint64_t errors = 0;             // [-] failed statements / transactions
+  std::uint64_t lost_intervals = 0;     // [-] intervals whose rows were lost to an error
+  std::uint64_t out_of_order = 0;       // [-] snapshots older than the open interval (ignored)
+  std::string last_error;               // what SQLite said, with the statement's purpose
 };
 
 class TrendsWriter {
@@ -104,7 +105,8 @@ class TrendsWriter {
   std::unique_ptr<loop::Snapshot> last_;
   bool have_last_ = false;
   std::vector<std::int64_t> channel_id_;
-  std::array<double, 32> bit_event_t_;  // [s] loop time of each status (0–15) / fault (16–31) bit's last event
+  std::array<double, 32>
+      bit_event_t_;  // [s] loop time of each status (0–15) / fault (16–31) bit's last event
   TrendsStats stats_;
 };
 

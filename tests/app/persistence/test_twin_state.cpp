@@ -28,7 +28,8 @@ namespace fat = model::fatigue;
 using namespace app::persistence;
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(testing::TempDir()) / ("twin-" + name + "-" + std::to_string(getpid()));
+  const fs::path d =
+      fs::path(testing::TempDir()) / ("twin-" + name + "-" + std::to_string(getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -41,7 +42,8 @@ void run(fat::DamageAccumulator& acc, int steps, std::uint32_t dt_ticks, int see
   for (int k = 0; k < steps; ++k) {
     const double u = 0.2 + 0.9 * (0.5 + 0.5 * std::sin(0.01 * (k + 37 * seed)));
     fat::LoadSample l = cs.quasi_static_loads(u * 1.23e6);
-    for (std::size_t m = 0; m < cs.mesh_count(); ++m) l.mesh_force_n[m] *= 1.0 + 0.2 * std::sin(0.7 * k + m);
+    for (std::size_t m = 0; m < cs.mesh_count(); ++m)
+      l.mesh_force_n[m] *= 1.0 + 0.2 * std::sin(0.7 * k + m);
     (void)acc.step(l, 14.0, dt_ticks);
   }
 }
@@ -67,7 +69,8 @@ TwinState through_store(const TwinState& s, const std::string& name) {
 }
 
 std::uint64_t channel_ticks(const fat::AccumulatorState& s, std::size_t c, std::uint32_t bins) {
-  return std::accumulate(s.bin_ticks[c].begin(), s.bin_ticks[c].begin() + bins + 1, std::uint64_t{0});
+  return std::accumulate(s.bin_ticks[c].begin(), s.bin_ticks[c].begin() + bins + 1,
+                         std::uint64_t{0});
 }
 
 TEST(TwinState, ARoundTripThroughTheStoreRestoresTheAccumulatorsBitForBit) {
@@ -109,7 +112,9 @@ TEST(TwinState, AChangedRomRateCarriesEveryChannelsDamageAndTimeOver) {
     const double t_before = channel_ticks(before.state(), c, slow.bins) * slow.tick_s;
     const double t_after = channel_ticks(after.state(), c, fast.bins) * fast.tick_s;
     EXPECT_NEAR(t_after, t_before, fast.tick_s) << c;
-    EXPECT_NEAR(after.histogram_damage(c), before.histogram_damage(c), 1e-9 * before.histogram_damage(c)) << c;
+    EXPECT_NEAR(after.histogram_damage(c), before.histogram_damage(c),
+                1e-9 * before.histogram_damage(c))
+        << c;
   }
   EXPECT_NEAR(after.elapsed_s(), before.elapsed_s(), fast.tick_s);
   EXPECT_EQ(after.state().rotor_rev_q, before.state().rotor_rev_q);
@@ -125,7 +130,8 @@ TEST(TwinState, OtherBinsAndFullScalesReBinTheHistogramKeepingItsTotalsAndDamage
   fat::AccumulatorConfig a_cfg, b_cfg;
   a_cfg.tick_s = b_cfg.tick_s = 1e-3;
   b_cfg.bins = 128;
-  for (std::size_t c = 0; c < cs.channel_count(); ++c) b_cfg.full_scale[c] = 0.8 * cs.channel(c).stress_full_scale;
+  for (std::size_t c = 0; c < cs.channel_count(); ++c)
+    b_cfg.full_scale[c] = 0.8 * cs.channel(c).stress_full_scale;
   fat::DamageAccumulator a(cs, a_cfg), b(cs, b_cfg);
   run(a, 4000, 1);
   std::vector<RetiredChannel> retired;
@@ -197,7 +203,8 @@ TEST(TwinState, TheRateHistoryAndCalibrationSurviveARestart) {
   std::vector<fat::DamageRateHistory> h2(cs.channel_count(), fat::DamageRateHistory(86400.0, 30));
   std::vector<double> b2(cs.channel_count(), 0.0);
   std::string note;
-  ASSERT_TRUE(restore_rate_histories(*loaded.rate, loaded.layout.keys, layout_of(a).keys, h2, b2, &note));
+  ASSERT_TRUE(
+      restore_rate_histories(*loaded.rate, loaded.layout.keys, layout_of(a).keys, h2, b2, &note));
   for (std::size_t c = 0; c < h.size(); ++c) {
     const fat::RulEstimate e1 = h[c].estimate(0.6), e2 = h2[c].estimate(0.6);
     EXPECT_EQ(e1.rul_s, e2.rul_s);
@@ -207,7 +214,8 @@ TEST(TwinState, TheRateHistoryAndCalibrationSurviveARestart) {
   }
   // another interval length: not used, said so
   std::vector<fat::DamageRateHistory> h3(cs.channel_count(), fat::DamageRateHistory(3600.0, 30));
-  EXPECT_FALSE(restore_rate_histories(*loaded.rate, loaded.layout.keys, layout_of(a).keys, h3, b2, &note));
+  EXPECT_FALSE(
+      restore_rate_histories(*loaded.rate, loaded.layout.keys, layout_of(a).keys, h3, b2, &note));
   EXPECT_NE(note.find("3600"), std::string::npos) << note;
 }
 
@@ -221,7 +229,8 @@ TEST(TwinState, ADamagedSectionIsNamedWithWhatIsWrong) {
   // truncated accumulator section
   StateRecord cut = rec;
   for (auto& s : cut.sections)
-    if (s.id == static_cast<std::uint32_t>(TwinSection::kAccumulator)) s.bytes.resize(s.bytes.size() / 2);
+    if (s.id == static_cast<std::uint32_t>(TwinSection::kAccumulator))
+      s.bytes.resize(s.bytes.size() / 2);
   EXPECT_FALSE(decode_twin_state(cut, &error));
   EXPECT_NE(error.find("accumulator"), std::string::npos) << error;
   EXPECT_NE(error.find("truncated"), std::string::npos) << error;

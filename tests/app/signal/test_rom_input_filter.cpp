@@ -42,7 +42,8 @@ TEST(RomInputFilter, StepResponseIsTheClosedFormOfFourEqualSections) {
     f.update({12.0, 1.0e6});
     const double x = k * 1e-3 / tau;
     worst = std::max(worst, std::abs(f.output().input_torque_nm - 1.0e6 * gamma4_cdf(x)));
-    worst = std::max(worst, 1e6 / 2.0 * std::abs(f.output().rotor_speed_rpm - 10.0 - 2.0 * gamma4_cdf(x)));
+    worst = std::max(worst,
+                     1e6 / 2.0 * std::abs(f.output().rotor_speed_rpm - 10.0 - 2.0 * gamma4_cdf(x)));
   }
   EXPECT_LT(worst, 1e-6);  // [N·m] of 1e6
   // and the new level is reached, without overshoot (40τ: Gamma(4) leaves 1e-13)

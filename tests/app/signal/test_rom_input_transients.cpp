@@ -13,7 +13,6 @@
 #include <cstdio>
 #include <memory>
 #include <numbers>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -67,8 +66,8 @@ struct Counted {
   void step(const Chain& ch, const RomInputs& u, bool count) {
     rom->step(u, out);
     if (!count) return;
-    ch.conv->convert(out.mesh_force_n.data(), out.bearing_force_x_n.data(), out.bearing_force_y_n.data(),
-                     u.input_torque_nm, loads);
+    ch.conv->convert(out.mesh_force_n.data(), out.bearing_force_x_n.data(),
+                     out.bearing_force_y_n.data(), u.input_torque_nm, loads);
     (void)acc->step(loads, u.rotor_speed_rpm, 1);
   }
 };
@@ -80,15 +79,20 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
   const Chain ch;
   ASSERT_TRUE(ch.rom && ch.conv->valid());
   const double rpm = ch.d.turbine.rated_rotor_speed_rpm, t_lo = 0.5 * ch.d.turbine.rated_torque_nm,
-               t_hi = 0.8 * ch.d.turbine.rated_torque_nm, t_mid = 0.65 * ch.d.turbine.rated_torque_nm;
+               t_hi = 0.8 * ch.d.turbine.rated_torque_nm,
+               t_mid = 0.65 * ch.d.turbine.rated_torque_nm;
   const double f1 = RomInputFilter::first_mode_hz(*ch.rom);
   const double fc = RomInputFilter::corner_for_first_mode(f1);
   EXPECT_NEAR(f1, 2.0, 0.3);  // the drivetrain's first torsional mode (docs/dynamics.md)
   constexpr double kStep = 6.0, kEnd = 14.0, kScadaPeriod = 1.0;
   const auto step = [&](double t) { return t < kStep ? t_lo : t_hi; };
-  const auto gust = [&](double t) { return t_mid * (1.0 + 0.2 * std::sin(2.0 * std::numbers::pi * 0.1 * t)); };
+  const auto gust = [&](double t) {
+    return t_mid * (1.0 + 0.2 * std::sin(2.0 * std::numbers::pi * 0.1 * t));
+  };
   // The SCADA's view: the value at the last poll (polls at whole seconds).
-  const auto polled = [&](const auto& f, double t) { return f(std::floor(t / kScadaPeriod) * kScadaPeriod); };
+  const auto polled = [&](const auto& f, double t) {
+    return f(std::floor(t / kScadaPeriod) * kScadaPeriod);
+  };
   // The two regimes: the held-value filter (interval means) and the interpolator (point samples).
   RomInputFilter step_filter({fc, kPeriod}), gust_filter({fc, kPeriod});
   step_filter.reset({rpm, step(0.0)});
@@ -101,10 +105,19 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
   // path costs without any transient.
   constexpr int kGrid = 12;
   std::vector<double> grid;
-  for (int i = 0; i <= kGrid; ++i) grid.push_back(t_lo * std::pow(t_hi / t_lo, static_cast<double>(i) / kGrid));
+  for (int i = 0; i <= kGrid; ++i)
+    grid.push_back(t_lo * std::pow(t_hi / t_lo, static_cast<double>(i) / kGrid));
   std::vector<std::unique_ptr<Counted>> steady;
   for (const double tq : grid) steady.push_back(std::make_unique<Counted>(ch, RomInputs{rpm, tq}));
-  enum Run { kStepHeld, kStepFiltered, kStepInterpolated, kGustHeld, kGustFiltered, kGustInterpolated, kRuns };
+  enum Run {
+    kStepHeld,
+    kStepFiltered,
+    kStepInterpolated,
+    kGustHeld,
+    kGustFiltered,
+    kGustInterpolated,
+    kRuns
+  };
   const char* names[kRuns] = {"step held", "step filtered", "step interpolated",
                               "gust held", "gust filtered", "gust interpolated"};
   std::vector<std::unique_ptr<Counted>> run;
@@ -114,17 +127,21 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
   std::vector<double> before(nc * grid.size(), 0.0), inc(nc * grid.size(), 0.0);
   std::vector<std::vector<double>> ref(kRuns, std::vector<double>(nc, 0.0));
   const auto oracle = [&](double tq, std::vector<double>& out) {
-    const double u = std::clamp(std::log(tq / t_lo) / std::log(t_hi / t_lo) * kGrid, 0.0, 1.0 * kGrid);
+    const double u =
+        std::clamp(std::log(tq / t_lo) / std::log(t_hi / t_lo) * kGrid, 0.0, 1.0 * kGrid);
     const auto i = std::min<std::size_t>(kGrid - 1, static_cast<std::size_t>(u));
     const double w = u - static_cast<double>(i);
     for (std::size_t c = 0; c < nc; ++c) {
       const double a = inc[i * nc + c], b = inc[(i + 1) * nc + c];
-      out[c] += a > 0.0 && b > 0.0 ? std::exp((1.0 - w) * std::log(a) + w * std::log(b)) : (1.0 - w) * a + w * b;
+      out[c] += a > 0.0 && b > 0.0 ? std::exp((1.0 - w) * std::log(a) + w * std::log(b))
+                                   : (1.0 - w) * a + w * b;
     }
   };
   // Act
   const auto cycles = static_cast<long>(std::llround(kEnd / kPeriod));
-  const auto ns = [](double t) { return hal::Timestamp{static_cast<std::int64_t>(std::llround(t * 1e9))}; };
+  const auto ns = [](double t) {
+    return hal::Timestamp{static_cast<std::int64_t>(std::llround(t * 1e9))};
+  };
   std::array<RomInputs, kRuns> u0{}, u1{};
   for (long k = 0; k < cycles; ++k) {
     const double t0 = k * kPeriod, t1 = t0 + kPeriod;
@@ -159,7 +176,7 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
       for (int r = 0; r < kRuns; ++r) run[r]->step(ch, in[r], count);
       if (!count) continue;
       for (int r = 0; r < kGustHeld; ++r) oracle(in[r].input_torque_nm, ref[r]);  // its own path
-      for (int r = kGustHeld; r < kRuns; ++r) oracle(gust(t), ref[r]);  // the true gust
+      for (int r = kGustHeld; r < kRuns; ++r) oracle(gust(t), ref[r]);            // the true gust
     }
   }
   // Assert: per run, the worst channel's counted damage over its oracle.
@@ -171,10 +188,10 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
     }
     std::printf("%-18s worst channel |counted / oracle - 1| = %.5f\n", names[r], worst[r]);
   }
-  std::printf("(first torsional mode %.3f Hz, filter corner %.3f Hz, interpolation delay %.1f s)\n", f1, fc,
-              step_interp.delay_s());
-  EXPECT_GT(worst[kStepHeld], 0.05);       // held then stepped: the ringing is counted
-  EXPECT_LT(worst[kStepFiltered], 0.01);   // the held regime's filter: the levels only
+  std::printf("(first torsional mode %.3f Hz, filter corner %.3f Hz, interpolation delay %.1f s)\n",
+              f1, fc, step_interp.delay_s());
+  EXPECT_GT(worst[kStepHeld], 0.05);      // held then stepped: the ringing is counted
+  EXPECT_LT(worst[kStepFiltered], 0.01);  // the held regime's filter: the levels only
   EXPECT_LT(worst[kStepInterpolated], 0.01);
   // A real change keeps its damage up to what the samples miss: the gust's crest between two
   // polls (0.95 of its amplitude at 10 polls per period; PCHIP stays flat at a sampled

@@ -12,7 +12,9 @@
 namespace {
 
 using app::signal::ScadaInterpolator;
-hal::Timestamp at_s(double t) { return hal::Timestamp{static_cast<std::int64_t>(std::llround(t * 1e9))}; }
+hal::Timestamp at_s(double t) {
+  return hal::Timestamp{static_cast<std::int64_t>(std::llround(t * 1e9))};
+}
 
 // Online, as the loop runs it: samples f(k) at whole seconds, the value read every 10 ms.
 template <class F, class Check>
@@ -31,48 +33,63 @@ void online(ScadaInterpolator& s, F f, double end_s, Check check) {
 TEST(ScadaInterpolator, PassesThroughEverySampleOneDelayLaterAndFollowsARampExactly) {
   ScadaInterpolator s(1.0);
   EXPECT_DOUBLE_EQ(s.delay_s(), 2.0);
-  online(s, [](int k) { return model::dynamics::RomInputs{10.0, 1000.0 + 50.0 * k}; }, 20.0,
-         [](double t, const model::dynamics::RomInputs& v) {
-           if (t >= 2.0) {
-             EXPECT_NEAR(v.input_torque_nm, 1000.0 + 50.0 * (t - 2.0), 1e-6) << t;
-           }
-         });
+  online(
+      s,
+      [](int k) {
+        return model::dynamics::RomInputs{10.0, 1000.0 + 50.0 * k};
+      },
+      20.0,
+      [](double t, const model::dynamics::RomInputs& v) {
+        if (t >= 2.0) {
+          EXPECT_NEAR(v.input_torque_nm, 1000.0 + 50.0 * (t - 2.0), 1e-6) << t;
+        }
+      });
 }
 
 TEST(ScadaInterpolator, CrossesAStepMonotonicallyInOnePeriodWithoutOvershoot) {
   ScadaInterpolator s(1.0);
   double prev = 500.0;
-  online(s, [](int k) { return model::dynamics::RomInputs{10.0, k < 5 ? 500.0 : 800.0}; }, 12.0,
-         [&](double t, const model::dynamics::RomInputs& in) {
-           const double v = in.input_torque_nm;
-           EXPECT_GE(v, prev - 1e-9) << t;
-           EXPECT_LE(v, 800.0 + 1e-9);
-           if (t <= 6.0) {
-             EXPECT_DOUBLE_EQ(v, 500.0) << t;  // sample 4, 2 s later
-           }
-           if (t >= 7.0) {
-             EXPECT_DOUBLE_EQ(v, 800.0) << t;  // sample 5
-           }
-           prev = v;
-         });
+  online(
+      s,
+      [](int k) {
+        return model::dynamics::RomInputs{10.0, k < 5 ? 500.0 : 800.0};
+      },
+      12.0,
+      [&](double t, const model::dynamics::RomInputs& in) {
+        const double v = in.input_torque_nm;
+        EXPECT_GE(v, prev - 1e-9) << t;
+        EXPECT_LE(v, 800.0 + 1e-9);
+        if (t <= 6.0) {
+          EXPECT_DOUBLE_EQ(v, 500.0) << t;  // sample 4, 2 s later
+        }
+        if (t >= 7.0) {
+          EXPECT_DOUBLE_EQ(v, 800.0) << t;  // sample 5
+        }
+        prev = v;
+      });
 }
 
 TEST(ScadaInterpolator, StaysFlatAtASampledPeak) {
   ScadaInterpolator s(1.0);
   const double v[] = {0, 1, 3, 3, 1, 0, 0, 0, 0, 0};
-  online(s, [&](int k) { return model::dynamics::RomInputs{0.0, v[std::min(k, 9)]}; }, 9.0,
-         [](double t, const model::dynamics::RomInputs& in) {
-           if (t >= 4.0 && t <= 5.0) {
-             EXPECT_NEAR(in.input_torque_nm, 3.0, 1e-12) << t;
-           }
-           EXPECT_LE(in.input_torque_nm, 3.0 + 1e-12);
-         });
+  online(
+      s,
+      [&](int k) {
+        return model::dynamics::RomInputs{0.0, v[std::min(k, 9)]};
+      },
+      9.0,
+      [](double t, const model::dynamics::RomInputs& in) {
+        if (t >= 4.0 && t <= 5.0) {
+          EXPECT_NEAR(in.input_torque_nm, 3.0, 1e-12) << t;
+        }
+        EXPECT_LE(in.input_torque_nm, 3.0 + 1e-12);
+      });
 }
 
 TEST(ScadaInterpolator, HoldsThroughAGapThenTakesOnePeriodToTheNewValue) {
   ScadaInterpolator s(1.0);
   for (int k = 0; k <= 3; ++k) s.sample(at_s(k), {10.0, 100.0});
-  s.sample(at_s(30.0), {12.0, 200.0});  // 27 s silent
+  s.sample(at_s(30.0), {12.0, 200.0});                        // 27 s silent
   EXPECT_DOUBLE_EQ(s.at(at_s(20.0)).input_torque_nm, 100.0);  // the hold (t − D = 18 s)
   EXPECT_DOUBLE_EQ(s.at(at_s(31.0)).input_torque_nm, 100.0);  // 29 s: one period before
   const double mid = s.at(at_s(31.5)).input_torque_nm;

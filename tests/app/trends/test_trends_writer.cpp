@@ -26,7 +26,8 @@ using app::trends::TrendsWriter;
 constexpr double kOrigin = 1575504000.0;  // 2019-12-05 00:00:00 UTC
 
 fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::path(testing::TempDir()) / ("trends-" + name + "-" + std::to_string(getpid()));
+  const fs::path d =
+      fs::path(testing::TempDir()) / ("trends-" + name + "-" + std::to_string(getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -58,13 +59,16 @@ Snapshot snap(double t) {
 
 struct Db {
   sqlite3* db = nullptr;
-  explicit Db(const std::string& path) { EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK); }
+  explicit Db(const std::string& path) {
+    EXPECT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
+  }
   ~Db() { sqlite3_close(db); }
   double scalar(const std::string& sql) const {
     sqlite3_stmt* s = nullptr;
     EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr), SQLITE_OK) << sql;
     double v = NAN;
-    if (s && sqlite3_step(s) == SQLITE_ROW && sqlite3_column_type(s, 0) != SQLITE_NULL) v = sqlite3_column_double(s, 0);
+    if (s && sqlite3_step(s) == SQLITE_ROW && sqlite3_column_type(s, 0) != SQLITE_NULL)
+      v = sqlite3_column_double(s, 0);
     sqlite3_finalize(s);
     return v;
   }
@@ -72,7 +76,8 @@ struct Db {
     sqlite3_stmt* s = nullptr;
     EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr), SQLITE_OK) << sql;
     std::string v;
-    if (s && sqlite3_step(s) == SQLITE_ROW && sqlite3_column_text(s, 0)) v = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
+    if (s && sqlite3_step(s) == SQLITE_ROW && sqlite3_column_text(s, 0))
+      v = reinterpret_cast<const char*>(sqlite3_column_text(s, 0));
     sqlite3_finalize(s);
     return v;
   }
@@ -92,24 +97,31 @@ TEST(TrendsWriter, TwoHoursOfSnapshotsGiveMinuteAndTenMinuteRowsWithTheirMeansAn
   EXPECT_EQ(db.scalar("SELECT count(*) FROM operating WHERE period_s = 60"), 120);
   EXPECT_EQ(db.scalar("SELECT count(*) FROM operating WHERE period_s = 600"), 12);
   EXPECT_EQ(db.scalar("SELECT min(t_unix_s) FROM operating"), kOrigin);
-  EXPECT_EQ(db.scalar("SELECT samples FROM operating WHERE period_s = 60 AND t_unix_s = " + std::to_string(static_cast<long>(kOrigin) + 600)), 600);
+  EXPECT_EQ(db.scalar("SELECT samples FROM operating WHERE period_s = 60 AND t_unix_s = " +
+                      std::to_string(static_cast<long>(kOrigin) + 600)),
+            600);
   // Minute k's snapshots are at 60k + 0.1j, j < 600: mean speed 10 + (60k + 29.95)/3600.
   for (int k : {0, 17, 119}) {
-    const double mean = db.scalar("SELECT rotor_speed_rpm_mean FROM operating WHERE period_s = 60 AND t_unix_s = " +
-                                  std::to_string(static_cast<long>(kOrigin) + 60 * k));
+    const double mean =
+        db.scalar("SELECT rotor_speed_rpm_mean FROM operating WHERE period_s = 60 AND t_unix_s = " +
+                  std::to_string(static_cast<long>(kOrigin) + 60 * k));
     EXPECT_NEAR(mean, 10.0 + (60.0 * k + 29.95) / 3600.0, 1e-5) << k;
   }
-  EXPECT_NEAR(db.scalar("SELECT rotor_speed_rpm_max FROM operating WHERE period_s = 600 ORDER BY t_unix_s DESC LIMIT 1"),
+  EXPECT_NEAR(db.scalar("SELECT rotor_speed_rpm_max FROM operating WHERE period_s = 600 ORDER BY "
+                        "t_unix_s DESC LIMIT 1"),
               10.0 + 7199.9 / 3600.0, 1e-5);
   // Damage increments add up to the damage accumulated since the first snapshot; a 10-minute
   // interval after the first is 600 s × the rate.
-  EXPECT_NEAR(db.scalar("SELECT sum(damage_increment) FROM damage WHERE period_s = 600 AND channel_id = "
-                        "(SELECT id FROM channels WHERE key = 'b1/bearing')"),
-              2e-6 * 7199.9, 1e-9);
+  EXPECT_NEAR(
+      db.scalar("SELECT sum(damage_increment) FROM damage WHERE period_s = 600 AND channel_id = "
+                "(SELECT id FROM channels WHERE key = 'b1/bearing')"),
+      2e-6 * 7199.9, 1e-9);
   EXPECT_NEAR(db.scalar("SELECT damage_increment FROM damage WHERE period_s = 600 AND t_unix_s = " +
                         std::to_string(static_cast<long>(kOrigin) + 1200) + " AND channel_id = 1"),
               1e-6 * 600.0, 1e-9);
-  EXPECT_NEAR(db.scalar("SELECT load_max FROM damage WHERE period_s = 60 AND channel_id = 1 LIMIT 1"), 159.9, 1e-3);
+  EXPECT_NEAR(
+      db.scalar("SELECT load_max FROM damage WHERE period_s = 60 AND channel_id = 1 LIMIT 1"),
+      159.9, 1e-3);
   EXPECT_EQ(db.text("SELECT value FROM meta WHERE key = 'drivetrain'"), "paper-2mw");
   EXPECT_EQ(db.text("PRAGMA journal_mode"), "wal");
   EXPECT_EQ(db.text("PRAGMA integrity_check"), "ok");
@@ -124,7 +136,7 @@ TEST(TrendsWriter, StatusFaultZoneAndCalibrationChangesBecomeEventsAndFlickerIsC
   for (int k = 0; k < 6000; ++k) {  // 600 s
     const double t = 0.1 * k;
     Snapshot s = snap(t);
-    if (t >= 100.0 && t < 300.0) s.status_word |= 1u << 2;     // SCADA stale for 200 s
+    if (t >= 100.0 && t < 300.0) s.status_word |= 1u << 2;           // SCADA stale for 200 s
     if (t >= 400.0 && t < 430.0 && k % 2) s.fault_word |= 1u << 11;  // flickering
     if (t >= 200.0) s.points[0].zone = app::loop::VibrationZone::kD;
     if (t >= 500.0) {
@@ -161,7 +173,8 @@ TEST(TrendsWriter, RetentionKeepsOnlyTheConfiguredHistoryOfEachTier) {
   EXPECT_LE(db.scalar("SELECT count(*) FROM operating WHERE period_s = 60"), 70);
   EXPECT_GE(db.scalar("SELECT count(*) FROM operating WHERE period_s = 60"), 60);
   EXPECT_LE(db.scalar("SELECT count(*) FROM operating WHERE period_s = 600"), 19);
-  EXPECT_GE(db.scalar("SELECT min(t_unix_s) FROM operating WHERE period_s = 600"), kOrigin + 3 * 3600 - 600);
+  EXPECT_GE(db.scalar("SELECT min(t_unix_s) FROM operating WHERE period_s = 600"),
+            kOrigin + 3 * 3600 - 600);
   EXPECT_EQ(db.text("PRAGMA integrity_check"), "ok");
 }
 
@@ -187,7 +200,8 @@ TEST(TrendsWriter, ASizeCapLosesIntervalsNotTheDatabaseAndWritingResumesWhenRais
 
 TEST(TrendsWriter, AnUnwritableFolderIsRefusedNamingTheFile) {
   TrendsSettings st = settings_in(fresh_dir("readonly"));
-  st.path = (fs::path(testing::TempDir()) / "no-such-folder-for-trends" / "x" / "trends.db").string();
+  st.path =
+      (fs::path(testing::TempDir()) / "no-such-folder-for-trends" / "x" / "trends.db").string();
   std::string error;
   EXPECT_FALSE(TrendsWriter::open(st, &error));
   EXPECT_NE(error.find(st.path), std::string::npos) << error;
