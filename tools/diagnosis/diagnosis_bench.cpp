@@ -69,10 +69,10 @@ std::vector<LumpedCaseSpec> case_list(bool short_form) {
   add("lumped-control-rated", "", "", 0.0, true, false, 1.15, 0.8, 2);
   add("lumped-control-paper", "", "", 0.0, false, false, 0.92, 1.1, 3);
   add("lumped-crack-g4-paper", "tooth_crack", "g4", 0.4, false, true, 0.9, 1.2, 4);
-  add("lumped-crack-sun-rated", "tooth_crack", "sun", 0.4, true, false, 1.1, 0.9, 5);
-  add("lumped-crack-planet-paper", "tooth_crack", "planet", 0.4, false, true, 0.95, 1.0, 6);
-  add("lumped-eccentricity-g1-paper", "gear_eccentricity", "g1", 40e-6, false, true, 1.05, 1.1, 7);
-  add("lumped-eccentricity-g3-rated", "gear_eccentricity", "g3", 40e-6, true, false, 0.9, 0.9, 8);
+  add("lumped-crack-sun-rated", "tooth_crack", "sun", 0.05, true, false, 1.1, 0.9, 5);
+  add("lumped-crack-planet-paper", "tooth_crack", "planet", 0.05, false, true, 0.95, 1.0, 6);
+  add("lumped-eccentricity-g1-paper", "gear_eccentricity", "g1", 100e-6, false, true, 1.05, 1.1, 7);
+  add("lumped-eccentricity-g3-rated", "gear_eccentricity", "g3", 100e-6, true, false, 0.9, 0.9, 8);
   add("lumped-outer-b5-paper", "bearing_outer_race_defect", "b5", 400.0, false, false, 0.9, 1.0, 9);
   add("lumped-inner-b3-rated", "bearing_inner_race_defect", "b3", 400.0, true, true, 1.1, 1.1, 10);
   add("lumped-ball-b6-paper", "bearing_ball_defect", "b6", 400.0, false, true, 1.0, 0.9, 11);
@@ -80,7 +80,7 @@ std::vector<LumpedCaseSpec> case_list(bool short_form) {
   add("lumped-unbalance-hss-rated", "shaft_unbalance", "hss", 0.05, true, false, 1.05, 1.0, 13);
   add("lumped-misalignment-ims-paper", "shaft_misalignment", "ims", 4000.0, false, true, 0.9, 1.1, 14);
   add("lumped-planet-pass-ring-rated", "planet_pass_modulation", "ring", 0.8, true, true, 1.0, 1.2, 15);
-  add("lumped-resonance-b5-paper", "housing_resonance", "b5", 950.0, false, false, 1.0, 1.0, 16);
+  add("lumped-resonance-b5-paper", "housing_resonance", "b5", 4600.0, false, false, 1.0, 1.0, 16);
   return v;
 }
 

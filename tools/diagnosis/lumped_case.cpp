@@ -46,10 +46,16 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
   };
   std::vector<std::vector<double>> recorded = record(without);
   if (!control) {
-    // Concealment: aim the strongest effect line at 8–20 dB below the tenth peak. Line
-    // amplitudes grow about linearly with the severity (a resonance: with 1/damping).
+    // Concealment: the strongest effect line 8–20 dB below the tenth peak and the RMS
+    // within 10 %. The knob is the severity (a resonance: its damping, inversely), moved
+    // geometrically and then bisected between a known too-hidden and a known too-visible
+    // value.
     const bool resonance = spec.effect.effect == "housing_resonance";
-    for (int attempt = 0; attempt < 8; ++attempt) {
+    double& knob = resonance ? spec.effect.damping : spec.effect.severity;
+    const double knob_max = spec.effect.effect == "tooth_crack" ? 0.95 : (resonance ? 0.5 : 1e300);
+    const double knob_min = resonance ? 0.005 : 0.0;
+    double too_hidden = 0.0, too_visible = 0.0;  // 0: not known yet
+    for (int attempt = 0; attempt < 10; ++attempt) {
       with = simulate_lumped(d, revs, spec.torque_nm, spec.fs_hz, spec.seconds, settle, {spec.effect},
                              spec.stiffness_scale, spec.damping_scale, spec.seed);
       recorded = record(with);
@@ -57,13 +63,22 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
       out.concealed = out.concealment.concealed();
       if (!spec.conceal) break;
       const double margin = out.concealment.line_margin_db;
-      if (out.concealed && margin <= 20.0) break;
-      // Scale towards a 12 dB margin (and away from a 10 % RMS change).
-      double factor = std::pow(10.0, (margin - 12.0) / 20.0);
-      if (out.concealment.rms_change >= 0.10) factor = std::min(factor, 0.5);
-      factor = std::clamp(factor, 0.05, 20.0);
-      if (resonance) spec.effect.damping = std::min(0.5, spec.effect.damping / factor);
-      else spec.effect.severity *= factor;
+      const bool visible = !out.concealed || margin < 8.0;
+      if (!visible && margin <= 20.0) break;
+      // "stronger" means a larger severity, or a smaller damping of a resonance.
+      const bool stronger_needed = !visible;
+      if (visible) too_visible = knob; else too_hidden = knob;
+      double next;
+      if (too_hidden > 0.0 && too_visible > 0.0) {
+        next = std::sqrt(too_hidden * too_visible);
+      } else {
+        double factor = std::clamp(std::pow(10.0, (margin - 12.0) / 20.0), 0.05, 20.0);
+        if (!out.concealed && out.concealment.rms_change >= 0.10) factor = std::min(factor, 0.3);
+        next = resonance ? knob / factor : knob * factor;
+      }
+      next = std::clamp(next, knob_min, knob_max);
+      if (next == knob || (stronger_needed && knob == (resonance ? knob_min : knob_max))) break;
+      knob = next;
     }
   }
   hal::Recording& rec = out.recording;
