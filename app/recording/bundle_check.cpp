@@ -18,17 +18,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr std::size_t kMaxFft = 65536;     // [samples] spectrum block for the mesh-line check
-constexpr std::size_t kMinFft = 4096;      // [samples] shorter recordings are not checked
-constexpr double kLineWindow = 0.015;      // [-] ± relative half-width searched for a line
-constexpr double kBandLow = 0.8;           // [-] background band around a line, × f
-constexpr double kBandHigh = 1.25;         // [-]
-constexpr double kScaleMin = 0.2;          // [-] scale search range
-constexpr double kScaleMax = 5.0;          // [-]
-constexpr double kScaleStep = 1.01;        // [-] geometric step (< 2·kLineWindow: no gaps)
-constexpr double kMaxProminence = 1e6;     // [-] cap (a line over an all-zero band)
-constexpr int kHarmonics = 3;              // mesh harmonics in a line family
-constexpr std::size_t kMinPulses = 3;      // tacho pulses needed for a speed
+constexpr std::size_t kMaxFft = 65536;  // [samples] spectrum block for the mesh-line check
+constexpr std::size_t kMinFft = 4096;   // [samples] shorter recordings are not checked
+constexpr double kLineWindow = 0.015;   // [-] ± relative half-width searched for a line
+constexpr double kBandLow = 0.8;        // [-] background band around a line, × f
+constexpr double kBandHigh = 1.25;      // [-]
+constexpr double kScaleMin = 0.2;       // [-] scale search range
+constexpr double kScaleMax = 5.0;       // [-]
+constexpr double kScaleStep = 1.01;     // [-] geometric step (< 2·kLineWindow: no gaps)
+constexpr double kMaxProminence = 1e6;  // [-] cap (a line over an all-zero band)
+constexpr int kHarmonics = 3;           // mesh harmonics in a line family
+constexpr std::size_t kMinPulses = 3;   // tacho pulses needed for a speed
 
 std::string num(double v, int digits = 4) {
   char buf[48];
@@ -98,7 +98,8 @@ ScaleScore score_at(const Spectra& sp, double s, const std::vector<double>& expe
   for (double f : expected_hz) {
     for (int h = 1; h <= kHarmonics; ++h) {
       double p = 0.0;
-      for (const auto& spec : sp.spec) p = std::max(p, prominence(spec, sp.df, s * h * f, sp.nyquist));
+      for (const auto& spec : sp.spec)
+        p = std::max(p, prominence(spec, sp.df, s * h * f, sp.nyquist));
       if (p <= 0.0) continue;
       if (h == 1) ++out.checked;
       out.best = std::max(out.best, p);
@@ -116,8 +117,8 @@ ScaleScore score_at(const Spectra& sp, double s, const std::vector<double>& expe
 std::pair<double, ScaleScore> best_near(const Spectra& sp, double s,
                                         const std::vector<double>& expected_hz) {
   std::pair<double, ScaleScore> best{s, score_at(sp, s, expected_hz)};
-  for (double k : {1.0 / kScaleStep / kScaleStep, 1.0 / kScaleStep, kScaleStep,
-                   kScaleStep * kScaleStep}) {
+  for (double k :
+       {1.0 / kScaleStep / kScaleStep, 1.0 / kScaleStep, kScaleStep, kScaleStep * kScaleStep}) {
     const ScaleScore c = score_at(sp, s * k, expected_hz);
     if (c.better_than(best.second)) best = {s * k, c};
   }
@@ -196,8 +197,10 @@ MeshLineScale find_mesh_line_scale(const std::vector<const std::vector<double>*>
     for (const auto& spec : sp.spec) {
       const double p = prominence(spec, sp.df, best_s * f, sp.nyquist);
       if (p < kLineProminence || p <= best_p) continue;
-      const auto k0 = static_cast<std::size_t>(std::lround(best_s * f * (1.0 - kLineWindow) / sp.df));
-      const auto k1 = static_cast<std::size_t>(std::lround(best_s * f * (1.0 + kLineWindow) / sp.df));
+      const auto k0 =
+          static_cast<std::size_t>(std::lround(best_s * f * (1.0 - kLineWindow) / sp.df));
+      const auto k1 =
+          static_cast<std::size_t>(std::lround(best_s * f * (1.0 + kLineWindow) / sp.df));
       std::size_t peak = k0;
       for (std::size_t k = k0; k <= k1 && k < spec.size(); ++k) {
         if (spec[k] > spec[peak]) peak = k;
@@ -215,7 +218,8 @@ MeshLineScale find_mesh_line_scale(const std::vector<const std::vector<double>*>
     }
   }
   out.scale = refined;
-  if (hint_scale > 0.0) out.hint_fundamentals = best_near(sp, hint_scale, expected_hz).second.fundamentals;
+  if (hint_scale > 0.0)
+    out.hint_fundamentals = best_near(sp, hint_scale, expected_hz).second.fundamentals;
   out.lines = best.second.lines;
   out.prominence = best.second.best;
   return out;
@@ -263,12 +267,14 @@ void check_against_drivetrain(CheckedBundle& b, const fs::path& dir) {
       b.tacho_rotor_rpm = f_hz / *per_rpm;
     } else if (expected_pulses >= 2.0 * kMinPulses) {
       fail(dir / rec.samples_file, "channel '" + ch.name + "'",
-           std::to_string(pulses) + " tacho pulses in " + num(duration_s) + " s; at rotor_speed_rpm " +
-               num(rpm) + " the " + ch.location + " turns " + num(expected_pulses, 3) +
+           std::to_string(pulses) + " tacho pulses in " + num(duration_s) +
+               " s; at rotor_speed_rpm " + num(rpm) + " the " + ch.location + " turns " +
+               num(expected_pulses, 3) +
                " times: expected one pulse per revolution (is the tacho connected?)");
     } else {
       b.notes.push_back("tacho '" + ch.name + "': the recording is too short for a speed (" +
-                        std::to_string(pulses) + " pulses); rotor_speed_rpm not checked against it");
+                        std::to_string(pulses) +
+                        " pulses); rotor_speed_rpm not checked against it");
     }
   }
 
@@ -293,7 +299,8 @@ void check_against_drivetrain(CheckedBundle& b, const fs::path& dir) {
     b.notes.push_back(
         "no gear-mesh line stands out in the acceleration channels (or the recording is "
         "shorter than " +
-        std::to_string(kMinFft) + " samples): sample_rate_hz and rotor_speed_rpm not checked "
+        std::to_string(kMinFft) +
+        " samples): sample_rate_hz and rotor_speed_rpm not checked "
         "against the vibration");
   }
 
@@ -310,8 +317,8 @@ void check_against_drivetrain(CheckedBundle& b, const fs::path& dir) {
            num(rpm) + " rpm, but the tacho '" + tacho + "' and the gear-mesh lines of " +
                mesh_channel + " both say " + num(t_rpm) +
                " rpm (expected within 3 %): the recorded speed is wrong, or sample_rate_hz is (" +
-               hz(rec.sample_rate_hz * rpm / t_rpm) + " Hz would make them agree, not " +
-               rate + ")");
+               hz(rec.sample_rate_hz * rpm / t_rpm) + " Hz would make them agree, not " + rate +
+               ")");
     }
     if (b.mesh_line_scale && mesh_ok && mesh.hint_fundamentals > 0) {
       fail(meta, "operating_point.rotor_speed_rpm",
@@ -324,16 +331,17 @@ void check_against_drivetrain(CheckedBundle& b, const fs::path& dir) {
     }
     if (b.mesh_line_scale && mesh_ok) {
       fail(meta, "channels[" + std::to_string(*tacho_channel) + "]",
-           "tacho '" + tacho + "' gives " + num(t_rpm) + " rpm, but operating_point.rotor_speed_rpm " +
-               num(rpm) + " and the gear-mesh lines of " + mesh_channel +
+           "tacho '" + tacho + "' gives " + num(t_rpm) +
+               " rpm, but operating_point.rotor_speed_rpm " + num(rpm) +
+               " and the gear-mesh lines of " + mesh_channel +
                " agree with each other: check the tacho's shaft (location '" +
                rec.channels[*tacho_channel].location + "') and that it pulses once per revolution");
     }
     fail(meta, "operating_point.rotor_speed_rpm",
          num(rpm) + " rpm, but the tacho '" + tacho + "' says " + num(t_rpm) +
              " rpm (expected within 3 %): the recorded speed, the tacho (one pulse per "
-             "revolution of '" + rec.channels[*tacho_channel].location +
-             "'?) or sample_rate_hz is wrong");
+             "revolution of '" +
+             rec.channels[*tacho_channel].location + "'?) or sample_rate_hz is wrong");
   }
   if (!mesh_ok && b.tacho_rotor_rpm) {
     // Tacho and metadata agree (a wrong sample rate would move the tacho too): the lines
@@ -373,8 +381,8 @@ void check_against_drivetrain(CheckedBundle& b, const fs::path& dir) {
     b.input_torque_nm = w.torque_nm;
     b.torque_estimated = true;
     b.notes.push_back("operating_point has no input_torque_nm: " + num(w.torque_nm, 6) +
-                      " N·m estimated from wind_speed_mps " + num(*op.wind_speed_mps) +
-                      " m/s at " + num(rpm) + " rpm with the wind load model (region " +
+                      " N·m estimated from wind_speed_mps " + num(*op.wind_speed_mps) + " m/s at " +
+                      num(rpm) + " rpm with the wind load model (region " +
                       model::wind::region_name(w.region) + ", effective Cp " +
                       num(w.power_coefficient, 3) + ", pitch 0 assumed)");
   }

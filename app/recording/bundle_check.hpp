@@ -47,9 +47,9 @@ inline constexpr double kSpeedTolerance = 0.03;
 /// the band around it (≈ 18 dB).
 inline constexpr double kLineProminence = 8.0;
 /// Turbine range factors (operating_range()).
-inline constexpr double kOverspeedFactor = 1.2;    // [-] × rated rotor speed
-inline constexpr double kPeakTorqueFactor = 1.5;   // [-] × rated torque
-inline constexpr double kCutOutWindFactor = 1.2;   // [-] × cut-out wind (hysteresis, gusts)
+inline constexpr double kOverspeedFactor = 1.2;   // [-] × rated rotor speed
+inline constexpr double kPeakTorqueFactor = 1.5;  // [-] × rated torque
+inline constexpr double kCutOutWindFactor = 1.2;  // [-] × cut-out wind (hysteresis, gusts)
 
 class BundleCheckError : public std::runtime_error {
  public:
@@ -64,11 +64,11 @@ struct BundleCheckOptions {
 };
 
 struct CheckedBundle {
-  hal::Recording recording;           // channels in SI units (hal::read_bundle)
-  model::Drivetrain drivetrain;       // loaded and validated
-  std::string drivetrain_source;      // the built-in name or the file it came from
-  double input_torque_nm = 0.0;       // [N·m] recorded, or from the wind load model
-  bool torque_estimated = false;      // true when from the wind (see notes)
+  hal::Recording recording;               // channels in SI units (hal::read_bundle)
+  model::Drivetrain drivetrain;           // loaded and validated
+  std::string drivetrain_source;          // the built-in name or the file it came from
+  double input_torque_nm = 0.0;           // [N·m] recorded, or from the wind load model
+  bool torque_estimated = false;          // true when from the wind (see notes)
   std::optional<double> tacho_rotor_rpm;  // [rpm] from the tacho, when there is one
   std::optional<double> mesh_line_scale;  // [-] measured/expected mesh line frequency
   /// Assumptions and conversions, one printable line each; commands print them.
@@ -99,10 +99,10 @@ void check_against_drivetrain(CheckedBundle& bundle, const std::filesystem::path
 /// true m-th harmonics where the fundamentals belong, is not seen here (the tacho sees it).
 /// Refined on the strongest fundamental.
 struct MeshLineScale {
-  double scale = 1.0;        // [-]
-  std::size_t lines = 0;     // lines of the family (harmonics 1–3) that stand out
-  double prominence = 0.0;   // [-] best line's peak / local median
-  std::size_t checked = 0;   // stages resolvable in the spectrum (0: nothing to check)
+  double scale = 1.0;                 // [-]
+  std::size_t lines = 0;              // lines of the family (harmonics 1–3) that stand out
+  double prominence = 0.0;            // [-] best line's peak / local median
+  std::size_t checked = 0;            // stages resolvable in the spectrum (0: nothing to check)
   std::size_t hint_fundamentals = 0;  // stages whose fundamental stands out at hint_scale
 };
 /// `channels`: the acceleration channels; a line stands out when it does in any of them.
