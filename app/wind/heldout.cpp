@@ -260,8 +260,8 @@ TorqueSummary evaluate_scada(const std::string& path, const hal::ScadaColumns& c
   return run_torque(reader, estimator, window,
                     [&](const hal::ScadaRow& row, const RowEstimate& e) {
                       if (breakdown) {
-                        breakdown->add(row.get(hal::ScadaField::kTime),
-                                       row.get(hal::ScadaField::kWindSpeed), e);
+                        breakdown->add(row.time_s(),
+                                       row.get(hal::ScadaQuantity::kWindSpeed), e);
                       }
                       if (fit_rows && e.in_operation) fit_rows->push_back(fit_row_of(row, e));
                     });
@@ -283,11 +283,11 @@ std::vector<FoldResult> leave_one_out(const std::string& path, const hal::ScadaC
     r.test_months = fold.months;
     std::vector<FitRow> rows;
     evaluate_scada(path, columns, drivetrain, options, fit_window, nullptr, &rows);
-    const CpFitResult fit = fit_cp_surface(drivetrain.turbine, rows, fit_options);
+    r.fit = fit_cp_surface(drivetrain.turbine, rows, fit_options);
     model::Drivetrain fitted = drivetrain;
-    fitted.turbine.cp = fit.surface;
-    fitted.turbine.corrections = fit.corrections;
-    r.fit_rows = fit.rows;
+    fitted.turbine.cp = r.fit.surface;
+    fitted.turbine.corrections = r.fit.corrections;
+    r.fit_rows = r.fit.rows;
     r.fit_mape_pct =
         evaluate_scada(path, columns, fitted, options, fit_window, nullptr, nullptr).mape.mape_pct();
     r.test = evaluate_scada(path, columns, fitted, options, test_window, &r.breakdown, nullptr);

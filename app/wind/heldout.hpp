@@ -131,6 +131,7 @@ struct FoldResult {
   std::string name;
   MonthSet test_months = MonthSet::all();
   std::size_t fit_rows = 0;
+  CpFitResult fit;            // the fold's fit
   double fit_mape_pct = 0.0;  // over the fitting months, fitted description
   TorqueSummary test;         // over the fold's months, fitted description
   ErrorBreakdown breakdown;   // of the test rows
