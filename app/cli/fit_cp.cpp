@@ -24,6 +24,9 @@
 
 namespace {
 
+// A fitted maximum this close to the Betz limit is reported as suspect.
+constexpr double kBetzSuspectFraction = 0.97;
+
 struct FitArgs {
   std::string file;
   std::string drivetrain;
@@ -162,6 +165,28 @@ void run(const FitArgs& args) {
         "turbulence intensity %.4f\n",
         fit.corrections.tracking_tip_speed_ratio, fit.corrections.tracking_band_margin,
         fit.corrections.turbulence_intensity);
+  }
+  // Plausibility: no rotor extracts more than the Betz limit; one at it is suspect too.
+  if (peak.cp_max > model::wind::kBetzLimit + 1e-9) {
+    char text[600];
+    std::snprintf(text, sizeof text,
+                  "the fitted surface's Cp_max %.4f (at lambda %.2f) is above the Betz limit "
+                  "16/27 = 0.5926: no rotor extracts that much, so the fit is compensating for "
+                  "something the description gets wrong — the measured power or torque "
+                  "(drivetrain_efficiency %.3f, no_load_loss_w), the wind speed (a nacelle "
+                  "anemometer reads low: free offset and gain), the air density or the rotor "
+                  "radius. No table printed, nothing written; free fewer parameters or fix those",
+                  peak.cp_max, peak.lambda_opt, d.turbine.drivetrain_efficiency);
+    throw app::cli::CommandError(std::string("fit-cp: ") + text);
+  }
+  if (peak.cp_max >= kBetzSuspectFraction * model::wind::kBetzLimit) {
+    std::printf(
+        "# NOTE: the fitted Cp_max %.4f is at the Betz limit 0.5926 (>= %.0f %% of it): real "
+        "rotors of this size peak near 0.45-0.50; the fit is pressing against physics, and the "
+        "torques it gives rest on that\n",
+        peak.cp_max, 100.0 * kBetzSuspectFraction);
+    std::fprintf(stderr, "fit-cp: note: fitted Cp_max %.4f is at the Betz limit (suspect)\n",
+                 peak.cp_max);
   }
   app::wind::ErrorBreakdown fit_breakdown;
   const auto summary = evaluate(args, *columns, d, window, nullptr, &fit_breakdown);

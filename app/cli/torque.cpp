@@ -86,8 +86,8 @@ void run(const TorqueArgs& args) {
           {"t_s", number_or_null(row.time_s())},
           {"wind_speed_mps", number_or_null(row.get(hal::ScadaQuantity::kWindSpeed))},
           {"rotor_speed_rpm", number_or_null(row.get(hal::ScadaQuantity::kRotorSpeed))},
-          {"region", model::wind::region_name(e.load.region)},
-          {"torque_nm", e.load.torque_nm}};
+          {"region", e.estimated ? model::wind::region_name(e.load.region) : "no_wind_speed"},
+          {"torque_nm", e.estimated ? nlohmann::json(e.load.torque_nm) : nlohmann::json(nullptr)}};
       if (args.compare) {
         j["reference_nm"] = has_ref ? nlohmann::json(e.reference_torque_nm) : nullptr;
         j["estimate_nm"] = has_ref ? nlohmann::json(e.compared_torque_nm) : nullptr;
@@ -96,9 +96,11 @@ void run(const TorqueArgs& args) {
       }
       std::printf("%s%s", first ? "\n" : ",\n", j.dump().c_str());
     } else {
-      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12.0f", row.row, row.time_s(),
+      // No wind speed: no estimate, and no region (a turning rotor is not below cut-in).
+      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12s", row.row, row.time_s(),
                   row.get(hal::ScadaQuantity::kWindSpeed), row.get(hal::ScadaQuantity::kRotorSpeed),
-                  model::wind::region_name(e.load.region), e.load.torque_nm);
+                  e.estimated ? model::wind::region_name(e.load.region) : "no_wind_speed",
+                  e.estimated ? std::to_string(std::lround(e.load.torque_nm)).c_str() : "-");
       if (args.compare && has_ref) {
         std::printf(" %12.0f %12.0f %9.2f%s", e.compared_torque_nm, e.reference_torque_nm, err_pct,
                     e.in_operation ? "" : "  (not counted)");

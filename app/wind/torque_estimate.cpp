@@ -62,6 +62,7 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
     out.excluded_because = "no wind speed";
     return true;
   }
+  out.estimated = true;
 
   const double speed_rad_s = std::max(0.0, rpm) * kRpmToRadS;
   model::wind::Inflow inflow;
@@ -163,7 +164,11 @@ const char* MapeAccumulator::region_label(std::size_t region) {
 
 void TorqueSummary::add(const RowEstimate& e) {
   ++rows;
-  ++region_rows[static_cast<std::size_t>(e.load.region)];
+  if (e.estimated) {
+    ++region_rows[static_cast<std::size_t>(e.load.region)];
+  } else {
+    ++no_wind_rows;
+  }
   if (e.load.torque_nm > 0.0) {
     min_torque_nm = std::min(min_torque_nm, e.load.torque_nm);
     max_torque_nm = std::max(max_torque_nm, e.load.torque_nm);

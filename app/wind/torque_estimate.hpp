@@ -55,7 +55,9 @@ inline constexpr double kCurtailPowerFraction = 0.5;  // [-] of rated power, abo
 enum class ReferenceKind { kNone, kMeasuredTorque, kPowerOverSpeed };
 
 struct RowEstimate {
-  model::wind::WindLoadOutput load;
+  model::wind::WindLoadOutput load;  // meaningful only when estimated
+  bool estimated = false;            // false: no wind speed in the row, no estimate (not a
+                                     // region: a rotor turning at 10 rpm is not below cut-in)
   double reference_torque_nm = 0.0;  // [N·m] valid when reference != kNone
   double compared_torque_nm = 0.0;   // [N·m] the estimate on the reference's side: load.torque_nm
                                      // against torque_nm, (η·T·ω − P_0)/ω against P/ω
@@ -124,6 +126,7 @@ class MapeAccumulator {
 struct TorqueSummary {
   std::size_t rows = 0;
   std::array<std::size_t, 6> region_rows{};  // indexed by model::wind::OperatingRegion
+  std::size_t no_wind_rows = 0;              // rows without a wind speed (no estimate)
   double min_torque_nm = std::numeric_limits<double>::infinity();  // [N·m] over rows with T > 0
   double max_torque_nm = 0.0;                                      // [N·m]
   std::size_t measured_torque_rows = 0;                            // reference = measured torque_nm
