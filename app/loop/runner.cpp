@@ -349,16 +349,21 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   switch (bc.scada) {
     case Backend::kLinux:
       scada = std::make_unique<hal::ModbusScadaSource>(bc.modbus_client, clock);
+      ts.scada_period_s = std::chrono::duration<double>(bc.modbus_client.poll_period).count();
       break;
     case Backend::kReplay:
       if (!replay_csv.empty()) {
         scada = std::make_unique<hal::ReplayScadaSource>(replay_csv, replay_columns);
         const double period = scada_period_s(replay_csv, replay_columns);
+        if (period > 0.0) ts.scada_period_s = period;
         auto* r = static_cast<hal::ReplayScadaSource*>(scada.get());
         check(r->configure(), "--replay " + opt.replay + ": " + r->error());
         replay_end_s = std::chrono::duration<double>(r->duration()).count() + period;
       } else if (rec) {
         scada = std::make_unique<hal::ReplayScadaSource>(rec->scada);
+        if (rec->scada.size() >= 2)
+          ts.scada_period_s = (rec->scada.back().t_s - rec->scada.front().t_s) /
+                              static_cast<double>(rec->scada.size() - 1);
       } else if (!bc.scada_csv.empty()) {
         std::string err;
         const auto cols = hal::parse_scada_columns(bc.scada_columns, &err);
@@ -369,7 +374,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       }
       break;
     case Backend::kSim: {
-      auto s = std::make_unique<hal::SimScadaSource>(hal::sim_scada_paper_point(), clock);
+      const hal::SimScadaConfig sim = hal::sim_scada_paper_point();
+      ts.scada_period_s = std::chrono::duration<double>(sim.period).count();
+      auto s = std::make_unique<hal::SimScadaSource>(sim, clock);
       s->inject(bc.scada_fault);
       scada = std::move(s);
       break;

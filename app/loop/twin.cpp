@@ -39,6 +39,7 @@ Twin::Twin(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet
       rom_(rom),
       shadow_(rom),
       converter_(drivetrain, channels, rom),
+      shaper_(rom, static_cast<double>(settings.period_ns) * 1e-9, settings.scada_period_s),
       accumulator_(std::make_unique<model::fatigue::DamageAccumulator>(
           channels, accumulator_config(rom.dt_s, settings.accumulator_bins))),
       supervisor_(drivetrain, settings.supervisor),
@@ -247,20 +248,29 @@ void Twin::adopt_calibrated(const supervisor::SupervisorDecision& d) {
   }
 }
 
-void Twin::step_model(const supervisor::SupervisorDecision& d) {
+void Twin::step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d) {
   if (!d.rom_valid) return;
+  // The inputs per step between SCADA samples (signal/rom_input_shaper.hpp): a held value
+  // that steps would ring the drivetrain's first mode and be counted as damage.
+  const bool new_sample =
+      scada_.update_count != last_scada_update_ || d.source != last_decision_.source;
+  last_scada_update_ = scada_.update_count;
   if (!rom_started_) {
     rom_.reset(d.rom);
+    shaper_.reset(now, d.rom);
     rom_started_ = true;
+  } else {
+    shaper_.cycle(now, d.rom, new_sample);
   }
   const int steps = settings_.rom_steps_per_cycle;
   for (int i = 0; i < steps; ++i) {
-    rom_.step(d.rom, rom_out_);
+    const model::dynamics::RomInputs u = shaper_.at_step(i, steps);
+    rom_.step(u, rom_out_);
     converter_.convert(rom_out_.mesh_force_n.data(), rom_out_.bearing_force_x_n.data(),
-                       rom_out_.bearing_force_y_n.data(), d.rom.input_torque_nm, loads_);
-    accumulator_->step(loads_, d.rom.rotor_speed_rpm, 1);
+                       rom_out_.bearing_force_y_n.data(), u.input_torque_nm, loads_);
+    accumulator_->step(loads_, u.rotor_speed_rpm, 1);
     if (shadow_data_ != nullptr) {
-      shadow_.step(d.rom, shadow_out_);  // settling: its loads are not counted
+      shadow_.step(u, shadow_out_);  // settling: its loads are not counted
       --shadow_steps_left_;
     }
   }
@@ -344,7 +354,7 @@ void Twin::cycle(hal::Timestamp now) {
 
   // 3 step (a calibrated model is adopted at this cycle boundary)
   if (d.rom_valid) adopt_calibrated(d);
-  step_model(d);
+  step_model(now, d);
   collect_window(now, d);
   for (std::size_t c = 0; c < channels_.channel_count(); ++c) {
     // The channel's highest source stress of the cycle's last step (what the register shows).

@@ -42,6 +42,7 @@
 #include "model/fatigue/damage_accumulator.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "results/register_map.hpp"
+#include "signal/rom_input_shaper.hpp"
 #include "supervisor/supervisor.hpp"
 #include "supervisor/vibration_zones.hpp"
 
@@ -131,6 +132,9 @@ struct TwinSettings {
   double rul_interval_s = 86400.0;        // [s]
   double checkpoint_interval_s = 60.0;    // [s]
   std::uint32_t accumulator_bins = 200;   // [-]
+  /// [s] the SCADA's sample period (Modbus poll period, a replay's row spacing): how the
+  /// ROM's inputs are shaped between samples (app/signal/rom_input_shaper.hpp).
+  double scada_period_s = 1.0;
 };
 
 class Twin {
@@ -186,7 +190,7 @@ class Twin {
  private:
   void drain_keyphasor(hal::Timestamp now);
   void drain_cms(hal::Timestamp now);
-  void step_model(const supervisor::SupervisorDecision& d);
+  void step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d);
   void adopt_calibrated(const supervisor::SupervisorDecision& d);
   void collect_window(hal::Timestamp now, const supervisor::SupervisorDecision& d);
   void window_samples(std::size_t point, const float* x, std::size_t n);
@@ -213,6 +217,8 @@ class Twin {
   bool rom_started_ = false;
   std::uint16_t calibration_generation_ = 0;
   fatigue::RomLoadConverter converter_;
+  signal::RomInputShaper shaper_;        // the ROM's inputs per step
+  std::uint32_t last_scada_update_ = 0;  // SCADA update count of the last sample shaped
   std::unique_ptr<model::fatigue::DamageAccumulator> accumulator_;
   model::dynamics::RomOutputs rom_out_{}, shadow_out_{};
   model::fatigue::LoadSample loads_{};
