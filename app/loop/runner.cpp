@@ -275,12 +275,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   ts.zones = {cfg.accel_hf_bc_mps2, cfg.accel_hf_cd_mps2, cfg.velocity_bc_mmps,
               cfg.velocity_cd_mmps, cfg.accel_lf_bc_mps2, cfg.accel_lf_cd_mps2,
               cfg.hf_interval_s,    cfg.lf_interval_s};
-  ts.supervisor.torque = static_cast<supervisor::TorquePreference>(cfg.torque_source);
+  ts.supervisor.torque = static_cast<wind::TorquePreference>(cfg.torque_source);
   ts.supervisor.hold_s = cfg.scada_hold_s;
-  ts.supervisor.max_wind_mps = cfg.max_wind_mps;
-  ts.supervisor.max_speed_factor = cfg.max_speed_factor;
-  ts.supervisor.max_torque_factor = cfg.max_torque_factor;
-  ts.supervisor.max_power_factor = cfg.max_power_factor;
   ts.supervisor.alarm_zone = cfg.alarm_zone == 0 ? VibrationZone::kD : VibrationZone::kC;
   ts.calibration_enabled = cfg.calibration_enabled;
   ts.window_s = cfg.window_s;

@@ -55,10 +55,6 @@ struct RunConfig {
   // [inputs]
   int torque_source = 0;           // index into kTorqueSourceChoices
   double scada_hold_s = 0.0;       // [s] stale SCADA: last valid values for this long
-  double max_wind_mps = 0.0;       // [m/s] plausibility
-  double max_speed_factor = 0.0;   // [-] × rated rotor speed
-  double max_torque_factor = 0.0;  // [-] × rated torque
-  double max_power_factor = 0.0;   // [-] × rated power
 
   // [vibration] ISO 10816-21 Annex A (gearbox)
   double cms_sample_rate_hz = 0.0;  // [Hz] CMS front end (a replayed recording brings its own)
