@@ -198,6 +198,14 @@ std::vector<Param> build_table() {
   t.push_back(integer("calibration.max_evaluations", 40, 9, 10000, "",
                       "Model evaluations a trust-region calibration may use",
                       [](RunConfig& c) { return &c.max_evaluations; }));
+  t.push_back(boolean("calibration.diagnosis", true,
+                      "When a calibration cannot reach the thresholds, run the missing-physics "
+                      "diagnosis (docs/diagnosis.md) on that window, on the calibration thread",
+                      [](RunConfig& c) { return &c.diagnosis_enabled; }));
+  t.push_back(real("calibration.diagnosis_interval_s", 86400.0, 0.0, 365.0 * 86400.0, "s",
+                   "Loop time between two diagnoses (a diagnosis costs minutes of low-priority "
+                   "CPU)",
+                   [](RunConfig& c) { return &c.diagnosis_interval_s; }));
   // [fatigue]
   t.push_back(integer("fatigue.bins", 200, 16, 256, "",
                       "Stress bins per damage channel (ISO 6336-6 load-duration histogram)",
