@@ -24,6 +24,8 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
+#include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "fatigue/damage_history.hpp"
@@ -117,6 +119,18 @@ double estimate_rows(const std::string& path) {
     lines += 1.0;
   }
   return lines > 1 ? static_cast<double>(size) / (bytes / lines) : 0.0;
+}
+
+// A row time as a UTC date-time when it is one (after 1990), else in seconds.
+std::string time_text(double t_s) {
+  if (!std::isfinite(t_s)) return "?";
+  if (t_s < 631152000.0) return "t_s = " + std::to_string(t_s) + " s";
+  const std::time_t t = static_cast<std::time_t>(t_s);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return buf;
 }
 
 nlohmann::json num(double v) {
@@ -376,17 +390,36 @@ void run(const DamageArgs& args) {
     std::printf("\n");
   }
   std::printf("# bearing ratings C [kN] (the description's, else ISO 281:2007 from geometry):");
+  bool assumed_rating = false;
   for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
-    std::printf(" %s %.0f", channels.bearing_id(b).c_str(),
-                channels.bearing(b).dynamic_rating_n / 1e3);
+    const model::Bearing* desc = drivetrain.bearing(channels.bearing_id(b));
+    const bool from_geometry = desc == nullptr || !(desc->dynamic_rating_n > 0.0);
+    assumed_rating |= from_geometry;
+    std::printf(" %s %.0f%s", channels.bearing_id(b).c_str(),
+                channels.bearing(b).dynamic_rating_n / 1e3, from_geometry ? "*" : "");
   }
   std::printf("\n");
+  if (assumed_rating) {
+    std::printf(
+        "# * assumed: no dynamic_rating_n in the description, C computed from the bearing's "
+        "geometry (ISO 281 formula); a catalogue rating can be 2-3 x higher: these lives rest "
+        "on that assumption\n");
+  }
   std::printf(
       "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu, other "
-      "range %zu), no data %zu; gaps %zu (%.1f h missing)\n",
+      "range %zu, beyond the load spectrum %zu), no data %zu; gaps %zu (%.1f h missing)\n",
       h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time,
-      h.rejected_speed, h.rejected_wind, h.rejected_range, h.rows_no_data, h.gaps,
-      h.gap_s / 3600.0);
+      h.rejected_speed, h.rejected_wind, h.rejected_range, h.rejected_spectrum, h.rows_no_data,
+      h.gaps, h.gap_s / 3600.0);
+  if (h.rejected_spectrum > 0) {
+    const double rated = drivetrain.turbine.rated_torque_nm;
+    std::printf(
+        "# %zu rows beyond the load spectrum (torque above %.1f x rated, up to %.2f x rated, or "
+        "speed above %.3g rpm) were not accumulated: their damage is NOT in the totals below (a "
+        "torque column in kN·m or the wrong --torque-from?)\n",
+        h.rejected_spectrum, spectrum.grid.torque_max_nm / rated, h.max_rejected_torque_nm / rated,
+        spectrum.grid.speed_max_rpm);
+  }
   std::printf(
       "# period %.0f s; covered %.3f days (%.3f years); torque from: torque_nm %zu rows, "
       "P/(eta*omega) %zu, "
@@ -395,14 +428,27 @@ void run(const DamageArgs& args) {
       h.torque_rows_wind);
   std::printf("%-9s %-16s %-8s %12s %12s %10s %10s %10s %10s\n", "component", "detail", "mode",
               "damage", "per_day", "rul_y", "rul_short_y", "rul_low_y", "rul_high_y");
+  std::vector<std::string> exceeded;
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
     const mf::Channel& ch = channels.channel(c);
     const mf::RulEstimate& e = h.rul[c];
+    if (h.damage[c] >= 1.0) {
+      // Past its life: no remaining life to print, the date it was used up instead.
+      std::printf("%-9s %-16s %-8s %12.4e %12.4e %10s %10s %10s %10s\n", ch.component.c_str(),
+                  ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode),
+                  h.damage[c], days > 0 ? h.damage[c] / days : 0.0, "exceeded", "exceeded",
+                  "exceeded", "exceeded");
+      exceeded.push_back(ch.component + (ch.detail.empty() ? "" : " " + ch.detail) + " " +
+                         mf::failure_mode_name(ch.mode) + ": D = " + std::to_string(h.damage[c]) +
+                         ", life exceeded since " + time_text(h.exceeded_at_s[c]));
+      continue;
+    }
     std::printf("%-9s %-16s %-8s %12.4e %12.4e %10.3g %10.3g %10.3g %10.3g\n", ch.component.c_str(),
                 ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode),
                 h.damage[c], days > 0 ? h.damage[c] / days : 0.0, e.rul_s / kYearS,
                 e.rul_short_term_s / kYearS, e.rul_low_s / kYearS, e.rul_high_s / kYearS);
   }
+  for (const auto& line : exceeded) std::printf("# PAST ITS LIFE: %s\n", line.c_str());
   const mf::Channel& bc = channels.channel(h.breakdown_channel);
   std::printf(
       "# %s %s damage by rotor torque (bins of 0.1 x rated): share of time, share of damage, "
@@ -519,7 +565,8 @@ void run(const DamageArgs& args) {
                  {"rejected_time", h.rejected_time},
                  {"rejected_speed", h.rejected_speed},
                  {"rejected_wind", h.rejected_wind},
-                 {"rejected_range", h.rejected_range}};
+                 {"rejected_range", h.rejected_range},
+                 {"rejected_beyond_spectrum", h.rejected_spectrum}};
     j["period_s"] = h.period_s;
     j["covered_s"] = h.covered_s;
     j["first_t_s"] = h.first_t_s;
@@ -533,6 +580,7 @@ void run(const DamageArgs& args) {
                                {"damage", h.damage[c]},
                                {"damage_per_day", days > 0 ? h.damage[c] / days : 0.0},
                                {"rul_years", num(e.rul_s / kYearS)},
+                               {"exceeded_since_t_s", num(h.exceeded_at_s[c])},
                                {"rul_short_term_years", num(e.rul_short_term_s / kYearS)},
                                {"rul_low_years", num(e.rul_low_s / kYearS)},
                                {"rul_high_years", num(e.rul_high_s / kYearS)}});
@@ -586,7 +634,8 @@ void setup_damage(CLI::App& sub) {
                  "Rotor torque source: auto (torque_nm, else P/(eta*omega), else wind model), "
                  "torque, power, "
                  "wind, wind-steady (wind model with its own steady-state speed)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::one_of({"auto", "torque", "power", "wind", "wind-steady"}));
   sub.add_flag("--bench", args->bench,
                "Also time a reading-only pass (baseline) and print the ratio");
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
@@ -595,23 +644,28 @@ void setup_damage(CLI::App& sub) {
                  "(ROM per grid point, interpolated) | dynamics-rows (ROM at every row's own "
                  "operating point: no interpolation, one simulation per distinct row; short "
                  "histories)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::one_of({"quasi-static", "dynamics", "dynamics-rows"}));
   sub.add_option("--rom-rate", args->rom_rate_hz,
                  "Dynamics spectrum: the ROM's sample (step) rate [Hz]; `drivetwin run` steps its "
                  "ROM at period / rom_steps_per_cycle")
       ->capture_default_str()
-      ->check(CLI::Range(256.0, 1e6));
+      ->check(app::cli::number_in(256.0, 1e6, "Hz"));
   sub.add_option("--rom-cutoff", args->rom_cutoff_hz,
                  "Dynamics spectrum: the ROM's mode cut-off [Hz]")
       ->capture_default_str()
-      ->check(CLI::Range(10.0, 2500.0));
+      ->check(app::cli::number_in(10.0, 2500.0, "Hz"));
   sub.add_option("--cache-dir", args->cache_dir,
                  "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
   sub.add_flag("--no-cache", args->no_cache, "Always rebuild the spectrum, write no cache");
-  sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)");
-  sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")->capture_default_str();
+  sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)")
+      ->check(app::cli::number_in(0.0, 366.0 * 86400.0, "s", true));
+  sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")
+      ->capture_default_str()
+      ->check(app::cli::one_of({"haibach", "iso"}));
   sub.add_option("--k-a", args->k_a, "Application factor K_A of the quasi-static spectrum")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(1.0, 10.0));
   sub.add_option(
       "--k-h-beta", args->k_h_beta,
       "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
@@ -626,12 +680,16 @@ void setup_damage(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--f-ma", args->f_ma_factor,
                  "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0));
   sub.add_option("--pinion-offset", args->pinion_offset,
                  "Parallel-stage pinion offset s/l from mid-span (K_Hbeta method C)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 0.5, "", false, true));
   sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::integer_in(app::config::kMinAccuracyGrade, app::config::kMaxAccuracyGrade,
+                                   "ISO 1328-1:2013 classes"));
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
   sub.add_flag("--per-day", args->per_day,
                "Distribution of the most damaged gear-contact channel's damage per full UTC day, "

@@ -19,7 +19,11 @@
 //     a cell that is not a finite number (reported by the reader), t_s missing,
 //     t_s not after the previous accepted row (duplicate or unsorted),
 //     any value outside its plausibility limit (app/wind/scada_limits.hpp: e.g. rotor
-//     speed below −1 or above 1.5 × rated, negative wind speed, power beyond twice rated).
+//     speed below −1 or above 1.5 × rated, negative wind speed, power beyond twice rated),
+//     a rotor torque or speed beyond the load spectrum's grid (torque above 1.5 × rated:
+//     its damage cannot be interpolated, and clamping it to the edge would hide a torque
+//     column in the wrong unit; counted as rejected_spectrum, the largest such torque kept).
+//   A file with no data row, or none usable, is an error (nothing is accumulated).
 //   no data (skipped, not an error): no torque, power or wind value in the row.
 //   gap (reported, not an error): t_s more than 1.5 periods after the previous row; the
 //     missing time is not extrapolated (damage covers recorded time only).
@@ -95,7 +99,10 @@ struct HistoryResult {
   std::vector<HistoryIssue> issues;            // first kMaxIssues
   std::vector<DayRecord> days;  // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
-  std::size_t rejected_range = 0;  // another quantity outside its plausibility limit
+  std::size_t rejected_range = 0;       // another quantity outside its plausibility limit
+  std::size_t rejected_spectrum = 0;    // torque or speed beyond the load spectrum's grid
+  double max_rejected_torque_nm = 0.0;  // [N·m] largest torque among those
+  std::vector<double> exceeded_at_s;    // per channel: t_s of the row where D reached 1 (NaN: not)
 };
 
 /// Order statistics of a sample. Quantiles interpolate linearly between order statistics
