@@ -23,9 +23,9 @@
 #include <vector>
 
 #include "cli/command.hpp"
-#include "config/drivetrain_file.hpp"
 #include "diagnosis/report.hpp"
 #include "hal/recording_bundle.hpp"
+#include "recording/bundle_check.hpp"
 #include "model/diagnosis/diagnoser.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/order_tracking.hpp"
@@ -61,17 +61,19 @@ void write_file(const std::string& path, const std::string& text) {
 
 void run(const Args& args) {
   const fs::path dir(args.bundle);
-  hal::BundleReadResult read = hal::read_bundle(dir);
-  if (!read) throw CommandError(read.error.to_string());
-  hal::Recording& rec = *read.recording;
-  std::string dt_name = args.drivetrain.empty() ? rec.drivetrain : args.drivetrain;
-  if (args.drivetrain.empty() && fs::exists(dir / rec.drivetrain)) dt_name = (dir / rec.drivetrain).string();
-  const model::Drivetrain drivetrain = app::config::load_drivetrain(dt_name);
-  hal::OperatingRange range;
-  range.max_rotor_speed_rpm = 1.5 * drivetrain.turbine.rated_rotor_speed_rpm;
-  range.max_wind_speed_mps = 2.0 * drivetrain.turbine.cut_out_wind_mps;
-  range.max_input_torque_nm = 2.0 * drivetrain.turbine.rated_torque_nm;
-  if (auto err = hal::validate_recording(rec, range)) throw CommandError(err->to_string());
+  // The bundle validation layer (app/recording/bundle_check.hpp): format, units, the
+  // turbine's range, channel locations, metadata against the signal, torque from the
+  // wind when not recorded.
+  app::recording::CheckedBundle bundle;
+  try {
+    bundle = app::recording::load_bundle(dir, {args.drivetrain});
+  } catch (const app::recording::BundleCheckError& e) {
+    throw CommandError(e.what());
+  }
+  if (!args.quiet)
+    for (const auto& note : bundle.notes) std::fprintf(stderr, "diagnose: note: %s\n", note.c_str());
+  const hal::Recording& rec = bundle.recording;
+  const model::Drivetrain& drivetrain = bundle.drivetrain;
   const std::string samples_file = (dir / rec.samples_file).string();
 
   // The measurement points of the description, by channel name.
@@ -107,14 +109,7 @@ void run(const Args& args) {
     break;
   }
   in.rotor_speed_rpm = rec.operating_point.rotor_speed_rpm;
-  if (rec.operating_point.input_torque_nm) {
-    in.input_torque_nm = *rec.operating_point.input_torque_nm;
-  } else {
-    const double r = in.rotor_speed_rpm / drivetrain.turbine.rated_rotor_speed_rpm;
-    in.input_torque_nm = drivetrain.turbine.rated_torque_nm * std::min(1.0, r * r);
-    std::fprintf(stderr, "diagnose: note: no input_torque_nm in the bundle; using %.0f N·m (rated × (n/n_rated)²)\n",
-                 in.input_torque_nm);
-  }
+  in.input_torque_nm = bundle.input_torque_nm;
 
   md::DiagnoserConfig cfg;
   cfg.calibration.trust_region.max_evaluations = args.evaluations;

@@ -44,6 +44,8 @@ struct Mesh {
   double crack_rate = 0.0;  // cracked-gear revolutions per rotor revolution
   int crack_windows = 1;    // windows per cracked-gear revolution
   double ecc = 0.0, ecc_rate = 0.0;
+  double base_pitch = 0.0;  // [m] p_b = 2π·r_b/z of the eccentric gear
+  double tan_alpha = 0.0;
 };
 
 struct Impacts {
@@ -200,6 +202,10 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       else throw std::runtime_error("lumped gearbox: gear_eccentricity at unknown gear '" + e.location + "'");
       meshes[mi].ecc = e.severity;
       meshes[mi].ecc_rate = rate;
+      const model::GearStage& st = d.stages[static_cast<std::size_t>(mi)];
+      const model::Gear* g = d.gear(e.location == "sun" ? ps.gears[0] : e.location);
+      meshes[mi].base_pitch = 2.0 * kPi * base_radius(st, *g) / g->teeth;
+      meshes[mi].tan_alpha = std::tan(st.pressure_angle_rad);
     } else if (e.effect.rfind("bearing_", 0) == 0) {
       const model::Bearing* b = d.bearing(e.location);
       if (b == nullptr) throw std::runtime_error("lumped gearbox: unknown bearing '" + e.location + "'");
@@ -256,32 +262,36 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       if (e.location == "b5") resonance_seat = kSeat5;
       else if (e.location == "b3") resonance_seat = kSeat3;
       else throw std::runtime_error("lumped gearbox: housing_resonance needs a measured bearing (b5, b3)");
-      const double w = 2 * kPi * e.severity;
-      m[kRes] = 20.0;
-      k0(kRes, kRes) = 0.0;
-      spring(kRes, resonance_seat, m[kRes] * w * w);
+      // the resonator's spring and damper are added below
     } else {
       throw std::runtime_error("lumped gearbox: unknown effect '" + e.effect + "'");
     }
   }
 
-  // Rayleigh damping on the mean stiffness; a resonator's own viscous damper.
+  // Rayleigh damping on the mean stiffness of the gearbox; a resonator has its own viscous
+  // damper only (its spring must not add stiffness-proportional damping to the seat).
   Mat kmean = k0;
   for (const Mesh& me : meshes) kmean += me.k * me.g * me.g.transpose();
   Mat c = (5.0 * damping_scale) * Mat(m.asDiagonal()) + (1.0e-5 * damping_scale) * kmean;
   if (resonance_seat >= 0) {
-    double zeta = 0.02;
+    double zeta = 0.02, fr = 1000.0;
     for (const LumpedEffect& e : effects)
-      if (e.effect == "housing_resonance") zeta = e.damping;
-    const double cr = 2.0 * zeta * m[kRes] * std::sqrt(kmean(kRes, kRes) / m[kRes]);
-    // Replace the Rayleigh part on the resonator's spring by its own damper.
+      if (e.effect == "housing_resonance") {
+        zeta = e.damping;
+        fr = e.severity;
+      }
+    // A light bracket between the seat and the sensor: base-excited by the seat, too light
+    // to load it (no reaction on the seat), so only what the sensor reads changes:
+    // ẍ_r = −ω²(x_r − x_s) − 2ζω(ẋ_r − ẋ_s).
+    const double w = 2 * kPi * fr;
+    m[kRes] = 1.0;
+    k0.row(kRes).setZero();
+    k0(kRes, kRes) = w * w;
+    k0(kRes, resonance_seat) = -w * w;
     c.row(kRes).setZero();
     c.col(kRes).setZero();
-    c(kRes, kRes) += cr;
-    c(resonance_seat, resonance_seat) += cr;
-    c(kRes, resonance_seat) -= cr;
-    c(resonance_seat, kRes) -= cr;
-    c(kRes, kRes) += 5.0 * damping_scale * m[kRes];
+    c(kRes, kRes) = 2.0 * zeta * w;
+    c(kRes, resonance_seat) = -2.0 * zeta * w;
   }
 
   // Planet-pass path gain p(ψ): Σ_n max(0, cos(ψ_n))⁸, its mean removed.
@@ -298,7 +308,11 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
   p_mean /= 1000.0;
 
   auto mesh_state = [&](const Mesh& me, double rotor, double& k, double& e) {
-    const double phi = me.teeth_per_rotor_rev * rotor;
+    double phi = me.teeth_per_rotor_rev * rotor;
+    // Run-out moves the teeth along the line of action by e·tan α·sin(gear angle): the
+    // mesh cycle's phase is modulated by that over the base pitch.
+    const double runout = me.ecc > 0.0 ? me.ecc * std::sin(2 * kPi * me.ecc_rate * rotor) : 0.0;
+    if (me.ecc > 0.0) phi += runout * me.tan_alpha / me.base_pitch;
     k = me.k * (1.0 + me.fluct[0] * std::cos(2 * kPi * phi) + me.fluct[1] * std::cos(4 * kPi * phi + 0.5) +
                 me.fluct[2] * std::cos(6 * kPi * phi + 1.0));
     if (me.crack_loss > 0.0) {
@@ -306,7 +320,7 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       k *= 1.0 - me.crack_loss * window(x, me.crack_half * me.crack_windows);
     }
     e = me.te * (std::sin(2 * kPi * phi) + 0.3 * std::sin(4 * kPi * phi + 0.4) + 0.1 * std::sin(6 * kPi * phi + 1.1));
-    if (me.ecc > 0.0) e += me.ecc * std::sin(2 * kPi * me.ecc_rate * rotor);
+    e += runout * me.tan_alpha;
   };
 
   std::vector<std::size_t> next_impact(impacts.size(), 0);

@@ -36,8 +36,8 @@
 //   planet_pass_modulation  the planetary mesh's lateral force reaches the ring through a
 //                      path whose gain follows the planets past the sensor side:
 //                      1 + depth·(p(ψ) − p̄), p = Σ_n max(0, cos(ψ_n − ψ_s))⁸;
-//   housing_resonance  the sensor on a resonator (20 kg) of frequency f and damping ζ on
-//                      the seat of its bearing.
+//   housing_resonance  the sensor on a light bracket of frequency f and damping ζ on the
+//                      seat of its bearing (base-excited by the seat, too light to load it).
 // Speed: the rotor angle is given as a function of time (a drifting speed); the dynamics
 // are the perturbation about it.
 // Host tool: allocates.

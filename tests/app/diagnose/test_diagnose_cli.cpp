@@ -166,7 +166,7 @@ void expect_refused(Fault fault, const std::string& name, const std::vector<std:
 }
 
 TEST(DiagnoseCli, RefusesATachoChannelWithoutPulses) {
-  expect_refused(Fault::kFlatTacho, "flat-tacho", {"cms.wav", "'tacho'", "0 pulses"});
+  expect_refused(Fault::kFlatTacho, "flat-tacho", {"cms.wav", "'tacho'", "0 tacho pulses"});
 }
 
 TEST(DiagnoseCli, RefusesARecordingShorterThanTheAnalysisNeeds) {
