@@ -338,6 +338,7 @@ void Twin::cycle(hal::Timestamp now) {
   seen.calibrated = calibration_generation_ > 0;
   seen.calibration_unfit = calibration_.unfit_after_calibration;
   seen.queue_full = queue_full_since_publish_;
+  seen.persistence_failed = mail_.persistence_failed.load(std::memory_order_relaxed);
   for (std::size_t i = 0; i < kSnapshotPoints; ++i) seen.zones[i] = zones_[i].zone();
   const supervisor::SupervisorDecision d = supervisor_.update(now, scada_, seen);
 
@@ -391,9 +392,18 @@ std::size_t Twin::windows_outstanding() const {
 
 void Twin::checkpoint() {
   model::fatigue::AccumulatorState* s = nullptr;
-  if (!mail_.checkpoints_free.pop(s)) return;  // the persistence thread is still writing
+  if (!mail_.checkpoints_free.pop(s)) {  // the persistence thread is still writing
+    ++checkpoints_skipped_;
+    return;
+  }
   *s = accumulator_->state();
-  if (!mail_.checkpoints_full.push(s)) (void)mail_.checkpoints_free.push(s);
+  if (!mail_.checkpoints_full.push(s)) {
+    (void)mail_.checkpoints_free.push(s);
+    ++checkpoints_skipped_;
+    return;
+  }
+  ++checkpoints_handed_over_;
+  last_checkpoint_elapsed_s_ = accumulator_->elapsed_s();
 }
 
 void Twin::record_timing(double wakeup_latency_us, double cycle_time_us, bool overran,

@@ -21,6 +21,7 @@
 // only; the accessors from the RT thread (or after it has stopped).
 
 #include <array>
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -102,6 +103,7 @@ struct Mailboxes {
   Latest<RulTable> rul;                      // service → RT
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_full;  // RT → persistence
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_free;  // persistence → RT
+  std::atomic<bool> persistence_failed{false};  // persistence → RT: the last save failed
 };
 
 struct TwinDevices {
@@ -167,6 +169,12 @@ class Twin {
 
   const model::fatigue::DamageAccumulator& accumulator() const { return *accumulator_; }
   const LoopCounters& counters() const { return counters_; }
+  /// Checkpoints handed to the persistence thread, and skipped because both buffers were
+  /// still being written (RT thread, or after it stopped).
+  std::uint64_t checkpoints_handed_over() const { return checkpoints_handed_over_; }
+  std::uint64_t checkpoints_skipped() const { return checkpoints_skipped_; }
+  /// [s] accumulated time in the last checkpoint handed over.
+  double last_checkpoint_elapsed_s() const { return last_checkpoint_elapsed_s_; }
   const Snapshot& last_snapshot() const { return snapshot_; }
   /// The model the RT thread runs now (after the loop stopped: to free it).
   const model::dynamics::RomData* rom_in_use() const { return rom_data_; }
@@ -251,6 +259,9 @@ class Twin {
   std::array<VibrationZone, kSnapshotPoints> zone_{};
   hal::Timestamp next_interval_{0};
   hal::Timestamp next_checkpoint_{0};
+  std::uint64_t checkpoints_handed_over_ = 0;
+  std::uint64_t checkpoints_skipped_ = 0;
+  double last_checkpoint_elapsed_s_ = 0.0;
   RulTable rul_{};
 };
 

@@ -64,7 +64,9 @@ TEST(RunTwin, OnSimulatedBusesEveryPeriodRunsAndDamageAccumulates) {
   EXPECT_GT(s.damage[0], 0.0);  // sun contact
   EXPECT_NE(log.str().find("INFO started"), std::string::npos) << log.str();
   // The state was saved at the end and is restored by the next run.
-  EXPECT_TRUE(std::filesystem::exists(dir.path / "state" / "accumulators.state"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path / "state" / "twin-state.a") ||
+              std::filesystem::exists(dir.path / "state" / "twin-state.b"));
+  EXPECT_TRUE(std::filesystem::exists(dir.path / "state" / "trends.db"));
   const app::loop::RunSummary again = app::loop::run_twin(c, o);
   EXPECT_TRUE(again.restored);
   EXPECT_NEAR(again.elapsed_s, 4.0, 1e-9);
