@@ -614,6 +614,24 @@ bool Diagnoser::step_refit() {
   if (!w.tr && !w.holdout_pending) {
     // Set up the fit: the hypothesis's lines significant on half A.
     w.params = simulator_.parameters(h);
+    if (h.effect == Effect::kHousingResonance) {
+      // Start a resonance where locate fitted it: its frequency within −15 %/+18 %, its damping.
+      const ResidualFeature* band = nullptr;
+      for (const ResidualFeature& f : w.located.features)
+        if (f.domain == FeatureDomain::kBand && f.channel < w.pairs.size() && w.pairs[f.channel].location == h.location &&
+            (band == nullptr || f.fit_share * f.strength > band->fit_share * band->strength))
+          band = &f;
+      for (EffectParameter& p : w.params) {
+        if (band == nullptr) break;
+        if (p.name.find("frequency") != std::string::npos) {
+          p.lower = std::max(p.lower, band->resonance_hz / 1.18);
+          p.upper = std::min(p.upper, band->resonance_hz * 1.18);
+          p.initial = std::clamp(band->resonance_hz, p.lower, p.upper);
+        } else if (p.name.find("damping") != std::string::npos) {
+          p.initial = std::clamp(band->resonance_damping, p.lower, p.upper);
+        }
+      }
+    }
     w.lines.clear();
     const bool env = h.domain == Domain::kEnvelope;
     double rate = 0.0;
