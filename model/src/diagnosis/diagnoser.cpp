@@ -693,7 +693,10 @@ bool Diagnoser::step_refit() {
     calibration::TrustRegionConfig tc;
     tc.max_evaluations = config_.fit_evaluations;
     tc.restarts = false;
-    tc.initial_radius = 0.5;
+    // Severities are searched as logarithms and may lie decades from the term's default:
+    // long first steps (×e^1.5), up to ×e^3.
+    tc.initial_radius = 1.5;
+    tc.max_radius = 3.0;
     w.tr = std::make_unique<calibration::TrustRegionLeastSquares>(*map, tc);
     if (!w.tr->config_ok()) {
       c.verdict = "its fit does not fit the least-squares capacity";
