@@ -580,6 +580,7 @@ void Diagnoser::step_locate() {
     m.peaks_hz = f->peaks_hz;
     m.signature = describe_feature(catalogue_, *f, w.ref_hz, w.pairs);
     m.share = f->share;
+    m.kinematic = f->family != kNoFamily || f->domain == FeatureDomain::kBand || f->domain == FeatureDomain::kAverage;
     report_.mismatch.push_back(std::move(m));
   }
   // Candidates: the best-ranked hypotheses, the ones the model can switch on first.
