@@ -77,6 +77,10 @@ const std::vector<Key<TurbineCorrections>> kCorrectionKeys{
     {"nacelle_wind_gain", &TurbineCorrections::nacelle_wind_gain, Range::kPositive},
     {"nacelle_wind_offset_mps", &TurbineCorrections::nacelle_wind_offset_mps},
     {"yaw_loss_exponent", &TurbineCorrections::yaw_loss_exponent, Range::kNonNegative},
+    {"tracking_tip_speed_ratio", &TurbineCorrections::tracking_tip_speed_ratio,
+     Range::kNonNegative},
+    {"tracking_band_margin", &TurbineCorrections::tracking_band_margin, Range::kNonNegative},
+    {"turbulence_intensity", &TurbineCorrections::turbulence_intensity, Range::kNonNegative},
 };
 const std::vector<Key<CpSurface>> kCpKeys{
     {"c", &CpSurface::c},

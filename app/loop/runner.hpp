@@ -28,10 +28,14 @@
 #include <string>
 #include <vector>
 
+#include "hal/clock.hpp"
 #include "loop/snapshot.hpp"
 #include "run/run_config.hpp"
 
 namespace app::loop {
+
+class Twin;
+struct TwinDevices;
 
 struct RunOptions {
   std::string replay;  // "" (live buses), a recording bundle folder, a SCADA CSV or builtin:NAME
@@ -49,6 +53,12 @@ struct RunOptions {
   std::function<void()> on_rt_start;
   /// Test hook: called on the RT thread once after the last cycle.
   std::function<void()> on_rt_stop;
+  /// Test hook (fault injection): called once on the starting thread with the devices,
+  /// after they are active and before the loop's threads start.
+  std::function<void(const TwinDevices&)> on_devices;
+  /// Test hook: called on the RT thread after every cycle with the twin (its accumulator,
+  /// counters, last snapshot) and the cycle's loop time; must be real-time safe.
+  std::function<void(const Twin&, hal::Timestamp)> on_cycle;
   /// Set from outside (signal handler, test) to end the run; polled every cycle.
   std::atomic<bool>* stop = nullptr;
 };

@@ -33,7 +33,9 @@
 // Thread context: non-real-time command code (allocates for messages only).
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
@@ -136,11 +138,18 @@ struct TorqueSummary {
   void add(const RowEstimate& e);
 };
 
-/// Time window [from, to) in seconds (t_s of the file); NaN bounds are open.
+/// Calendar month 1..12 of a UTC time in seconds since 1970-01-01 (proleptic Gregorian).
+int utc_month(double t_s);
+
+/// Time window [from, to) in seconds (t_s of the file); NaN bounds are open. Only the
+/// calendar months (UTC) whose bit is set in `months` (bit m − 1 for month m) are inside;
+/// app/wind/heldout.hpp's MonthSet builds the mask.
 struct TimeWindow {
   double from_s = std::numeric_limits<double>::quiet_NaN();
   double to_s = std::numeric_limits<double>::quiet_NaN();
+  std::uint16_t months = 0x0FFF;
   bool contains(double t_s) const;
+  bool restricted() const { return !std::isnan(from_s) || !std::isnan(to_s) || months != 0x0FFF; }
 };
 
 /// Streams every row of an opened reader through the estimator; rows outside

@@ -328,7 +328,8 @@ void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, dou
     const RomForceTerm& ft = d.forces[j];
     const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
     f.noalias() += (a * ft.shape.mean()) * d.w_force.col(j);
-    f_now.noalias() += (a * ft.shape.value(phase(kFirstForceTerm + j, ft.order))) * d.w_force.col(j);
+    f_now.noalias() +=
+        (a * ft.shape.value(phase(kFirstForceTerm + j, ft.order))) * d.w_force.col(j);
   }
   for (int i = 0; i < kRomDofs; ++i) q_[i] = d.omega2[i] > 0.0 ? f[i] / d.omega2[i] : 0.0;
   v_.setZero();
