@@ -624,7 +624,8 @@ void Diagnoser::step_locate() {
     m.peaks_hz = f->peaks_hz;
     m.signature = describe_feature(catalogue_, *f, w.ref_hz, w.pairs);
     m.share = f->share;
-    m.kinematic = f->family != kNoFamily || f->domain == FeatureDomain::kBand || f->domain == FeatureDomain::kAverage;
+    m.kinematic = f->family != kNoFamily || f->domain == FeatureDomain::kBand ||
+                  f->domain == FeatureDomain::kAverage;
     report_.mismatch.push_back(std::move(m));
   }
   // Candidates: the best-ranked hypotheses, the ones the model can switch on first.
@@ -666,7 +667,8 @@ bool Diagnoser::step_refit() {
       // Start a resonance where locate fitted it: its frequency within −15 %/+18 %, its damping.
       const ResidualFeature* band = nullptr;
       for (const ResidualFeature& f : w.located.features)
-        if (f.domain == FeatureDomain::kBand && f.channel < w.pairs.size() && w.pairs[f.channel].location == h.location &&
+        if (f.domain == FeatureDomain::kBand && f.channel < w.pairs.size() &&
+            w.pairs[f.channel].location == h.location &&
             (band == nullptr || f.fit_share * f.strength > band->fit_share * band->strength))
           band = &f;
       for (EffectParameter& p : w.params) {

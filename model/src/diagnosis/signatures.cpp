@@ -273,8 +273,9 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
       o.push_back(n * s.order);
       w.push_back(1.0);
     }
-    b.family(Domain::kEnvelope, "harmonics of the " + s.id + " speed: an impact once per " + s.id + " revolution", s.order,
-             o, w, 0.0);
+    b.family(Domain::kEnvelope,
+             "harmonics of the " + s.id + " speed: an impact once per " + s.id + " revolution",
+             s.order, o, w, 0.0);
   }
 
   // Shafts: unbalance and misalignment on every shaft but the rotor's (the input of the

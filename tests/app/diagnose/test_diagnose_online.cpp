@@ -27,7 +27,8 @@ TEST(DiagnoseOnline, AWorkerPublishesEveryStepAndACancelFromAnotherThreadEndsThe
   truth.dynamics.mesh_stiffness_scale = {0.9, 0.9, 0.85};
   model::dynamics::SimulationOutputs out;
   std::string error;
-  ASSERT_TRUE(model::dynamics::simulate_rom(truth, {14.8, 1.23e6}, {8.5, 25600.0}, out, &error)) << error;
+  ASSERT_TRUE(model::dynamics::simulate_rom(truth, {14.8, 1.23e6}, {8.5, 25600.0}, out, &error))
+      << error;
   std::array<std::vector<double>, 2> points;
   std::mt19937_64 rng(3);
   std::normal_distribution<double> g(0.0, 0.01);
