@@ -320,12 +320,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   ts.zones = {cfg.accel_hf_bc_mps2, cfg.accel_hf_cd_mps2, cfg.velocity_bc_mmps,
               cfg.velocity_cd_mmps, cfg.accel_lf_bc_mps2, cfg.accel_lf_cd_mps2,
               cfg.hf_interval_s,    cfg.lf_interval_s};
-  ts.supervisor.torque = static_cast<supervisor::TorquePreference>(cfg.torque_source);
+  ts.supervisor.torque = static_cast<wind::TorquePreference>(cfg.torque_source);
   ts.supervisor.hold_s = cfg.scada_hold_s;
-  ts.supervisor.max_wind_mps = cfg.max_wind_mps;
-  ts.supervisor.max_speed_factor = cfg.max_speed_factor;
-  ts.supervisor.max_torque_factor = cfg.max_torque_factor;
-  ts.supervisor.max_power_factor = cfg.max_power_factor;
   ts.supervisor.alarm_zone = cfg.alarm_zone == 0 ? VibrationZone::kD : VibrationZone::kC;
   ts.calibration_enabled = cfg.calibration_enabled;
   ts.window_s = cfg.window_s;
@@ -482,6 +478,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   for (std::size_t i = 0; i < Mailboxes::kWindows; ++i) {
     windows.push_back(std::make_unique<CmsWindow>());
     for (auto& s : windows.back()->samples) s.assign(window_samples, 0.0);
+    // Keyphasor edges in a window: up to the tracker's fastest plausible shaft (200 Hz).
+    windows.back()->pulses_s.assign(static_cast<std::size_t>(std::ceil(cfg.window_s * 200.0)) + 8,
+                                    0.0);
     (void)mail->windows_free.push(windows.back().get());
   }
   std::vector<std::unique_ptr<model::fatigue::AccumulatorState>> checkpoints;
@@ -510,11 +509,14 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   cws.max_evaluations = static_cast<std::size_t>(cfg.max_evaluations);
   cws.rom = rs;
   cws.state_file = state_ok ? calibration_file : "";
+  cws.diagnosis = cfg.diagnosis_enabled;
+  cws.diagnosis_interval_s = cfg.diagnosis_interval_s;
   std::unique_ptr<CalibrationWorker> calibration;
   if (cfg.calibration_enabled && cms) {
     calibration =
         std::make_unique<CalibrationWorker>(drivetrain, parameters, cws, *mail, generation);
   }
+  if (calibration) calibration->set_note([&log](const std::string& s) { log.line(s); });
   for (std::size_t c = 0; c < channels.channel_count(); ++c)
     summary.channel_names.push_back(channel_name(channels.channel(c)));
 

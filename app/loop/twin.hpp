@@ -37,11 +37,13 @@
 #include "loop/mailbox.hpp"
 #include "loop/snapshot.hpp"
 #include "model/calibration/indicators.hpp"
+#include "model/diagnosis/diagnoser.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "results/register_map.hpp"
+#include "signal/clock_mapping.hpp"
 #include "signal/rom_input_shaper.hpp"
 #include "supervisor/supervisor.hpp"
 #include "supervisor/vibration_zones.hpp"
@@ -54,7 +56,12 @@ namespace app::loop {
 struct CmsWindow {
   std::array<std::vector<double>, kSnapshotPoints> samples;  // [m/s²] capacity = window
   std::size_t count = 0;                                     // [-] samples per point in use
-  double sample_rate_hz = 0.0;                               // [Hz]
+  /// [s] keyphasor edges inside the window, in the window's time base (sample 0 at 0: the
+  /// CMS front end's clock mapped onto the keyphasor's, app/signal/clock_mapping.hpp);
+  /// capacity fixed at start-up.
+  std::vector<double> pulses_s;
+  std::size_t pulse_count = 0;   // [-] in use (0: no keyphasor, or no clock mapping yet)
+  double sample_rate_hz = 0.0;   // [Hz]
   std::int64_t start_ns = 0;     // [ns] loop time of the first cycle of the window
   double rotor_speed_rpm = 0.0;  // [rpm] mean over the window
   double input_torque_nm = 0.0;  // [N·m] mean over the window
@@ -93,15 +100,16 @@ struct Mailboxes {
   static constexpr std::size_t kEvents = 256;     // log events the log thread may lag behind
   static constexpr std::size_t kCheckpoints = 2;  // accumulator state copies in circulation
 
-  Handover<model::dynamics::RomData> rom;    // calibration → RT; old ones back
-  Queue<CmsWindow*, kWindows> windows_full;  // RT → calibration
-  Queue<CmsWindow*, kWindows> windows_free;  // calibration → RT
-  Latest<CalibrationStatus> calibration;     // calibration → RT, anyone
-  Queue<Snapshot, kSnapshots> snapshots;     // RT → recorder (trends, persistence)
-  Latest<Snapshot> latest;                   // RT → anyone (servers, dashboard)
-  Queue<Event, kEvents> events;              // RT → log thread
-  Queue<IntervalRecord, 8> intervals;        // RT → service (RUL history)
-  Latest<RulTable> rul;                      // service → RT
+  Handover<model::dynamics::RomData> rom;                // calibration → RT; old ones back
+  Queue<CmsWindow*, kWindows> windows_full;              // RT → calibration
+  Queue<CmsWindow*, kWindows> windows_free;              // calibration → RT
+  Latest<CalibrationStatus> calibration;                 // calibration → RT, anyone
+  Latest<model::diagnosis::DiagnosisSummary> diagnosis;  // calibration thread → anyone
+  Queue<Snapshot, kSnapshots> snapshots;                 // RT → recorder (trends, persistence)
+  Latest<Snapshot> latest;                               // RT → anyone (servers, dashboard)
+  Queue<Event, kEvents> events;                          // RT → log thread
+  Queue<IntervalRecord, 8> intervals;                    // RT → service (RUL history)
+  Latest<RulTable> rul;                                  // service → RT
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_full;  // RT → persistence
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_free;  // persistence → RT
   std::atomic<bool> persistence_failed{false};  // persistence → RT: the last save failed
@@ -193,7 +201,8 @@ class Twin {
   void step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d);
   void adopt_calibrated(const supervisor::SupervisorDecision& d);
   void collect_window(hal::Timestamp now, const supervisor::SupervisorDecision& d);
-  void window_samples(std::size_t point, const float* x, std::size_t n);
+  void window_samples(std::size_t point, const hal::CmsBlock& block);
+  void window_pulses();
   void abort_window(int reason);
   void emit(hal::Timestamp now, EventCode code, std::int32_t a = 0, double b = 0.0);
   void events_on_change(hal::Timestamp now, const supervisor::SupervisorDecision& d);
@@ -248,6 +257,9 @@ class Twin {
   double window_rpm_min_ = 0.0, window_rpm_max_ = 0.0;
   double window_torque_min_ = 0.0, window_torque_max_ = 0.0;
   std::size_t window_cycles_ = 0, window_hss_cycles_ = 0;
+  std::int64_t window_device_start_ns_ = 0;  // [ns] CMS clock of the window's first sample
+  std::size_t window_edges_ = 0;             // keyphasor edges [ns, host] in window_->pulses_s
+  signal::ClockMapping clock_map_;           // CMS front-end clock → keyphasor (host) clock
   hal::Timestamp next_window_{0};
   CalibrationStatus calibration_{};
 
