@@ -42,7 +42,8 @@ TEST(TwinPersistence, IntervalsAddedWhileSavingAlwaysLeaveAConsistentRecord) {
   std::thread service([&] {
     std::vector<double> damage(cs.channel_count(), 0.0);
     for (int i = 0; i < kIntervals; ++i) {
-      for (std::size_t c = 0; c < damage.size(); ++c) damage[c] += 1e-6 * static_cast<double>(c + 1);
+      for (std::size_t c = 0; c < damage.size(); ++c)
+        damage[c] += 1e-6 * static_cast<double>(c + 1);
       (void)p.add_interval(damage);
     }
     done = true;
