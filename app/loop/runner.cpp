@@ -9,7 +9,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <mutex>
@@ -33,9 +35,11 @@
 #include "loop/calibration_worker.hpp"
 #include "loop/cycle_clock.hpp"
 #include "loop/events.hpp"
+#include "loop/timing_histogram.hpp"
 #include "loop/twin.hpp"
 #include "model/fatigue/rul.hpp"
-#include "persistence/accumulator_store.hpp"
+#include "persistence/twin_persistence.hpp"
+#include "trends/trends_writer.hpp"
 
 namespace app::loop {
 namespace fs = std::filesystem;
@@ -230,6 +234,23 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     // A replay never drives the cabinet's relays.
     if (bc.outputs == Backend::kLinux) bc.outputs = Backend::kSim;
   }
+  // UTC time of loop time 0, for the trends' clock-aligned intervals: a replay's first row
+  // (a CSV with dates) or its bundle's start; live, the wall clock at start (to the start-up's
+  // fraction of a second).
+  double trends_origin_unix_s =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  if (replay) {
+    trends_origin_unix_s = 0.0;
+    if (rec) {
+      if (const auto t = hal::parse_utc_datetime_s(rec->start_utc)) trends_origin_unix_s = *t;
+    } else {
+      hal::ScadaCsvReader r;
+      hal::ScadaRow row;
+      if (r.open(replay_csv, replay_columns) && r.next(row) == hal::ScadaReadResult::kRow &&
+          row.has_time())
+        trends_origin_unix_s = row.time_s();
+    }
+  }
   const bool stepped = replay || (bc.scada != Backend::kLinux && bc.cms != Backend::kLinux &&
                                   bc.keyphasor != Backend::kLinux);
 
@@ -241,8 +262,36 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     log.line("drivetwin run: WARN: state folder " + cfg.state_dir +
              " cannot be created: damage and calibration will not be saved");
   const std::string calibration_file = (fs::path(cfg.state_dir) / "calibration.txt").string();
+  // The damage, RUL rate history and a copy of the calibration: the two-copy crash-safe store
+  // (persistence/twin_persistence.hpp), carried over a change of ROM rate or channel set.
+  model::fatigue::AccumulatorConfig accumulator_cfg;
+  accumulator_cfg.tick_s =
+      static_cast<double>(cfg.period_us) * 1e-6 / static_cast<double>(cfg.rom_steps_per_cycle);
+  accumulator_cfg.bins = static_cast<std::uint32_t>(cfg.bins);
+  persistence::TwinPersistence store(
+      {cfg.state_dir, state_ok ? calibration_file : "", cfg.rul_interval_s,
+       static_cast<std::size_t>(cfg.rul_short_window)},
+      channels, accumulator_cfg);
+  persistence::TwinLoad loaded;
+  if (state_ok) {
+    loaded = store.load();
+    for (const std::string& line : loaded.lines) log.line("drivetwin run: " + line);
+  }
   model::DynamicsParameters parameters = drivetrain.dynamics;
   std::uint32_t generation = 0;
+  {
+    std::string probe_error;
+    std::uint32_t probe_generation = 0;
+    if (loaded.calibration &&
+        !load_calibration(calibration_file, &probe_generation, &probe_error)) {
+      // The calibration file is missing or corrupt; the state record holds its last copy.
+      std::ofstream(calibration_file, std::ios::binary | std::ios::trunc)
+          << loaded.calibration->text;
+      log.line("drivetwin run: " +
+               std::string(probe_error.empty() ? "" : "WARN: " + probe_error + "; ") +
+               "calibration restored from the state record into " + calibration_file);
+    }
+  }
   {
     std::string error;
     if (auto p = load_calibration(calibration_file, &generation, &error)) {
@@ -253,10 +302,6 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       log.line("drivetwin run: WARN: " + error);
     }
   }
-  const persistence::AccumulatorStore store(fs::path(cfg.state_dir) / "accumulators.state");
-  auto restored = std::make_unique<model::fatigue::AccumulatorState>();
-  const persistence::LoadResult loaded = store.load(*restored);
-  if (!loaded.message.empty()) log.line("drivetwin run: " + loaded.message);
 
   // ---- model ----
   ts.period_ns = cfg.period_us * 1000;
@@ -275,12 +320,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   ts.zones = {cfg.accel_hf_bc_mps2, cfg.accel_hf_cd_mps2, cfg.velocity_bc_mmps,
               cfg.velocity_cd_mmps, cfg.accel_lf_bc_mps2, cfg.accel_lf_cd_mps2,
               cfg.hf_interval_s,    cfg.lf_interval_s};
-  ts.supervisor.torque = static_cast<supervisor::TorquePreference>(cfg.torque_source);
+  ts.supervisor.torque = static_cast<wind::TorquePreference>(cfg.torque_source);
   ts.supervisor.hold_s = cfg.scada_hold_s;
-  ts.supervisor.max_wind_mps = cfg.max_wind_mps;
-  ts.supervisor.max_speed_factor = cfg.max_speed_factor;
-  ts.supervisor.max_torque_factor = cfg.max_torque_factor;
-  ts.supervisor.max_power_factor = cfg.max_power_factor;
   ts.supervisor.alarm_zone = cfg.alarm_zone == 0 ? VibrationZone::kD : VibrationZone::kC;
   ts.calibration_enabled = cfg.calibration_enabled;
   ts.window_s = cfg.window_s;
@@ -306,16 +347,21 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   switch (bc.scada) {
     case Backend::kLinux:
       scada = std::make_unique<hal::ModbusScadaSource>(bc.modbus_client, clock);
+      ts.scada_period_s = std::chrono::duration<double>(bc.modbus_client.poll_period).count();
       break;
     case Backend::kReplay:
       if (!replay_csv.empty()) {
         scada = std::make_unique<hal::ReplayScadaSource>(replay_csv, replay_columns);
         const double period = scada_period_s(replay_csv, replay_columns);
+        if (period > 0.0) ts.scada_period_s = period;
         auto* r = static_cast<hal::ReplayScadaSource*>(scada.get());
         check(r->configure(), "--replay " + opt.replay + ": " + r->error());
         replay_end_s = std::chrono::duration<double>(r->duration()).count() + period;
       } else if (rec) {
         scada = std::make_unique<hal::ReplayScadaSource>(rec->scada);
+        if (rec->scada.size() >= 2)
+          ts.scada_period_s = (rec->scada.back().t_s - rec->scada.front().t_s) /
+                              static_cast<double>(rec->scada.size() - 1);
       } else if (!bc.scada_csv.empty()) {
         std::string err;
         const auto cols = hal::parse_scada_columns(bc.scada_columns, &err);
@@ -326,7 +372,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       }
       break;
     case Backend::kSim: {
-      auto s = std::make_unique<hal::SimScadaSource>(hal::sim_scada_paper_point(), clock);
+      const hal::SimScadaConfig sim = hal::sim_scada_paper_point();
+      ts.scada_period_s = std::chrono::duration<double>(sim.period).count();
+      auto s = std::make_unique<hal::SimScadaSource>(sim, clock);
       s->inject(bc.scada_fault);
       scada = std::move(s);
       break;
@@ -430,6 +478,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   for (std::size_t i = 0; i < Mailboxes::kWindows; ++i) {
     windows.push_back(std::make_unique<CmsWindow>());
     for (auto& s : windows.back()->samples) s.assign(window_samples, 0.0);
+    // Keyphasor edges in a window: up to the tracker's fastest plausible shaft (200 Hz).
+    windows.back()->pulses_s.assign(static_cast<std::size_t>(std::ceil(cfg.window_s * 200.0)) + 8,
+                                    0.0);
     (void)mail->windows_free.push(windows.back().get());
   }
   std::vector<std::unique_ptr<model::fatigue::AccumulatorState>> checkpoints;
@@ -438,25 +489,17 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     (void)mail->checkpoints_free.push(checkpoints.back().get());
   }
   const TwinDevices devices{scada.get(), cms.get(), keyphasor.get(), outputs.get(), results.get()};
+  if (opt.on_devices) opt.on_devices(devices);
   // From here the RT thread owns the running model (handed back through the mailbox when a
   // calibrated one replaces it, freed by the calibration thread).
   model::dynamics::RomData* initial_rom = rom.release();
   auto twin = std::make_unique<Twin>(drivetrain, channels, *initial_rom, ts, *mail, devices);
   twin->set_calibration_generation(static_cast<std::uint16_t>(generation));
   summary.calibration_generation = generation;
-  if (loaded.ok()) {
-    if (twin->restore(*restored)) {
-      summary.restored = true;
-      log.line("drivetwin run: damage restored: " +
-               std::to_string(twin->accumulator().elapsed_s() / 3600.0) + " h accumulated");
-    } else {
-      // Another configuration's damage: keep the file beside, never overwrite it.
-      const fs::path aside = store.path().string() + ".other-configuration";
-      fs::copy_file(store.path(), aside, fs::copy_options::overwrite_existing, ec);
-      log.line("drivetwin run: WARN: " + store.path().string() +
-               " holds damage of another configuration (channels, bins or ROM step): kept as " +
-               aside.string() + "; this run starts from zero");
-    }
+  if (loaded.restored) {
+    summary.restored = twin->restore(*loaded.accumulator);
+    if (!summary.restored)
+      log.line("drivetwin run: ERR: the restored damage does not fit the running accumulator");
   }
   CalibrationWorkerSettings cws;
   cws.method =
@@ -466,11 +509,14 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   cws.max_evaluations = static_cast<std::size_t>(cfg.max_evaluations);
   cws.rom = rs;
   cws.state_file = state_ok ? calibration_file : "";
+  cws.diagnosis = cfg.diagnosis_enabled;
+  cws.diagnosis_interval_s = cfg.diagnosis_interval_s;
   std::unique_ptr<CalibrationWorker> calibration;
   if (cfg.calibration_enabled && cms) {
     calibration =
         std::make_unique<CalibrationWorker>(drivetrain, parameters, cws, *mail, generation);
   }
+  if (calibration) calibration->set_note([&log](const std::string& s) { log.line(s); });
   for (std::size_t c = 0; c < channels.channel_count(); ++c)
     summary.channel_names.push_back(channel_name(channels.channel(c)));
 
@@ -484,7 +530,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   // ---- threads ----
   std::atomic<bool> workers_stop{false};
   std::atomic<bool> persistence_failed{false};
-  hal::Thread service_thread, persistence_thread, calibration_thread, rt_thread;
+  std::atomic<bool> trends_stop{false};
+  std::atomic<std::int64_t> last_now_ns{0};  // [ns] the loop's time, for the state record
+  hal::Thread service_thread, persistence_thread, trends_thread, calibration_thread, rt_thread;
   const auto start_thread = [&](hal::Thread& t, ThreadId id, std::function<void()> body) {
     const hal::Status s = t.start(cfg.thread(id), std::move(body));
     if (s != hal::Status::kOk)
@@ -494,14 +542,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
 
   EventLog event_log(static_cast<std::int64_t>(cfg.log_interval_s * 1e9));
   start_thread(service_thread, ThreadId::kLog, [&] {
-    std::vector<model::fatigue::DamageRateHistory> histories(
-        channels.channel_count(),
-        model::fatigue::DamageRateHistory(cfg.rul_interval_s,
-                                          static_cast<std::size_t>(cfg.rul_short_window)));
-    std::vector<double> last_damage(channels.channel_count(), 0.0);
     RulTable table;
     table.rul_low_h.fill(kNoValue);
-    Snapshot snap;
+    std::vector<double> interval_damage(channels.channel_count(), 0.0);
     for (;;) {
       bool idle = true;
       Event e;
@@ -517,17 +560,16 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       }
       IntervalRecord r;
       while (mail->intervals.pop(r)) {
-        for (std::size_t c = 0; c < r.channel_count && c < histories.size(); ++c) {
-          histories[c].add_interval(r.damage[c] - last_damage[c]);
-          last_damage[c] = r.damage[c];
-          const model::fatigue::RulEstimate est = histories[c].estimate(r.damage[c]);
-          table.rul_low_h[c] = static_cast<float>(est.rul_low_s / 3600.0);
-        }
+        for (std::size_t c = 0; c < r.channel_count && c < interval_damage.size(); ++c)
+          interval_damage[c] = r.damage[c];
+        // The rate history lives with the persisted state (saved with every checkpoint).
+        const std::vector<double> rul_low_h = store.add_interval(interval_damage);
+        for (std::size_t c = 0; c < rul_low_h.size() && c < table.rul_low_h.size(); ++c)
+          table.rul_low_h[c] = static_cast<float>(rul_low_h[c]);
         ++table.intervals;
         mail->rul.write(table);
         idle = false;
       }
-      while (mail->snapshots.pop(snap)) idle = false;  // the trends writer's place
       if (idle) {
         if (workers_stop.load()) break;
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -539,9 +581,15 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       model::fatigue::AccumulatorState* s = nullptr;
       if (mail->checkpoints_full.pop(s)) {
         std::string err;
-        if (state_ok && !store.save(*s, &err)) {
-          persistence_failed = true;
-          log.line("drivetwin run: WARN: checkpoint: " + err);
+        const bool saved = state_ok && store.save(*s, last_now_ns.load(), &err);
+        if (state_ok && !saved) {
+          if (!persistence_failed.exchange(true))
+            log.line("drivetwin run: WARN: checkpoint: " + err);
+          mail->persistence_failed.store(true, std::memory_order_relaxed);
+        } else if (saved && persistence_failed.exchange(false)) {
+          log.line("drivetwin run: checkpoint saved again (" +
+                   store.store().copy_path(0).parent_path().string() + ")");
+          mail->persistence_failed.store(false, std::memory_order_relaxed);
         }
         (void)mail->checkpoints_free.push(s);
         continue;
@@ -549,6 +597,39 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       if (workers_stop.load()) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
+  });
+  // Trends: the snapshots into SQLite (trends/trends_writer.hpp) on their own thread.
+  std::unique_ptr<trends::TrendsWriter> trends_writer;
+  if (state_ok) {
+    trends::TrendsSettings tw;
+    tw.path = (fs::path(cfg.state_dir) / "trends.db").string();
+    tw.drivetrain = drivetrain.name;
+    tw.origin_unix_s = trends_origin_unix_s;
+    for (std::size_t c = 0; c < channels.channel_count(); ++c)
+      tw.channel_keys.push_back(persistence::channel_key(channels.channel(c)));
+    std::string err;
+    trends_writer = trends::TrendsWriter::open(tw, &err);
+    if (!trends_writer) log.line("drivetwin run: WARN: " + err + "; no trends are written");
+  }
+  start_thread(trends_thread, ThreadId::kTrends, [&] {
+    Snapshot snap;
+    std::uint64_t errors = 0;
+    for (;;) {
+      bool idle = true;
+      while (mail->snapshots.pop(snap)) {
+        if (trends_writer) trends_writer->add(snap);
+        idle = false;
+      }
+      if (trends_writer && trends_writer->stats().errors > errors) {
+        errors = trends_writer->stats().errors;
+        log.line("drivetwin run: WARN: trends: " + trends_writer->stats().last_error);
+      }
+      if (idle) {
+        if (trends_stop.load()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    }
+    if (trends_writer) trends_writer->flush();
   });
   if (calibration)
     start_thread(calibration_thread, ThreadId::kCalibration, [&] { calibration->run(); });
@@ -563,6 +644,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     CycleClock cc(stepped ? CycleClock::Mode::kStepped : CycleClock::Mode::kLive, ts.period_ns,
                   stepped ? opt.speed : 0.0);
     if (opt.on_rt_start) opt.on_rt_start();
+    timespec cpu0{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
     cc.start();
     for (;;) {
       if (opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed)) break;
@@ -575,10 +658,18 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       if (end_ns > 0 && t.now.count() >= end_ns) break;
       manual_clock.set(t.now);
       twin->cycle(t.now);
-      twin->record_timing(t.latency_us, cc.cycle_time_us(), t.overran, t.skipped);
+      if (opt.on_cycle) opt.on_cycle(*twin, t.now);
+      const double cycle_us = cc.cycle_time_us();
+      twin->record_timing(t.latency_us, cycle_us, t.overran, t.skipped);
+      if (opt.timing != nullptr) opt.timing->add(t.latency_us, cycle_us, t.overran);
       last_now = t.now;
+      last_now_ns.store(t.now.count(), std::memory_order_relaxed);
     }
     twin->publish(last_now);
+    timespec cpu1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
+    summary.rt_cpu_s = static_cast<double>(cpu1.tv_sec - cpu0.tv_sec) +
+                       1e-9 * static_cast<double>(cpu1.tv_nsec - cpu0.tv_nsec);
     if (opt.on_rt_stop) opt.on_rt_stop();
   });
   summary.rt_thread_warning = rt_thread.report().warning;
@@ -590,9 +681,11 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   workers_stop = true;
   persistence_thread.join();
   service_thread.join();
+  trends_stop = true;  // after the RT thread's last publish
+  trends_thread.join();
   if (state_ok) {
     std::string err;
-    if (!store.save(twin->accumulator().state(), &err))
+    if (!store.save(twin->accumulator().state(), last_now.count(), &err))
       log.line("drivetwin run: ERR: final checkpoint: " + err);
   }
   if (outputs) (void)outputs->deactivate();

@@ -28,10 +28,15 @@
 #include <string>
 #include <vector>
 
+#include "hal/clock.hpp"
 #include "loop/snapshot.hpp"
 #include "run/run_config.hpp"
 
 namespace app::loop {
+
+class Twin;
+struct TwinDevices;
+class TimingHistogram;
 
 struct RunOptions {
   std::string replay;  // "" (live buses), a recording bundle folder, a SCADA CSV or builtin:NAME
@@ -49,6 +54,15 @@ struct RunOptions {
   std::function<void()> on_rt_start;
   /// Test hook: called on the RT thread once after the last cycle.
   std::function<void()> on_rt_stop;
+  /// Test hook (fault injection): called once on the starting thread with the devices,
+  /// after they are active and before the loop's threads start.
+  std::function<void(const TwinDevices&)> on_devices;
+  /// Test hook: called on the RT thread after every cycle with the twin (its accumulator,
+  /// counters, last snapshot) and the cycle's loop time; must be real-time safe.
+  std::function<void(const Twin&, hal::Timestamp)> on_cycle;
+  /// The timing benchmark's histogram of every cycle's wake-up latency and cycle time
+  /// (nullptr: not recorded); filled on the RT thread.
+  TimingHistogram* timing = nullptr;
   /// Set from outside (signal handler, test) to end the run; polled every cycle.
   std::atomic<bool>* stop = nullptr;
 };
@@ -64,6 +78,7 @@ struct RunSummary {
   bool memory_locked = false;
   std::uint32_t calibration_generation = 0;
   bool restored = false;  // damage was loaded from the state folder
+  double rt_cpu_s = 0.0;  // [s] CPU time the RT thread used (CLOCK_THREAD_CPUTIME_ID)
 };
 
 /// Runs the twin until it is told to stop. Throws std::runtime_error (with a message

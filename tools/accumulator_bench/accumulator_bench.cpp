@@ -60,11 +60,12 @@ struct FormerAccumulator {
         const double sigma = cs->stress(c, k, loads);
         std::size_t bin = bins;
         if (sigma < full_scale[c])
-          bin = std::min<std::size_t>(bins - 1,
-                                      static_cast<std::size_t>(std::max(0.0, sigma) * inv_width[c]));
+          bin = std::min<std::size_t>(
+              bins - 1, static_cast<std::size_t>(std::max(0.0, sigma) * inv_width[c]));
         bin_ticks[c][bin] += 1;
         bin_rev_q[c][bin] += rev_q;
-        const double inc = revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
+        const double inc =
+            revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
         const double sum = damage[c];
         const double t = sum + inc;
         comp[c] += std::abs(sum) >= std::abs(inc) ? (sum - t) + inc : (inc - t) + sum;
@@ -151,10 +152,12 @@ int main(int argc, char** argv) {
     }
   };
   const auto run_former = [&] {
-    for (long i = 0; i < steps; ++i) former->step(loads[static_cast<std::size_t>(i) % kSamples], rpm, cfg.tick_s);
+    for (long i = 0; i < steps; ++i)
+      former->step(loads[static_cast<std::size_t>(i) % kSamples], rpm, cfg.tick_s);
   };
   const auto run_acc = [&] {
-    for (long i = 0; i < steps; ++i) (void)acc->step(loads[static_cast<std::size_t>(i) % kSamples], rpm, 1);
+    for (long i = 0; i < steps; ++i)
+      (void)acc->step(loads[static_cast<std::size_t>(i) % kSamples], rpm, 1);
   };
   if (!only.empty()) {
     if (only == "rom") run_rom();
@@ -167,7 +170,8 @@ int main(int argc, char** argv) {
   double best_rom = 1e300, best_former = 1e300, best_acc = 1e300;
   for (int round = 0; round < 5; ++round) {
     acc->reset();
-    *former = FormerAccumulator{&cs, {}, {}, former->full_scale, former->inv_width, {}, {}, former->bins};
+    *former =
+        FormerAccumulator{&cs, {}, {}, former->full_scale, former->inv_width, {}, {}, former->bins};
     double t0 = thread_cpu_s();
     run_rom();
     double t1 = thread_cpu_s();
@@ -192,8 +196,10 @@ int main(int argc, char** argv) {
     }
   }
   const double n = static_cast<double>(steps);
-  std::printf("drivetwin accumulator benchmark (paper-2mw: %zu channels, %zu channel sources, %u bins; %ld steps at %.0f Hz)\n",
-              cs.channel_count(), sources, acc->config().bins, steps, kRate);
+  std::printf(
+      "drivetwin accumulator benchmark (paper-2mw: %zu channels, %zu channel sources, %u bins; %ld "
+      "steps at %.0f Hz)\n",
+      cs.channel_count(), sources, acc->config().bins, steps, kRate);
   std::printf("ROM step (baseline)       : %8.1f ns/step  (%s kernel)\n", 1e9 * best_rom / n,
               model::dynamics::rom_step_isa());
   std::printf("accumulator, former       : %8.1f ns/step  = %6.2f x ROM\n", 1e9 * best_former / n,

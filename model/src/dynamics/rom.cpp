@@ -78,11 +78,12 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
       m.paths.size() > static_cast<std::size_t>(kRomPaths) ||
       m.forces.size() > static_cast<std::size_t>(kRomForces) ||
       m.sensors.size() > static_cast<std::size_t>(kRomSensors)) {
-    fail(error, "rom: the model has more meshes, bearings, paths, forces or sensors than the ROM's "
-                "capacity (" +
-                    std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
-                    std::to_string(kRomPaths) + ", " + std::to_string(kRomForces) + ", " +
-                    std::to_string(kRomSensors) + ")");
+    fail(error,
+         "rom: the model has more meshes, bearings, paths, forces or sensors than the ROM's "
+         "capacity (" +
+             std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
+             std::to_string(kRomPaths) + ", " + std::to_string(kRomForces) + ", " +
+             std::to_string(kRomSensors) + ")");
     return nullptr;
   }
   const auto id_too_long = [&](const std::string& id) {
@@ -97,8 +98,10 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (const auto& v : m.sensors)
     if (id_too_long(v.channel)) return nullptr;
   for (const auto& b : m.bearings) {
-    if (b.directions.cols() != 2 || b.rotates() || !b.modulations.empty() || !b.excitations.empty()) {
-      fail(error, "rom: bearing '" + b.id + "' must be a fixed rank-2 (x, y) element with one table");
+    if (b.directions.cols() != 2 || b.rotates() || !b.modulations.empty() ||
+        !b.excitations.empty()) {
+      fail(error,
+           "rom: bearing '" + b.id + "' must be a fixed rank-2 (x, y) element with one table");
       return nullptr;
     }
   }
@@ -117,8 +120,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     }
     if (v.rotates()) {
       if (turning >= 0) {
-        fail(error, "rom: meshes '" + m.meshes[static_cast<std::size_t>(turning)].id + "' and '" + v.id +
-                        "' both turn with the carrier; the ROM takes one turning mesh");
+        fail(error, "rom: meshes '" + m.meshes[static_cast<std::size_t>(turning)].id + "' and '" +
+                        v.id + "' both turn with the carrier; the ROM takes one turning mesh");
         return nullptr;
       }
       turning = static_cast<int>(j);
@@ -126,8 +129,9 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   for (const auto& f : m.forces) {
     if (!f.events_revs.empty()) {
-      fail(error, "rom: force '" + f.id + "' has random impact times (randomise_impacts): the ROM "
-                  "takes the deterministic train");
+      fail(error, "rom: force '" + f.id +
+                      "' has random impact times (randomise_impacts): the ROM "
+                      "takes the deterministic train");
       return nullptr;
     }
   }
@@ -275,8 +279,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     d.w_mesh.col(j) = modal(v.directions.col(0));
     if (j == turning) {
       d.w_basis.col(j) = modal(v.directions.col(0) - v.rotation_cos.col(0));  // c
-      d.w_basis.col(kRomMeshes) = modal(v.rotation_cos.col(0));                // a
-      d.w_basis.col(kRomMeshes + 1) = modal(v.rotation_sin.col(0));            // b
+      d.w_basis.col(kRomMeshes) = modal(v.rotation_cos.col(0));               // a
+      d.w_basis.col(kRomMeshes + 1) = modal(v.rotation_sin.col(0));           // b
     } else {
       d.w_basis.col(j) = d.w_mesh.col(j);
     }
@@ -292,7 +296,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
       d.g_mesh_cos(j, r) = d.g_mesh_cos(r, j) = g10(j, ca);
       d.g_mesh_sin(j, r) = d.g_mesh_sin(r, j) = g10(j, cb);
     }
-    // W_r(ψ)ᵀBW_r(ψ) = G_cc + 2cos ψ G_ca + 2 sin ψ G_cb + cos²ψ G_aa + sin²ψ G_bb + 2 sin ψ cos ψ G_ab.
+    // W_r(ψ)ᵀBW_r(ψ) = G_cc + 2cos ψ G_ca + 2 sin ψ G_cb + cos²ψ G_aa + sin²ψ G_bb + 2 sin ψ cos ψ
+    // G_ab.
     d.g_mesh(r, r) = g10(r, r) + 0.5 * (g10(ca, ca) + g10(cb, cb));
     d.g_mesh_cos(r, r) = 2.0 * g10(r, ca);
     d.g_mesh_sin(r, r) = 2.0 * g10(r, cb);
@@ -319,7 +324,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   d.readout_by_dof.middleRows<2>(kRowTurning) = d.w_basis.rightCols<2>().transpose();
   d.readout_by_dof.middleRows<kRomPaths>(kRowPaths) = d.w_path.transpose();
   d.readout_correction = d.readout_by_dof * d.b1q.asDiagonal() * d.w_basis;
-  for (int j = 0; j < d.sensor_count; ++j) d.sensor_rows.row(j) = modal(m.sensors[j].row).transpose();
+  for (int j = 0; j < d.sensor_count; ++j)
+    d.sensor_rows.row(j) = modal(m.sensors[j].row).transpose();
 
   // ---- look-ups ---------------------------------------------------------------------------
   std::vector<LookupPlan> plan(static_cast<std::size_t>(kRomMeshes + kRomBearings + kRomPaths));
@@ -352,7 +358,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
       if (f->order != varying.front()->order) return -1;  // two orders: more than one table
     }
     if (varying.size() == 1) {
-      plan.push_back({varying.front()->order, varying.front()->phase_cycles, varying.front()->table});
+      plan.push_back(
+          {varying.front()->order, varying.front()->phase_cycles, varying.front()->table});
     } else {
       plan.push_back({varying.front()->order, 0.0, product_table(varying)});
     }
@@ -370,8 +377,9 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     double scale = 1.0;
     const int mi = add_lookup(mods, scale);
     if (mi < 0) {
-      fail(error, "rom: mesh '" + v.id + "': modulations of more than one order (two gears' "
-                  "effects on one mesh); the ROM takes one");
+      fail(error, "rom: mesh '" + v.id +
+                      "': modulations of more than one order (two gears' "
+                      "effects on one mesh); the ROM takes one");
       return nullptr;
     }
     d.mesh_modulation[j] = mi;
@@ -422,13 +430,15 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     d.force_per_nm[j] = f.per_newton_metre ? scale : 0.0;
     d.force_per_hz2[j] = f.per_rotor_hz_squared ? scale : 0.0;
     if (f.per_newton_metre && f.per_rotor_hz_squared) {
-      fail(error, "rom: force '" + f.id + "': an amplitude both per N·m and per Hz² is not supported");
+      fail(error,
+           "rom: force '" + f.id + "': an amplitude both per N·m and per Hz² is not supported");
       return nullptr;
     }
     for (int k = 0; k < 3; ++k) d.force_frame[3 * j + k] = f.frame[k];
   }
   if (plan.size() > static_cast<std::size_t>(kRomLookups)) {
-    fail(error, "rom: " + std::to_string(plan.size()) + " table look-ups exceed the capacity kRomLookups = " +
+    fail(error, "rom: " + std::to_string(plan.size()) +
+                    " table look-ups exceed the capacity kRomLookups = " +
                     std::to_string(kRomLookups) + " (too many effects at once)");
     return nullptr;
   }
@@ -446,7 +456,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   const auto swing = [&](int t, double mean) {
     const double* table = d.term_values.data() + t * static_cast<int>(PeriodicTable::kSize);
     double worst = 0.0;
-    for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) worst = std::max(worst, std::abs(table[i] - 1.0));
+    for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
+      worst = std::max(worst, std::abs(table[i] - 1.0));
     return worst * mean;
   };
   for (int i = 0; i < total; ++i) {
@@ -457,7 +468,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
                 d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
     }
     for (int j = 0; j < d.path_count; ++j)
-      share += swing(kRomMeshes + kRomBearings + j, d.path_mean_n_m[j]) * d.w_path(i, j) * d.w_path(i, j);
+      share += swing(kRomMeshes + kRomBearings + j, d.path_mean_n_m[j]) * d.w_path(i, j) *
+               d.w_path(i, j);
     if (share >= d.omega2[i]) {
       fail(error, "rom: bearing or path stiffness fluctuation exceeds the stiffness of ROM mode " +
                       std::to_string(i) + " (explicit terms would be unstable)");
@@ -481,8 +493,13 @@ Rom::Rom(const RomData& data) noexcept : data_(&data) { bind_kernel(); }
 
 void Rom::bind_kernel() noexcept {
   const RomData& d = *data_;
-  kernel_ = detail::RomKernelModel{d.dofs, d.lookups, d.force_count, d.path_count, d.turning_mesh,
-                                   d.excitation, d.pqq.data(),
+  kernel_ = detail::RomKernelModel{d.dofs,
+                                   d.lookups,
+                                   d.force_count,
+                                   d.path_count,
+                                   d.turning_mesh,
+                                   d.excitation,
+                                   d.pqq.data(),
                                    d.pqv.data(),
                                    d.b0q.data(),
                                    d.b1q.data(),
@@ -608,9 +625,11 @@ void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, dou
   RomData::Vec f = RomData::Vec::Zero();
   RomData::Vec f_now = RomData::Vec::Zero();
   for (int j = 0; j < d.force_count; ++j) {
-    const double a = d.force_scale[j] + d.force_per_nm[j] * in.input_torque_nm + d.force_per_hz2[j] * hz * hz;
+    const double a =
+        d.force_scale[j] + d.force_per_nm[j] * in.input_torque_nm + d.force_per_hz2[j] * hz * hz;
     const double* fr = d.force_frame.data() + 3 * j;
-    f.noalias() += (a * mean_of(d.force_index0[j]) * mean_of(d.force_index1[j]) * fr[0]) * d.w_force.col(j);
+    f.noalias() +=
+        (a * mean_of(d.force_index0[j]) * mean_of(d.force_index1[j]) * fr[0]) * d.w_force.col(j);
     f_now.noalias() += (a * now(d.force_index0[j]) * now(d.force_index1[j]) *
                         (fr[0] + fr[1] * cpsi + fr[2] * spsi)) *
                        d.w_force.col(j);
@@ -618,11 +637,13 @@ void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, dou
   RomData::Vec w_r = RomData::Vec::Zero(), w_0 = RomData::Vec::Zero();
   if (r >= 0) {
     w_0 = d.w_mesh.col(r);
-    w_r = d.w_basis.col(r) + cpsi * d.w_basis.col(kRomMeshes) + spsi * d.w_basis.col(kRomMeshes + 1);
+    w_r =
+        d.w_basis.col(r) + cpsi * d.w_basis.col(kRomMeshes) + spsi * d.w_basis.col(kRomMeshes + 1);
   }
   for (int j = 0; j < d.mesh_count; ++j) {
     const double e = mean_of(d.mesh_error0[j]) + mean_of(d.mesh_error1[j]);
-    if (e != 0.0) f.noalias() += (d.mesh_mean_n_m[j] * e) * (j == r ? w_r : RomData::Vec(d.w_basis.col(j)));
+    if (e != 0.0)
+      f.noalias() += (d.mesh_mean_n_m[j] * e) * (j == r ? w_r : RomData::Vec(d.w_basis.col(j)));
   }
   RomData::Vec inv_l = RomData::Vec::Zero();
   for (int i = 0; i < kRomDofs; ++i) inv_l[i] = d.omega2[i] > 0.0 ? 1.0 / d.omega2[i] : 0.0;

@@ -107,7 +107,8 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
   s.rotor_rev_q += rev_q;
   // Every slot's stresses once (a mesh feeds up to four channels).
   std::array<MeshStresses, kMaxMeshes> mesh;
-  for (std::size_t i = 0; i < cs.mesh_count(); ++i) mesh[i] = cs.mesh(i).stresses(loads.mesh_force_n[i]);
+  for (std::size_t i = 0; i < cs.mesh_count(); ++i)
+    mesh[i] = cs.mesh(i).stresses(loads.mesh_force_n[i]);
   std::array<double, kMaxBearings> bearing_p;
   for (std::size_t i = 0; i < cs.bearing_count(); ++i) {
     // equivalent_load_n() with e and cot α from construction.
@@ -117,8 +118,9 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
       bearing_p[i] = fr;
     } else {
       const bool low_axial = fa <= b.e * fr;
-      bearing_p[i] = b.single_row ? (low_axial ? fr : 0.4 * fr + 0.4 * b.cot * fa)
-                                  : (low_axial ? fr + 0.45 * b.cot * fa : 0.67 * fr + 0.67 * b.cot * fa);
+      bearing_p[i] = b.single_row
+                         ? (low_axial ? fr : 0.4 * fr + 0.4 * b.cot * fa)
+                         : (low_axial ? fr + 0.45 * b.cot * fa : 0.67 * fr + 0.67 * b.cot * fa);
     }
   }
   const std::size_t overflow = config_.bins;
@@ -129,9 +131,15 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
       const Source& src = ch.sources[j];
       double sigma = 0.0;
       switch (ch.mode) {
-        case FailureMode::kContact: sigma = mesh[src.slot].contact_mpa[src.gear]; break;
-        case FailureMode::kBending: sigma = mesh[src.slot].bending_mpa[src.gear]; break;
-        case FailureMode::kBearing: sigma = bearing_p[src.slot]; break;
+        case FailureMode::kContact:
+          sigma = mesh[src.slot].contact_mpa[src.gear];
+          break;
+        case FailureMode::kBending:
+          sigma = mesh[src.slot].bending_mpa[src.gear];
+          break;
+        case FailureMode::kBearing:
+          sigma = bearing_p[src.slot];
+          break;
       }
       std::size_t bin = overflow;
       if (sigma < config_.full_scale[c]) {

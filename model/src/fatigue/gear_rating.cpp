@@ -299,8 +299,7 @@ double MeshRating::k_alpha(double ft_n) const { return k_alpha_at(ft_n, face_loa
 
 double MeshRating::k_alpha_at(double ft_n, double k_h_beta) const {
   const double b_mm = geometry.b_m * kMm;
-  const double fth_per_b =
-      std::max(1e-9, std::abs(ft_n) * k_a * k_v * k_h_beta / b_mm);  // [N/mm]
+  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * k_h_beta / b_mm);  // [N/mm]
   double k;
   if (eps_gamma <= 2.0) {
     k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);  // eq. 75
@@ -353,8 +352,8 @@ MeshStresses MeshRating::stresses(double ft_n) const {
   for (int g = 0; g < 2; ++g) {
     if (!bending_rated[g]) continue;
     const BendingFormFactors& f = bending[g];
-    s.bending_mpa[g] = std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v *
-                       fl.k_f_beta * k_fa;
+    s.bending_mpa[g] =
+        std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * fl.k_f_beta * k_fa;
   }
   return s;
 }

@@ -67,7 +67,8 @@ TEST(Accumulator, EveryChannelsIncrementIsItsSnCurvesDamageAtItsStressOnBothSide
   // S-N curve; the oracle is the public per-source path: ChannelSet::stress() and
   // SnCurve::cycles_to_failure(). Loads from 5 % to 150 % of rated put every channel on
   // both sides of its knee; every knee branch.
-  for (const KneeBranch branch : {KneeBranch::kHaibach, KneeBranch::kIsoLifeLine, KneeBranch::kNone}) {
+  for (const KneeBranch branch :
+       {KneeBranch::kHaibach, KneeBranch::kIsoLifeLine, KneeBranch::kNone}) {
     ChannelOptions options;
     options.branch = branch;
     const model::Drivetrain d = model::paper_2mw();
@@ -78,7 +79,8 @@ TEST(Accumulator, EveryChannelsIncrementIsItsSnCurvesDamageAtItsStressOnBothSide
       // Arrange: a load sample with every mesh and bearing at its own level.
       LoadSample loads = cs.quasi_static_loads(torque);
       for (std::size_t m = 0; m < cs.mesh_count(); ++m) loads.mesh_force_n[m] *= 1.0 + 0.03 * m;
-      for (std::size_t b = 0; b < cs.bearing_count(); ++b) loads.bearing_axial_n[b] *= 1.0 + 0.5 * b;
+      for (std::size_t b = 0; b < cs.bearing_count(); ++b)
+        loads.bearing_axial_n[b] *= 1.0 + 0.5 * b;
       AccumulatorConfig cfg;
       cfg.tick_s = 1e-3;
       DamageAccumulator acc(cs, cfg);
@@ -91,7 +93,9 @@ TEST(Accumulator, EveryChannelsIncrementIsItsSnCurvesDamageAtItsStressOnBothSide
         double expected = 0.0;
         for (std::size_t k = 0; k < ch.source_count; ++k) {
           const double sigma = cs.stress(c, k, loads);
-          if (sigma > 0.0) expected += revs * ch.sources[k].cycles_per_rotor_rev / ch.curve.cycles_to_failure(sigma);
+          if (sigma > 0.0)
+            expected +=
+                revs * ch.sources[k].cycles_per_rotor_rev / ch.curve.cycles_to_failure(sigma);
           (sigma >= ch.curve.knee_stress() ? above : below) += 1;
         }
         EXPECT_NEAR(acc.damage(c), expected, 1e-12 * expected)

@@ -327,8 +327,8 @@ class Rom {
                 std::int64_t steps) noexcept;
   void bind_kernel() noexcept;
 
-  double t0_ = 0.0;            // [s] time at the last reset
-  std::int64_t steps_ = 0;     // [-] steps since
+  double t0_ = 0.0;              // [s] time at the last reset
+  std::int64_t steps_ = 0;       // [-] steps since
   std::int64_t whole_revs_ = 0;  // [rev] whole rotor revolutions
   double frac_revs_ = 0.0;       // [rev] in [0, 1)
   // frac(order·whole_revs_ + phase) per look-up [cycles] (RomData's look-up layout).
