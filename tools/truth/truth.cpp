@@ -24,15 +24,22 @@ double rms_of(const std::vector<double>& x) { return model::dsp::rms(x.data(), x
 // The effect's severity parameter, scaled to conceal it; nullptr: not scalable.
 const char* severity_parameter(model::EffectKind kind) {
   switch (kind) {
-    case model::EffectKind::kToothCrack: return "stiffness_loss";
-    case model::EffectKind::kGearEccentricity: return "eccentricity_um";
+    case model::EffectKind::kToothCrack:
+      return "stiffness_loss";
+    case model::EffectKind::kGearEccentricity:
+      return "eccentricity_um";
     case model::EffectKind::kBearingOuterRaceDefect:
     case model::EffectKind::kBearingInnerRaceDefect:
-    case model::EffectKind::kBearingBallDefect: return "impact_force_n";
-    case model::EffectKind::kShaftUnbalance: return "unbalance_kg_m";
-    case model::EffectKind::kShaftMisalignment: return "misalignment_mrad";
-    case model::EffectKind::kPlanetPassModulation: return "path_stiffness_mn_m";
-    case model::EffectKind::kHousingResonance: return nullptr;
+    case model::EffectKind::kBearingBallDefect:
+      return "impact_force_n";
+    case model::EffectKind::kShaftUnbalance:
+      return "unbalance_kg_m";
+    case model::EffectKind::kShaftMisalignment:
+      return "misalignment_mrad";
+    case model::EffectKind::kPlanetPassModulation:
+      return "path_stiffness_mn_m";
+    case model::EffectKind::kHousingResonance:
+      return nullptr;
   }
   return nullptr;
 }
@@ -51,8 +58,8 @@ struct Waves {
 
 double rpm_at(const CaseSpec& s, double t) {
   const Measurement& m = s.measurement;
-  return s.rotor_rpm *
-         (1.0 + m.drift * std::sin(2.0 * std::numbers::pi * t / m.drift_period_s + m.drift_phase_rad));
+  return s.rotor_rpm * (1.0 + m.drift * std::sin(2.0 * std::numbers::pi * t / m.drift_period_s +
+                                                 m.drift_phase_rad));
 }
 
 // The full-order model, carrier turning, speed drifting, from its static deflection; the
@@ -118,7 +125,8 @@ model::Drivetrain with_effect(model::Drivetrain d, const std::optional<model::Ef
 
 std::vector<double> welch_amplitude(const std::vector<double>& x, std::size_t nfft) {
   model::dsp::SpectrumAnalyzer fft(nfft);
-  if (!fft.valid() || x.size() < nfft) throw std::runtime_error("welch_amplitude: record shorter than the block");
+  if (!fft.valid() || x.size() < nfft)
+    throw std::runtime_error("welch_amplitude: record shorter than the block");
   std::vector<double> sum(fft.lines(), 0.0), line(fft.lines());
   int blocks = 0;
   for (std::size_t start = 0; start + nfft <= x.size(); start += nfft / 2, ++blocks) {
@@ -188,7 +196,8 @@ CaseResult run_case(const model::Drivetrain& drivetrain, const CaseSpec& spec) {
   r.parameters = d.dynamics;
   if (spec.effect) {
     std::string error;
-    if (!model::check_effect(d, *spec.effect, &error)) throw std::runtime_error("case '" + spec.id + "': " + error);
+    if (!model::check_effect(d, *spec.effect, &error))
+      throw std::runtime_error("case '" + spec.id + "': " + error);
   }
   const model::Drivetrain healthy_d = with_effect(d, std::nullopt);
   const Waves healthy = simulate(healthy_d, spec, spec.seconds);
@@ -201,16 +210,19 @@ CaseResult run_case(const model::Drivetrain& drivetrain, const CaseSpec& spec) {
     model::Effect effect = *spec.effect;
     const char* knob = severity_parameter(effect.kind);
     // Concealment figures of the effect against a healthy run of the same length.
-    auto figures = [&](const Waves& w, const Waves& base, const std::vector<std::vector<double>>& base_measured,
+    auto figures = [&](const Waves& w, const Waves& base,
+                       const std::vector<std::vector<double>>& base_measured,
                        std::vector<ChannelConcealment>& out) {
       const std::vector<std::vector<double>> m = measure(w, base, spec);
       out.clear();
       for (std::size_t c = 0; c < m.size(); ++c)
-        out.push_back(concealment(d.measurement_points[c].channel, m[c], base_measured[c], spec.sample_rate_hz));
+        out.push_back(concealment(d.measurement_points[c].channel, m[c], base_measured[c],
+                                  spec.sample_rate_hz));
       return m;
     };
     auto all_concealed = [](const std::vector<ChannelConcealment>& cs) {
-      return std::all_of(cs.begin(), cs.end(), [](const ChannelConcealment& c) { return c.concealed; });
+      return std::all_of(cs.begin(), cs.end(),
+                         [](const ChannelConcealment& c) { return c.concealed; });
     };
     if (spec.conceal && knob != nullptr) {
       // Find the severity on short probes first: aim 2 dB inside the line criterion and at
@@ -278,7 +290,8 @@ void write_case_bundle(const CaseResult& r, const std::string& dir) {
   rec.sample_rate_hz = r.spec.sample_rate_hz;
   rec.samples_file = "cms.wav";
   const model::Drivetrain d = model::paper_2mw();
-  for (const auto& mp : d.measurement_points) rec.channels.push_back({mp.channel, mp.location, "radial", "", "m/s^2"});
+  for (const auto& mp : d.measurement_points)
+    rec.channels.push_back({mp.channel, mp.location, "radial", "", "m/s^2"});
   if (r.spec.measurement.tacho) rec.channels.push_back({"tacho", "hss", "", "once_per_rev", "V"});
   rec.samples = r.samples;
   rec.operating_point.rotor_speed_rpm = r.mean_rotor_rpm;
@@ -323,12 +336,9 @@ std::string truth_json(const CaseResult& r) {
                               {"bearing_stiffness_scale", p.bearing_stiffness_scale}};
   nlohmann::ordered_json c = nlohmann::ordered_json::object();
   for (const auto& ch : r.concealment) {
-    c[ch.channel] = {{"rms_change", ch.rms_change},
-                     {"effect_line_hz", ch.effect_line_hz},
-                     {"effect_line_m_s2", ch.effect_line},
-                     {"tenth_peak_m_s2", ch.tenth_peak},
-                     {"margin_db", ch.margin_db},
-                     {"concealed", ch.concealed}};
+    c[ch.channel] = {{"rms_change", ch.rms_change},        {"effect_line_hz", ch.effect_line_hz},
+                     {"effect_line_m_s2", ch.effect_line}, {"tenth_peak_m_s2", ch.tenth_peak},
+                     {"margin_db", ch.margin_db},          {"concealed", ch.concealed}};
   }
   j["concealment"] = c;
   j["concealed"] = r.concealed;

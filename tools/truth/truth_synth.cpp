@@ -10,9 +10,9 @@
 // Each case: DIR/<id>/ (a drivetwin-recording/1 bundle), DIR/truth/<id>.json (what is in
 // it and its concealment figures); `list` also writes DIR/cases.md and DIR/cases.json.
 // The truth is kept out of the bundle directory so a diagnosis cannot read it.
+#include <toml++/toml.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
-#include <toml++/toml.h>
 
 #include <chrono>
 #include <cstdio>
@@ -101,7 +101,8 @@ truth::CaseResult run_and_write(const model::Drivetrain& d, const truth::CaseSpe
   return r;
 }
 
-truth::CaseSpec case_from_toml(const toml::table& t, const toml::table& defaults, const std::string& where) {
+truth::CaseSpec case_from_toml(const toml::table& t, const toml::table& defaults,
+                               const std::string& where) {
   auto get = [&](const char* key) -> const toml::node* {
     if (const toml::node* n = t.get(key)) return n;
     return defaults.get(key);
@@ -136,7 +137,8 @@ truth::CaseSpec case_from_toml(const toml::table& t, const toml::table& defaults
     s.rotor_rpm = kRated.rpm;
     s.torque_nm = kRated.torque;
   } else {
-    throw std::runtime_error(where + ": 'op' must be \"paper\" or \"rated\" (or give rpm and torque)");
+    throw std::runtime_error(where +
+                             ": 'op' must be \"paper\" or \"rated\" (or give rpm and torque)");
   }
   s.rotor_rpm = number("rpm", s.rotor_rpm);
   s.torque_nm = number("torque", s.torque_nm);
@@ -163,7 +165,9 @@ truth::CaseSpec case_from_toml(const toml::table& t, const toml::table& defaults
     if (const toml::table* p = t.get_as<toml::table>("parameters")) {
       for (const auto& [k, v] : *p) {
         const auto x = v.value<double>();
-        if (!x) throw std::runtime_error(where + ": parameters." + std::string(k.str()) + " must be a number");
+        if (!x)
+          throw std::runtime_error(where + ": parameters." + std::string(k.str()) +
+                                   " must be a number");
         params.emplace_back(std::string(k.str()), *x);
       }
     }
@@ -220,7 +224,8 @@ int run(int argc, char** argv) {
       std::vector<std::pair<std::string, double>> kv;
       for (const auto& p : params) {
         const auto eq = p.find('=');
-        if (eq == std::string::npos) throw std::runtime_error("--param: expected name=value, got '" + p + "'");
+        if (eq == std::string::npos)
+          throw std::runtime_error("--param: expected name=value, got '" + p + "'");
         kv.emplace_back(p.substr(0, eq), std::stod(p.substr(eq + 1)));
       }
       spec.effect = parse_effect(effect, location, kv);

@@ -9,17 +9,25 @@
 namespace model {
 namespace {
 
-constexpr std::array<EffectKind, kEffectKinds> kKinds{
-    EffectKind::kToothCrack,           EffectKind::kGearEccentricity,
-    EffectKind::kBearingOuterRaceDefect, EffectKind::kBearingInnerRaceDefect,
-    EffectKind::kBearingBallDefect,    EffectKind::kShaftUnbalance,
-    EffectKind::kShaftMisalignment,    EffectKind::kPlanetPassModulation,
-    EffectKind::kHousingResonance};
+constexpr std::array<EffectKind, kEffectKinds> kKinds{EffectKind::kToothCrack,
+                                                      EffectKind::kGearEccentricity,
+                                                      EffectKind::kBearingOuterRaceDefect,
+                                                      EffectKind::kBearingInnerRaceDefect,
+                                                      EffectKind::kBearingBallDefect,
+                                                      EffectKind::kShaftUnbalance,
+                                                      EffectKind::kShaftMisalignment,
+                                                      EffectKind::kPlanetPassModulation,
+                                                      EffectKind::kHousingResonance};
 
-constexpr std::array<std::string_view, kEffectKinds> kIds{
-    "tooth_crack",       "gear_eccentricity", "bearing_outer_race_defect",
-    "bearing_inner_race_defect", "bearing_ball_defect", "shaft_unbalance",
-    "shaft_misalignment", "planet_pass_modulation", "housing_resonance"};
+constexpr std::array<std::string_view, kEffectKinds> kIds{"tooth_crack",
+                                                          "gear_eccentricity",
+                                                          "bearing_outer_race_defect",
+                                                          "bearing_inner_race_defect",
+                                                          "bearing_ball_defect",
+                                                          "shaft_unbalance",
+                                                          "shaft_misalignment",
+                                                          "planet_pass_modulation",
+                                                          "housing_resonance"};
 
 // Defaults are moderate faults of a 2 MW gearbox; ranges are what a description may state.
 constexpr EffectParameter kCrack[] = {
@@ -79,15 +87,22 @@ std::span<const EffectKind> effect_kinds() { return kKinds; }
 
 std::span<const EffectParameter> effect_parameters(EffectKind kind) {
   switch (kind) {
-    case EffectKind::kToothCrack: return kCrack;
-    case EffectKind::kGearEccentricity: return kEccentricity;
+    case EffectKind::kToothCrack:
+      return kCrack;
+    case EffectKind::kGearEccentricity:
+      return kEccentricity;
     case EffectKind::kBearingOuterRaceDefect:
     case EffectKind::kBearingInnerRaceDefect:
-    case EffectKind::kBearingBallDefect: return kBearingDefect;
-    case EffectKind::kShaftUnbalance: return kUnbalance;
-    case EffectKind::kShaftMisalignment: return kMisalignment;
-    case EffectKind::kPlanetPassModulation: return kPlanetPass;
-    case EffectKind::kHousingResonance: return kHousing;
+    case EffectKind::kBearingBallDefect:
+      return kBearingDefect;
+    case EffectKind::kShaftUnbalance:
+      return kUnbalance;
+    case EffectKind::kShaftMisalignment:
+      return kMisalignment;
+    case EffectKind::kPlanetPassModulation:
+      return kPlanetPass;
+    case EffectKind::kHousingResonance:
+      return kHousing;
   }
   return {};
 }
@@ -179,13 +194,15 @@ std::vector<std::string> effect_locations(const Drivetrain& d, EffectKind kind) 
 }
 
 bool check_effect(const Drivetrain& d, const Effect& e, std::string* error) {
-  const std::string what = "effect '" + std::string(effect_id(e.kind)) + "' at '" + e.location + "'";
+  const std::string what =
+      "effect '" + std::string(effect_id(e.kind)) + "' at '" + e.location + "'";
   const std::vector<std::string> locations = effect_locations(d, e.kind);
   if (std::find(locations.begin(), locations.end(), e.location) == locations.end()) {
     if (error) {
       std::string list;
       for (const auto& l : locations) list += (list.empty() ? "" : ", ") + l;
-      *error = what + ": location: expected one of " + (list.empty() ? "(none in this drivetrain)" : list);
+      *error = what + ": location: expected one of " +
+               (list.empty() ? "(none in this drivetrain)" : list);
     }
     return false;
   }

@@ -207,8 +207,7 @@ template <int kP, bool kMore>
 [[gnu::always_inline]] inline void predictor(const RomKernelModel& m, const int n_dofs,
                                              const double force0, const double* __restrict fb,
                                              const double* __restrict fp,
-                                             const double* __restrict q,
-                                             const double* __restrict v,
+                                             const double* __restrict q, const double* __restrict v,
                                              const double* __restrict g, double* __restrict h,
                                              double* __restrict rp) noexcept {
   for (int i = 0; i < n_dofs; ++i) {
@@ -262,14 +261,14 @@ template <bool kTurning, bool kPaths>
     dk_bearing[2 * j] = dk_bearing[2 * j + 1] = k_bearing[j] - mean;
   }
   double dk_path[kKernelPaths] = {};
-  for (int j = 0; j < kP; ++j)
-    dk_path[j] = m.path_mean[j] * (val[kKernelLookupPaths + j] - 1.0);
+  for (int j = 0; j < kP; ++j) dk_path[j] = m.path_mean[j] * (val[kKernelLookupPaths + j] - 1.0);
   double force[kKernelForces] = {};  // force[0]: the input torque (rom.cpp); 0 if none
   const double hz2 = in.rotor_hz * in.rotor_hz;
   for (int j = 0; j < m.forces; ++j) {
     const double* fr = m.force_frame + 3 * j;
-    force[j] = (m.force_scale[j] + m.force_per_nm[j] * in.input_torque_nm + m.force_per_hz2[j] * hz2) *
-               val[m.force_index0[j]] * val[m.force_index1[j]] * (fr[0] + fr[1] * cpsi + fr[2] * spsi);
+    force[j] =
+        (m.force_scale[j] + m.force_per_nm[j] * in.input_torque_nm + m.force_per_hz2[j] * hz2) *
+        val[m.force_index0[j]] * val[m.force_index1[j]] * (fr[0] + fr[1] * cpsi + fr[2] * spsi);
   }
 
   // The factors of I + A G first: they depend on the stiffness coefficients only.

@@ -77,10 +77,14 @@ double harmonic(const PeriodicTable& t, int h) {
 }
 
 TEST(Effects, EveryContractIdRoundTripsWithNamedBoundedParameters) {
-  const char* ids[] = {"tooth_crack",           "gear_eccentricity",
-                       "bearing_outer_race_defect", "bearing_inner_race_defect",
-                       "bearing_ball_defect",   "shaft_unbalance",
-                       "shaft_misalignment",    "planet_pass_modulation",
+  const char* ids[] = {"tooth_crack",
+                       "gear_eccentricity",
+                       "bearing_outer_race_defect",
+                       "bearing_inner_race_defect",
+                       "bearing_ball_defect",
+                       "shaft_unbalance",
+                       "shaft_misalignment",
+                       "planet_pass_modulation",
                        "housing_resonance"};
   ASSERT_EQ(model::effect_kinds().size(), std::size(ids));
   for (const char* id : ids) {
@@ -112,7 +116,8 @@ TEST(Effects, LocationsCoverEveryStageAndBothMeasuredShafts) {
     EXPECT_TRUE(has(EffectKind::kGearEccentricity, g)) << g;
   for (const char* b : {"b1", "b2", "b3", "b4", "b5", "b6", "pb", "pb3"})
     EXPECT_TRUE(has(EffectKind::kBearingInnerRaceDefect, b)) << b;
-  for (const char* s : {"sun_shaft", "ims", "hss"}) EXPECT_TRUE(has(EffectKind::kShaftUnbalance, s));
+  for (const char* s : {"sun_shaft", "ims", "hss"})
+    EXPECT_TRUE(has(EffectKind::kShaftUnbalance, s));
   for (const char* s : {"ims", "hss"}) EXPECT_TRUE(has(EffectKind::kShaftMisalignment, s));
   EXPECT_TRUE(has(EffectKind::kPlanetPassModulation, "ring"));
   EXPECT_TRUE(has(EffectKind::kHousingResonance, "b5"));
@@ -142,7 +147,8 @@ TEST(Effects, ABadEffectIsRefusedNamingTheFieldAndTheRange) {
 
 TEST(EffectKinematics, OuterRaceDefectOfB5StrikesAtBpfoLessTheSlip) {
   // drivetrain-2mw.md: b5 BPFO = 93.066 Hz; 1 % cage slip → 92.135 Hz.
-  const FullModel m = model_with({effect(EffectKind::kBearingOuterRaceDefect, "b5", {{"slip", 0.01}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kBearingOuterRaceDefect, "b5", {{"slip", 0.01}})});
   const auto f = effect_forces(m);
   ASSERT_FALSE(f.empty());
   for (const ForceTerm* t : f) EXPECT_NEAR(std::abs(t->order) * kRotorHz, 93.066 * 0.99, 0.01);
@@ -152,7 +158,8 @@ TEST(EffectKinematics, InnerRaceDefectOfB5StrikesAtBpfiAndPassesTheLoadZoneOnceP
   // BPFI = 135.785 Hz; the cage slowed by s raises the inner race's pass rate by BPFO·s
   // (BPFI' = Nb·(f_r − FTF(1 − s))); the load zone is met once per hss revolution (14.3032 Hz).
   const double s = 0.01;
-  const FullModel m = model_with({effect(EffectKind::kBearingInnerRaceDefect, "b5", {{"slip", s}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kBearingInnerRaceDefect, "b5", {{"slip", s}})});
   for (const ForceTerm* t : effect_forces(m)) {
     EXPECT_NEAR(std::abs(t->order) * kRotorHz, 135.785 + 93.066 * s, 0.01);
     ASSERT_EQ(t->modulations.size(), 1u);
@@ -175,14 +182,19 @@ TEST(EffectKinematics, BallDefectOfB5StrikesAtTwiceTheSpinAndTurnsWithTheCage) {
 }
 
 TEST(EffectKinematics, OuterRaceDefectsOfB3AndB6StrikeAtTheirBpfo) {
-  const FullModel m3 = model_with({effect(EffectKind::kBearingOuterRaceDefect, "b3", {{"slip", 0.0}})});
-  for (const ForceTerm* t : effect_forces(m3)) EXPECT_NEAR(std::abs(t->order) * kRotorHz, 26.928, 0.005);
-  const FullModel m6 = model_with({effect(EffectKind::kBearingOuterRaceDefect, "b6", {{"slip", 0.0}})});
-  for (const ForceTerm* t : effect_forces(m6)) EXPECT_NEAR(std::abs(t->order) * kRotorHz, 81.989, 0.01);
+  const FullModel m3 =
+      model_with({effect(EffectKind::kBearingOuterRaceDefect, "b3", {{"slip", 0.0}})});
+  for (const ForceTerm* t : effect_forces(m3))
+    EXPECT_NEAR(std::abs(t->order) * kRotorHz, 26.928, 0.005);
+  const FullModel m6 =
+      model_with({effect(EffectKind::kBearingOuterRaceDefect, "b6", {{"slip", 0.0}})});
+  for (const ForceTerm* t : effect_forces(m6))
+    EXPECT_NEAR(std::abs(t->order) * kRotorHz, 81.989, 0.01);
 }
 
 TEST(EffectKinematics, CrackedG4ToothWeakensTheHighSpeedMeshOncePerHssTurnForItsContactTime) {
-  const FullModel m = model_with({effect(EffectKind::kToothCrack, "g4", {{"stiffness_loss", 0.3}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kToothCrack, "g4", {{"stiffness_loss", 0.3}})});
   const VaryingStiffness& hs = m.meshes[7];
   ASSERT_EQ(hs.id, "high_speed");
   ASSERT_EQ(hs.modulations.size(), 1u);
@@ -198,7 +210,8 @@ TEST(EffectKinematics, CrackedG4ToothWeakensTheHighSpeedMeshOncePerHssTurnForIts
   EXPECT_GT(share * 26, 2.0);
   EXPECT_LT(share * 26, 3.5);
   // No other mesh is touched.
-  for (std::size_t j = 0; j < 7; ++j) EXPECT_TRUE(m.meshes[j].modulations.empty()) << m.meshes[j].id;
+  for (std::size_t j = 0; j < 7; ++j)
+    EXPECT_TRUE(m.meshes[j].modulations.empty()) << m.meshes[j].id;
 }
 
 TEST(EffectKinematics, CrackedSunToothMeetsEachPlanetInTurnAtTheSunsSpeedRelativeToTheCarrier) {
@@ -216,7 +229,8 @@ TEST(EffectKinematics, CrackedSunToothMeetsEachPlanetInTurnAtTheSunsSpeedRelativ
 }
 
 TEST(EffectKinematics, EccentricG1ModulatesTheIntermediateMeshOncePerSunShaftTurn) {
-  const FullModel m = model_with({effect(EffectKind::kGearEccentricity, "g1", {{"eccentricity_um", 50}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kGearEccentricity, "g1", {{"eccentricity_um", 50}})});
   const VaryingStiffness& im = m.meshes[6];
   ASSERT_EQ(im.id, "intermediate");
   ASSERT_EQ(im.excitations.size(), 1u);
@@ -231,7 +245,8 @@ TEST(EffectKinematics, EccentricG1ModulatesTheIntermediateMeshOncePerSunShaftTur
 
 TEST(EffectKinematics, UnbalanceOfTheHssTurnsWithItAtUOmegaSquared) {
   const double u = 0.2;  // [kg·m]
-  const FullModel m = model_with({effect(EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", u}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", u}})});
   const auto f = effect_forces(m);
   ASSERT_EQ(f.size(), 2u);  // x and y, a quarter turn apart
   for (const ForceTerm* t : f) {
@@ -243,7 +258,8 @@ TEST(EffectKinematics, UnbalanceOfTheHssTurnsWithItAtUOmegaSquared) {
 }
 
 TEST(EffectKinematics, MisalignedHssCouplingPushesTwiceAndOncePerTurn) {
-  const FullModel m = model_with({effect(EffectKind::kShaftMisalignment, "hss", {{"ratio_1x", 0.5}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kShaftMisalignment, "hss", {{"ratio_1x", 0.5}})});
   const auto f = effect_forces(m);
   ASSERT_EQ(f.size(), 1u);
   EXPECT_NEAR(f[0]->order * kRotorHz, 14.3032, 1e-3);
@@ -266,7 +282,8 @@ TEST(EffectKinematics, PlanetPassPathRepeatsThreeTimesPerCarrierTurn) {
 
 TEST(EffectKinematics, HousingResonanceAddsAModeNearItsFrequencyAndTheSensorRidesOnIt) {
   const FullModel healthy = model_with({});
-  const FullModel m = model_with({effect(EffectKind::kHousingResonance, "b5", {{"frequency_hz", 3000.0}})});
+  const FullModel m =
+      model_with({effect(EffectKind::kHousingResonance, "b5", {{"frequency_hz", 3000.0}})});
   EXPECT_EQ(m.dofs(), healthy.dofs() + 1);
   const Eigen::VectorXd s = m.mass.cwiseSqrt().cwiseInverse();
   Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(s.asDiagonal() * m.stiffness * s.asDiagonal());

@@ -62,11 +62,11 @@ std::vector<double> minus(const std::vector<double>& a, const std::vector<double
 
 // The effect at `location` with `params`, at `op` for `seconds`; its family of lines on
 // channel `channel` (0: point1, 1: point2; −1 − j: the force of mesh j).
-void expect_signature_agrees(EffectKind kind, const std::string& location,
-                             std::initializer_list<std::pair<const char*, double>> params, Op op,
-                             double seconds, int channel,
-                             const std::function<std::vector<double>(const model::Kinematics&, double)>& family,
-                             int substeps = 2) {
+void expect_signature_agrees(
+    EffectKind kind, const std::string& location,
+    std::initializer_list<std::pair<const char*, double>> params, Op op, double seconds,
+    int channel, const std::function<std::vector<double>(const model::Kinematics&, double)>& family,
+    int substeps = 2) {
   model::Drivetrain healthy = model::paper_2mw();
   model::Drivetrain faulty = healthy;
   model::Effect e = model::make_effect(kind, location);
@@ -107,21 +107,22 @@ void expect_signature_agrees(EffectKind kind, const std::string& location,
   EXPECT_GE(lines[0].first, 0.2 * strongest)
       << "the strongest line of the signature (" << at << " Hz) is not in the family";
   ::testing::Test::RecordProperty("strongest_hz", std::to_string(at));
-  ::testing::Test::RecordProperty("family_lines", std::to_string(lines[0].second) + " " + std::to_string(lines[1].second) +
-                                     " " + std::to_string(lines[2].second));
+  ::testing::Test::RecordProperty("family_lines", std::to_string(lines[0].second) + " " +
+                                                      std::to_string(lines[1].second) + " " +
+                                                      std::to_string(lines[2].second));
   for (int i = 0; i < 3; ++i) {
     const double hz = lines[i].second;
     const double a_full = lines[i].first;
     const double a_rom = line_amplitude(sig_rom, kRate, hz);
-    EXPECT_NEAR(a_rom / a_full, 1.0, 0.05)
-        << model::effect_id(kind) << " at " << location << ", " << hz << " Hz: full " << a_full
-        << ", rom " << a_rom;
+    EXPECT_NEAR(a_rom / a_full, 1.0, 0.05) << model::effect_id(kind) << " at " << location << ", "
+                                           << hz << " Hz: full " << a_full << ", rom " << a_rom;
   }
 }
 
 // Families: h·f_mesh + j·f_shaft (h = 0: the shaft's own harmonics), the defect's
 // harmonics and their sidebands, the planet-pass sidebands of the planetary mesh.
-std::vector<double> mesh_family(double f_mesh, double f_mod, int harmonics = 5, int sidebands = 15) {
+std::vector<double> mesh_family(double f_mesh, double f_mod, int harmonics = 5,
+                                int sidebands = 15) {
   std::vector<double> out;
   for (int h = 0; h <= harmonics; ++h) {
     for (int j = -sidebands; j <= sidebands; ++j) {
@@ -139,7 +140,9 @@ std::vector<double> comb(double f0, double f_mod, int harmonics, int sidebands) 
   return out;
 }
 
-double shaft(const model::Kinematics& k, const char* id, double rpm) { return *k.shaft_hz(id, rpm); }
+double shaft(const model::Kinematics& k, const char* id, double rpm) {
+  return *k.shaft_hz(id, rpm);
+}
 
 TEST(RomEffectFidelity, CrackedG4Tooth) {
   expect_signature_agrees(EffectKind::kToothCrack, "g4", {{"stiffness_loss", 0.3}}, kPaper, 2.0, 0,
@@ -150,11 +153,11 @@ TEST(RomEffectFidelity, CrackedG4Tooth) {
 
 TEST(RomEffectFidelity, CrackedSunTooth) {
   // The sun's cracked tooth meets each planet once per revolution relative to the carrier: on
-// planet 1's sun mesh force (the sensors see it through the intermediate stage near the
-// 1.2–1.3 kHz modes, where the ROM's 2.2 kHz truncation leaves 6 % on these lines: the
-// window's parametric mixing of what lies above the cut-off; docs/dynamics.md).
-  expect_signature_agrees(EffectKind::kToothCrack, "sun", {{"stiffness_loss", 0.3}}, kRated, 2.0, -1,
-                          [](const model::Kinematics& k, double rpm) {
+  // planet 1's sun mesh force (the sensors see it through the intermediate stage near the
+  // 1.2–1.3 kHz modes, where the ROM's 2.2 kHz truncation leaves 6 % on these lines: the
+  // window's parametric mixing of what lies above the cut-off; docs/dynamics.md).
+  expect_signature_agrees(EffectKind::kToothCrack, "sun", {{"stiffness_loss", 0.3}}, kRated, 2.0,
+                          -1, [](const model::Kinematics& k, double rpm) {
                             const double rel = shaft(k, "sun_shaft", rpm) - rpm / 60.0;
                             return mesh_family(k.mesh_hz(0, rpm), rel, 60, 12);
                           });
@@ -165,7 +168,8 @@ TEST(RomEffectFidelity, EccentricG3) {
                           2.0, 1, [](const model::Kinematics& k, double rpm) {
                             // g3 sits on the ims beside g2: both of its meshes carry it.
                             auto out = mesh_family(k.mesh_hz(2, rpm), shaft(k, "ims", rpm), 5, 40);
-                            const auto more = mesh_family(k.mesh_hz(1, rpm), shaft(k, "ims", rpm), 20, 12);
+                            const auto more =
+                                mesh_family(k.mesh_hz(1, rpm), shaft(k, "ims", rpm), 20, 12);
                             out.insert(out.end(), more.begin(), more.end());
                             return out;
                           });
@@ -195,8 +199,8 @@ TEST(RomEffectFidelity, BallDefectOfB3) {
 }
 
 TEST(RomEffectFidelity, UnbalanceOfTheHss) {
-  expect_signature_agrees(EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", 0.5}}, kRated, 2.0,
-                          0, [](const model::Kinematics& k, double rpm) {
+  expect_signature_agrees(EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", 0.5}}, kRated,
+                          2.0, 0, [](const model::Kinematics& k, double rpm) {
                             return mesh_family(k.mesh_hz(2, rpm), shaft(k, "hss", rpm), 3, 3);
                           });
 }
@@ -220,16 +224,17 @@ TEST(RomEffectFidelity, HousingResonanceAtB5) {
   // moves its 4th (1487.5 Hz, beside the seat modes). The reference takes 4 Newmark steps a
   // sample here: at 2 its period error ((ωΔt)²/12 = 0.28 % at 1.5 kHz) alone moves that
   // resonant line by 2.6 % (docs/dynamics.md), at 4 by a quarter of that.
-  expect_signature_agrees(EffectKind::kHousingResonance, "b5", {{"frequency_hz", 1200.0}}, kPaper,
-                          2.0, 0, [](const model::Kinematics& k, double rpm) {
-                            std::vector<double> out;  // every mesh's harmonics themselves
-                            for (std::size_t stage = 0; stage < 3; ++stage) {
-                              for (int h = 1; h * k.mesh_hz(stage, rpm) < 2000.0; ++h)
-                                out.push_back(h * k.mesh_hz(stage, rpm));
-                            }
-                            return out;
-                          },
-                          4);
+  expect_signature_agrees(
+      EffectKind::kHousingResonance, "b5", {{"frequency_hz", 1200.0}}, kPaper, 2.0, 0,
+      [](const model::Kinematics& k, double rpm) {
+        std::vector<double> out;  // every mesh's harmonics themselves
+        for (std::size_t stage = 0; stage < 3; ++stage) {
+          for (int h = 1; h * k.mesh_hz(stage, rpm) < 2000.0; ++h)
+            out.push_back(h * k.mesh_hz(stage, rpm));
+        }
+        return out;
+      },
+      4);
 }
 
 }  // namespace

@@ -12,9 +12,9 @@
 // it adds to K̄ is the 3×3 block k(t)·vvᵀ − k̄·v₀v₀ᵀ in them, v = (1, cos ψ, sin ψ),
 // v₀ = (1, 1, 0)). The damping C = ηM + ζK̄ (+ the model's damping_correction) uses the
 // mean stiffness at the reference angle. The meshes' transmission error is a known force
-// +u·k(t)·e(t) at t_{n+1} (the mesh force is k·(δ − e)); the carrier frame's Coriolis and centripetal forces on its
-// translations (full_model.hpp) are explicit, at the predicted velocity and displacement
-// (2Ω·Δt ≈ 1e-4: far inside the stability limit).
+// +u·k(t)·e(t) at t_{n+1} (the mesh force is k·(δ − e)); the carrier frame's Coriolis and
+// centripetal forces on its translations (full_model.hpp) are explicit, at the predicted velocity
+// and displacement (2Ω·Δt ≈ 1e-4: far inside the stability limit).
 //
 // Thread context: allocates at construction only; host / non-RT threads.
 
@@ -83,12 +83,12 @@ class NewmarkIntegrator {
   Eigen::VectorXd x_, v_, a_;
   Eigen::LLT<Eigen::MatrixXd> s_bar_;  // M + Δt/2 C + Δt²/4 K̄
   std::vector<Group> groups_;
-  Eigen::MatrixXd u_;       // dofs × R varying directions
-  Eigen::MatrixXd z_;       // S̄⁻¹ U
-  Eigen::MatrixXd g_;       // Uᵀ S̄⁻¹ U
-  Eigen::MatrixXd dk_;      // R×R: the stiffness added to K̄ at t, in U's columns
-  Eigen::MatrixXd c_;       // C
-  Eigen::MatrixXd small_;   // R×R workspace
+  Eigen::MatrixXd u_;      // dofs × R varying directions
+  Eigen::MatrixXd z_;      // S̄⁻¹ U
+  Eigen::MatrixXd g_;      // Uᵀ S̄⁻¹ U
+  Eigen::MatrixXd dk_;     // R×R: the stiffness added to K̄ at t, in U's columns
+  Eigen::MatrixXd c_;      // C
+  Eigen::MatrixXd small_;  // R×R workspace
   Eigen::VectorXd rhs_, tmp_;
 };
 

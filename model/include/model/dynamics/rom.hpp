@@ -110,13 +110,13 @@ inline constexpr double kRomDefaultCutoffHz = 2200.0;
 /// so an unused capacity costs memory, not time. build_rom() refuses a model that does not
 /// fit (it names the count: lower the cut-off or raise this constant).
 inline constexpr int kRomDofs = 80;
-inline constexpr int kRomMeshes = 8;     // 3 sun–planet, 3 ring–planet, 2 parallel
+inline constexpr int kRomMeshes = 8;                  // 3 sun–planet, 3 ring–planet, 2 parallel
 inline constexpr int kRomMeshBasis = kRomMeshes + 2;  // + the turning mesh's cos, sin parts
-inline constexpr int kRomBearings = 6;  // b1..b6
+inline constexpr int kRomBearings = 6;                // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
-inline constexpr int kRomPaths = 2;     // explicit rank-1 couplings (planet-pass paths)
-inline constexpr int kRomForces = 12;   // input torque + effects' force terms
-inline constexpr int kRomSensors = 2;   // point1, point2
+inline constexpr int kRomPaths = 2;    // explicit rank-1 couplings (planet-pass paths)
+inline constexpr int kRomForces = 12;  // input torque + effects' force terms
+inline constexpr int kRomSensors = 2;  // point1, point2
 /// Table look-ups a step can make (mesh shapes, bearings, paths, modulations, transmission
 /// errors, force tables); a model uses RomData::lookups of them.
 inline constexpr int kRomLookups = 48;
@@ -143,9 +143,9 @@ struct RomData {
   int dofs = 0;                // [-] modal coordinates the step runs over (multiple of 8)
   int lookups = 0;             // [-] table look-ups the step makes (multiple of 8)
   int mesh_count = 0, bearing_count = 0, path_count = 0, force_count = 0, sensor_count = 0;
-  int turning_mesh = -1;       // the mesh whose direction turns with the carrier, −1: none
-  bool excitation = false;     // some mesh has a transmission error
-  double frame_order = 0.0;    // [-] carrier revolutions per rotor revolution (0: frozen)
+  int turning_mesh = -1;     // the mesh whose direction turns with the carrier, −1: none
+  bool excitation = false;   // some mesh has a transmission error
+  double frame_order = 0.0;  // [-] carrier revolutions per rotor revolution (0: frozen)
   // Bearings whose x, y are the carrier frame's (reported turned into the housing frame).
   std::array<bool, kRomBearings> bearing_carrier_frame{};
   // The full model's ids of the slots [0, count): what each output index is
@@ -207,10 +207,10 @@ struct RomData {
   // Table t at [t·PeriodicTable::kSize, (t+1)·PeriodicTable::kSize).
   alignas(64) std::array<double, kRomLookups * PeriodicTable::kSize> term_values{};
   // Consumers of the look-ups; an index kRomLookups reads 1, kRomLookups + 1 reads 0.
-  std::array<double, kRomMeshes> mesh_mean_n_m{};    // [N/m]
-  std::array<int, kRomMeshes> mesh_shape{};          // k_j = mean·v[shape]·v[modulation]
+  std::array<double, kRomMeshes> mesh_mean_n_m{};  // [N/m]
+  std::array<int, kRomMeshes> mesh_shape{};        // k_j = mean·v[shape]·v[modulation]
   std::array<int, kRomMeshes> mesh_modulation{};
-  std::array<int, kRomMeshes> mesh_error0{};         // e_j = v[error0] + v[error1] [m]
+  std::array<int, kRomMeshes> mesh_error0{};  // e_j = v[error0] + v[error1] [m]
   std::array<int, kRomMeshes> mesh_error1{};
   std::array<double, kRomBearings> bearing_mean_n_m{};  // [N/m]
   std::array<double, kRomPaths> path_mean_n_m{};        // [N/m]
@@ -318,7 +318,7 @@ class Rom {
   const RomData* data_;
   alignas(64) RomData::Vec q_ = RomData::Vec::Zero();
   alignas(64) RomData::Vec v_ = RomData::Vec::Zero();
-  alignas(64) RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
+  alignas(64) RomData::Vec g_ = RomData::Vec::Zero();    // modal force at the current time
   alignas(64) std::array<double, kRomReadoutRows> z_{};  // the read-out R q
   // Sets the angle (whole + fraction, normalised to [0, 1)) and every look-up's phase and
   // the carrier angle at it.
