@@ -13,10 +13,13 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <new>
+#include <numbers>
 
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
@@ -319,6 +322,56 @@ TEST(Rom, BuiltFromTheDescriptionCarriesTheFullModelsIdsAndParameters) {
   for (std::size_t j = 0; j < m.sensors.size(); ++j)
     EXPECT_EQ(from_description->sensor_ids[j].view(), m.sensors[j].channel);
   EXPECT_EQ(from_description->mesh_ids[7].view(), "high_speed");
+}
+
+}  // namespace
+
+namespace {
+
+TEST(RomCarrier, PlanetSharingFollowsTheCarrierAndEvensOutOverARevolution) {
+  // The carrier carries the planets round in the ROM too: the sharing among the sun–planet
+  // meshes changes with the carrier angle (the floating sun is pushed by the intermediate
+  // mesh's radial force, fixed in the housing) and, since every planet passes the same
+  // positions, each carries the same mean over a whole revolution (issue 15: planet 1 carried
+  // 131.6 kN and planet 2 118.7 kN in every quarter while the planets stood still). Their sum
+  // is the sun's torque over its base radius (ring fixed: T_sun = T·z_s/(z_s + z_r)).
+  const FullModel m = paper_model();
+  const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+  ASSERT_TRUE(data);
+  const RomInputs in{8.33, 361747.0};
+  Rom rom(*data);
+  rom.reset(in);
+  RomOutputs out;
+  const long settle = static_cast<long>(rom_settle_time_s(*data, 1e-2) / kDt) + 1;
+  for (long i = 0; i < settle; ++i) rom.step(in, out);
+  // One carrier (= rotor) revolution from here, in quarters.
+  const double start = rom.rotor_revolutions();
+  std::array<std::array<double, 3>, 4> quarter{};
+  std::array<long, 4> samples{};
+  while (rom.rotor_revolutions() < start + 1.0) {
+    rom.step(in, out);
+    const int q = std::min(3, static_cast<int>(4.0 * (rom.rotor_revolutions() - start)));
+    for (int n = 0; n < 3; ++n) quarter[q][n] += out.mesh_force_n[n];
+    ++samples[q];
+  }
+  std::array<double, 3> mean{};
+  double spread = 0.0;  // largest relative difference between planets within a quarter
+  for (int q = 0; q < 4; ++q) {
+    for (int n = 0; n < 3; ++n) {
+      quarter[q][n] /= samples[q];
+      mean[n] += quarter[q][n] / 4.0;
+    }
+    const auto [lo, hi] = std::minmax_element(quarter[q].begin(), quarter[q].end());
+    spread = std::max(spread, (*hi - *lo) / *lo);
+  }
+  const double total = mean[0] + mean[1] + mean[2];
+  const double t_sun = 361747.0 * 21.0 / 120.0;
+  const double base_radius = 0.5 * 21 * 0.017 * std::cos(20.0 * std::numbers::pi / 180.0);
+  RecordProperty("quarter_spread", std::to_string(spread));
+  EXPECT_GT(spread, 0.02);  // the sharing moves with the carrier ...
+  for (int n = 0; n < 3; ++n)
+    EXPECT_NEAR(3.0 * mean[n] / total, 1.0, 0.01) << "planet " << n + 1;  // ... and evens out
+  EXPECT_NEAR(total / (t_sun / base_radius), 1.0, 0.01);
 }
 
 }  // namespace
