@@ -28,7 +28,7 @@ bool fail(std::string* error, std::string message) {
 }
 
 RomStiffnessTerm to_rom(const VaryingStiffness& v) {
-  return {v.mean_n_m, v.order, v.phase_cycles, v.shape};
+  return {v.mean_n_m, v.order, v.phase_cycles, v.shape, v.transmission_error};
 }
 
 }  // namespace
@@ -144,10 +144,14 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   d.bearing_count = static_cast<int>(m.bearings.size());
   d.force_count = static_cast<int>(m.forces.size());
   d.sensor_count = static_cast<int>(m.sensors.size());
+  // Modal damping φ_iᵀCφ_i: exact for the retained modes (C is modal in the full model's
+  // modes), the diagonal of the projection for the correction vectors' Ritz modes.
+  const Eigen::VectorXd c_modal =
+      (phi_r.transpose() * m.damping() * phi_r).diagonal().cwiseMax(0.0);
   for (int i = 0; i < total; ++i) {
     const double om2 = w2[i];
     const double om = std::sqrt(om2);
-    const double c = m.rayleigh_eta + m.rayleigh_zeta * om2;
+    const double c = c_modal[i];
     d.omega_rad_s[i] = om;
     d.omega2[i] = om2;
     d.damping_1_s[i] = c;
@@ -216,6 +220,11 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
              f.per_newton_metre ? 0.0 : f.amplitude, f.per_newton_metre ? f.amplitude : 0.0,
              f.shape);
   }
+  for (int j = 0; j < kRomMeshes; ++j) {
+    const RomStiffnessTerm& t = d.meshes[j];
+    set_term(kRomMeshes + kRomBearings + kRomForces + j, t.order, t.phase_cycles, 1.0, 0.0,
+             t.transmission_error);
+  }
   // Explicit bearing fluctuation: each mode's share of the fluctuating stiffness must stay
   // below its own stiffness (see the stability note in rom.hpp).
   for (int i = 0; i < total; ++i) {
@@ -272,10 +281,12 @@ void Rom::reset(const RomInputs& in) noexcept {
     fb[2 * j] = dk * z_bearing_[2 * j];
     fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
   }
+  // Mesh terms at t = 0: −Δk·δ + k·e (the transmission-error force).
   Eigen::Matrix<double, kRomMeshes, 1> fm;
   for (int j = 0; j < kRomMeshes; ++j) {
     const RomStiffnessTerm& mt = d.meshes[j];
-    fm[j] = mt.mean_n_m * (mt.shape.value(mt.phase_cycles) - 1.0) * z_mesh_[j];
+    const double k = mt.mean_n_m * mt.shape.value(mt.phase_cycles);
+    fm[j] = (k - mt.mean_n_m) * z_mesh_[j] - k * mt.transmission_error.value(mt.phase_cycles);
   }
   g_ = f;
   g_.noalias() -= d.w_bearing * fb;
