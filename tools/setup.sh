@@ -17,6 +17,10 @@ host_pkgs=(
   libeigen3-dev libtomlplusplus-dev nlohmann-json3-dev libcli11-dev
   libkissfft-dev libboost-dev libcpp-httplib-dev libmatio-dev libpagmo-dev
   libmodbus-dev libgpiod-dev mbpoll
+  # trends database (app/trends: embedded SQLite, WAL) and its command-line reader
+  libsqlite3-dev sqlite3
+  # the timing benchmark's reference (cyclictest at the loop's period and priority)
+  rt-tests
   qemu-user g++-aarch64-linux-gnu
   # emulated aarch64 rig (tools/rig): the arm64 .debs it boots are fetched by build-rig.sh
   qemu-system-arm cpio kmod xz-utils
@@ -28,6 +32,7 @@ arm64_pkgs=(
   libgtest-dev:arm64 libgmock-dev:arm64
   libtomlplusplus-dev:arm64 libkissfft-dev:arm64
   libmodbus-dev:arm64 libgpiod-dev:arm64
+  libsqlite3-dev:arm64
 )
 
 if ! dpkg --print-foreign-architectures | grep -qx arm64; then

@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # The whole test suite on a fresh Debian 12 machine (as root): installs what is
 # missing, then builds and runs the tests natively, under AddressSanitizer +
-# UndefinedBehaviorSanitizer, and cross-compiled for aarch64 under qemu-aarch64
-# (that last tier includes the emulated-rig tests, label `rig`).
-# Usage: bash tools/test.sh [preset ...]     (default: host asan aarch64 fuzz)
+# UndefinedBehaviorSanitizer, under ThreadSanitizer (the tests labelled `threaded`
+# only), and cross-compiled for aarch64 under qemu-aarch64 (that tier includes the
+# emulated-rig tests, label `rig`).
+# Usage: bash tools/test.sh [preset ...]     (default: host asan tsan aarch64 fuzz)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash tools/setup.sh
 
 presets=("$@")
-[ ${#presets[@]} -gt 0 ] || presets=(host asan aarch64 fuzz)
+[ ${#presets[@]} -gt 0 ] || presets=(host asan tsan aarch64 fuzz)
 jobs=$(nproc)
 passed=0
 failed=0

@@ -10,6 +10,8 @@
 #include <set>
 #include <sstream>
 
+#include "results/register_map.hpp"
+
 namespace app::bus {
 namespace {
 
@@ -390,6 +392,10 @@ void read_results(const Reader& r, const toml::table& t, BusConfig& c) {
           "writable", "idle_timeout_ms"});
   c.results = r.backend(t, p, "modbus", {});
   hal::ModbusServerConfig& s = c.modbus_server;
+  // The command block is the register map's; the register count is set by whoever
+  // builds the map (it depends on the drivetrain's damage channels).
+  s.command_start = app::results::RegisterMap::kCommandStart;
+  s.command_count = app::results::RegisterMap::kCommandCount;
   if (const auto v = r.str(t, "bind", p)) s.bind_address = *v;
   if (const auto v = r.integer(t, "port", p, 0, 65535)) s.port = static_cast<std::uint16_t>(*v);
   if (const auto v = r.integer(t, "unit_id", p, 1, 247)) s.unit_id = static_cast<int>(*v);
@@ -415,12 +421,12 @@ void read_results(const Reader& r, const toml::table& t, BusConfig& c) {
     if (!a) r.fail(n, p + "writable", "expected an array of register addresses");
     for (const auto& e : *a) {
       const auto v = e.value<std::int64_t>();
-      if (!e.is_integer() || *v < hal::results_reg::kCommands || *v >= hal::results_reg::kCount) {
+      constexpr std::int64_t kFirst = app::results::RegisterMap::kCommandStart;
+      constexpr std::int64_t kLast = kFirst + app::results::RegisterMap::kCommandCount - 1;
+      if (!e.is_integer() || *v < kFirst || *v > kLast) {
         r.fail(&e, p + "writable",
-               "expected command register addresses " +
-                   std::to_string(hal::results_reg::kCommands) + ".." +
-                   std::to_string(hal::results_reg::kCount - 1) +
-                   " (the results themselves are read-only)");
+               "expected command register addresses " + std::to_string(kFirst) + ".." +
+                   std::to_string(kLast) + " (the results themselves are read-only)");
       }
       s.writable.push_back(static_cast<std::uint16_t>(*v));
     }

@@ -12,6 +12,7 @@
 #include "hal/memory_backends.hpp"
 #include "hal/recording_bundle.hpp"
 #include "hal/replay_backends.hpp"
+#include "results/register_map.hpp"
 
 namespace app::bus {
 namespace {
@@ -130,8 +131,13 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
     outputs = std::make_unique<hal::GpiodDigitalOutputs>(c.gpio_outputs);
   if (c.outputs == Backend::kSim) outputs = std::make_unique<hal::MemoryDigitalOutputs>();
   std::unique_ptr<hal::ModbusResultsServer> results;
-  if (c.results == Backend::kLinux)
-    results = std::make_unique<hal::ModbusResultsServer>(c.modbus_server);
+  // The probe does not run the twin: it serves the map's header (status word 0).
+  const app::results::RegisterMap results_map(c.modbus_server.word_order);
+  if (c.results == Backend::kLinux) {
+    hal::ModbusServerConfig sc = c.modbus_server;
+    sc.register_count = results_map.register_count();
+    results = std::make_unique<hal::ModbusResultsServer>(sc);
+  }
 
   // ---- configure + activate ----
   const std::string f = c.file.string();
@@ -158,9 +164,11 @@ int run_probe(const BusConfig& c, const ProbeOptions& o, std::ostream& out) {
   if (kp) check(kp->activate(), "keyphasor");
   if (results) {
     check(results->activate(), "results");
-    (void)results->publish(hal::TwinResults{});
+    hal::RegisterImage image;
+    results_map.encode(app::results::ResultsValues{}, image);
+    (void)results->publish(image);
     out << "results: Modbus server on " << c.modbus_server.bind_address << ":"
-        << results->bound_port() << ", register map v" << hal::kResultsMapVersion
+        << results->bound_port() << ", register map v" << app::results::kResultsMapVersion
         << " (status word 0: twin not running)\n";
   }
   if (outputs)

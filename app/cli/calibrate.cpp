@@ -41,6 +41,8 @@
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
 #include "model/dsp/order_tracking.hpp"
+#include "recording/bundle_check.hpp"
+#include "signal/speed_reference.hpp"
 
 namespace {
 
@@ -73,18 +75,15 @@ std::string describe(const hal::Recording& rec, const fs::path& dir, const std::
   return (dir / rec.samples_file).string() + ": channel '" + channel + "'";
 }
 
-struct SpeedSource {
-  std::string name;            // "tacho", "scada", "mesh line"
-  std::vector<double> pulses;  // [s] when tacho
-  double hss_hz = 0.0;         // [Hz] otherwise
-};
-
-SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir,
-                            const model::Kinematics& k, const std::vector<double>& point1,
-                            dsp::FeatureExtractor& fx) {
-  const double ratio = k.overall_ratio();
-  // 1. A once-per-revolution tacho on the hss.
-  for (std::size_t c = 0; c < rec.channels.size(); ++c) {
+// The recording's evidence for the speed reference (app/signal/speed_reference.hpp chooses):
+// the hss tacho's pulses, the SCADA rotor speed, point 1 for the mesh line, the operating point.
+app::signal::SpeedReference speed_reference(const hal::Recording& rec, const fs::path& dir,
+                                            const model::Kinematics& k,
+                                            const std::vector<double>& point1,
+                                            dsp::FeatureExtractor& fx) {
+  app::signal::SpeedEvidence e;
+  e.min_pulses = fx.config().revolutions + 1;
+  for (std::size_t c = 0; c < rec.channels.size() && e.hss_pulses_s.empty(); ++c) {
     const hal::BundleChannel& ch = rec.channels[c];
     if (ch.kind != "once_per_rev") continue;
     if (ch.location != "hss") {
@@ -94,17 +93,13 @@ SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir,
     }
     const std::size_t n = fx.tracker().detect_pulses(rec.samples[c].data(), rec.samples[c].size(),
                                                      rec.sample_rate_hz);
-    if (n < fx.config().revolutions + 1) {
+    if (n < e.min_pulses) {
       throw CommandError(describe(rec, dir, ch.name) + ": tacho gives " + std::to_string(n) +
-                         " pulses; the order resolution needs " +
-                         std::to_string(fx.config().revolutions + 1) +
+                         " pulses; the order resolution needs " + std::to_string(e.min_pulses) +
                          " (a once-per-revolution pulse on the hss)");
     }
-    SpeedSource s{"tacho", {}, 0.0};
-    s.pulses.assign(fx.tracker().pulse_times(), fx.tracker().pulse_times() + n);
-    return s;
+    e.hss_pulses_s.assign(fx.tracker().pulse_times(), fx.tracker().pulse_times() + n);
   }
-  // 2. SCADA rotor speed, mean over the rows that have it.
   double sum = 0.0;
   std::size_t rows = 0;
   for (const hal::BundleScadaRow& r : rec.scada) {
@@ -113,18 +108,12 @@ SpeedSource speed_reference(const hal::Recording& rec, const fs::path& dir,
       ++rows;
     }
   }
-  if (rows > 0 && sum > 0.0) return {"scada", {}, sum / static_cast<double>(rows) / 60.0 * ratio};
-  // 3. The high-speed mesh line at point1, searched ±3 % around the operating point's speed.
-  const double nominal_hz = rec.operating_point.rotor_speed_rpm / 60.0 * ratio;
-  const std::size_t stage = k.stage_count() - 1;
-  const double mesh_order = k.mesh_hz(stage, 60.0) / (60.0 / 60.0 * ratio);
-  dsp::SpectrumAnalyzer analyzer(65536);
-  std::vector<double> work(analyzer.lines());
-  const auto f =
-      dsp::estimate_shaft_hz_from_mesh(point1.data(), point1.size(), rec.sample_rate_hz, nominal_hz,
-                                       mesh_order, 0.03, analyzer, work.data());
-  if (f) return {"mesh line", {}, *f};
-  return {"operating point", {}, nominal_hz};
+  if (rows > 0) e.scada_rotor_rpm = sum / static_cast<double>(rows);
+  e.point1 = point1.data();
+  e.samples = point1.size();
+  e.sample_rate_hz = rec.sample_rate_hz;
+  e.nominal_rotor_rpm = rec.operating_point.rotor_speed_rpm;
+  return app::signal::choose_speed_reference(e, k);
 }
 
 nlohmann::json fit_json(const mc::PointIndicators& ind) {
@@ -186,14 +175,17 @@ double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& m
 
 void run(const CalibrateArgs& args) {
   const fs::path dir(args.bundle);
-  // Drivetrain first: its range validates the bundle's operating point.
-  hal::BundleReadResult read = hal::read_bundle(dir);
-  if (!read) throw CommandError(read.error.to_string());
-  const hal::Recording& rec = *read.recording;
-  std::string dt_name = args.drivetrain.empty() ? rec.drivetrain : args.drivetrain;
-  if (args.drivetrain.empty() && fs::exists(dir / rec.drivetrain))
-    dt_name = (dir / rec.drivetrain).string();
-  const model::Drivetrain drivetrain = app::config::load_drivetrain(dt_name);
+  // The bundle validation layer (app/recording/bundle_check.hpp): format, units, the
+  // turbine's range, metadata against the signal, torque from the wind when not recorded.
+  app::recording::CheckedBundle bundle;
+  try {
+    bundle = app::recording::load_bundle(dir, {args.drivetrain});
+  } catch (const app::recording::BundleCheckError& e) {
+    throw CommandError(e.what());
+  }
+  for (const auto& note : bundle.notes) std::fprintf(stderr, "calibrate: note: %s\n", note.c_str());
+  const hal::Recording& rec = bundle.recording;
+  const model::Drivetrain& drivetrain = bundle.drivetrain;
   const model::Kinematics kinematics(drivetrain);
 
   // Measurement channels, by the description's measurement points.
@@ -271,12 +263,10 @@ void run(const CalibrateArgs& args) {
     if (q != dsp::DspStatus::kOk)
       throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(q));
   }
-  const SpeedSource speed = speed_reference(rec, dir, kinematics, *wave[0], fx);
+  const app::signal::SpeedReference speed = speed_reference(rec, dir, kinematics, *wave[0], fx);
   const dsp::SpeedReference ref{speed.pulses.empty() ? nullptr : speed.pulses.data(),
                                 speed.pulses.size(), speed.hss_hz};
-  const double hss_hz = speed.pulses.size() >= 2 ? static_cast<double>(speed.pulses.size() - 1) /
-                                                       (speed.pulses.back() - speed.pulses.front())
-                                                 : speed.hss_hz;
+  const double hss_hz = speed.mean_hss_hz();
 
   std::array<dsp::PointFeatures, mc::kMeasurementPoints> measured{};
   std::array<std::vector<double>, mc::kMeasurementPoints> measured_spectrum;
@@ -308,19 +298,9 @@ void run(const CalibrateArgs& args) {
   }
 
   mc::OperatingPoint op{rec.operating_point.rotor_speed_rpm, 0.0};
-  // Mean rotor speed from the speed reference; torque as recorded (else rated share by the cube law
-  // of speed).
+  // Mean rotor speed from the speed reference; torque as recorded, else from the wind.
   op.rotor_speed_rpm = hss_hz / kinematics.overall_ratio() * 60.0;
-  if (rec.operating_point.input_torque_nm) {
-    op.input_torque_nm = *rec.operating_point.input_torque_nm;
-  } else {
-    const double r = op.rotor_speed_rpm / drivetrain.turbine.rated_rotor_speed_rpm;
-    op.input_torque_nm = drivetrain.turbine.rated_torque_nm * std::min(1.0, r * r);
-    std::fprintf(stderr,
-                 "calibrate: note: no input_torque_nm in the bundle; using %.0f N·m (rated × "
-                 "(n/n_rated)²)\n",
-                 op.input_torque_nm);
-  }
+  op.input_torque_nm = bundle.input_torque_nm;  // recorded, or the wind model's (noted above)
   calibrator->set_measurement(measured, op);
 
   const model::DynamicsParameters before = mc::with_nominal_damping(drivetrain.dynamics);
@@ -360,7 +340,7 @@ void run(const CalibrateArgs& args) {
   if (!args.quiet) {
     std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m\n",
                 dir.string().c_str(), drivetrain.name.c_str(), op.rotor_speed_rpm,
-                speed.name.c_str(), op.input_torque_nm);
+                speed.source.c_str(), op.input_torque_nm);
     std::printf("simulator: %s\n",
                 args.simulator == "rom"
                     ? "dynamics ROM (model/dynamics, simulate_rom)"
@@ -432,7 +412,7 @@ void run(const CalibrateArgs& args) {
                                                   : dir.filename().string();
     j["operating_point"] = {{"rotor_speed_rpm", op.rotor_speed_rpm},
                             {"input_torque_nm", op.input_torque_nm}};
-    j["speed_source"] = speed.name;
+    j["speed_source"] = speed.source;
     j["simulator"] = args.simulator == "rom" ? "dynamics-rom" : "lumped-stand-in";
     j["method"] = args.method;
     j["fit_before"] = fit_json(fit_before);

@@ -334,11 +334,11 @@ void run(const DamageArgs& args) {
   }
   std::printf("\n");
   std::printf(
-      "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu), no "
-      "data %zu; "
-      "gaps %zu (%.1f h missing)\n",
+      "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu, other "
+      "range %zu), no data %zu; gaps %zu (%.1f h missing)\n",
       h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time,
-      h.rejected_speed, h.rejected_wind, h.rows_no_data, h.gaps, h.gap_s / 3600.0);
+      h.rejected_speed, h.rejected_wind, h.rejected_range, h.rows_no_data, h.gaps,
+      h.gap_s / 3600.0);
   std::printf(
       "# period %.0f s; covered %.3f days (%.3f years); torque from: torque_nm %zu rows, "
       "P/(eta*omega) %zu, "
@@ -466,7 +466,8 @@ void run(const DamageArgs& args) {
                  {"rejected_nonnumeric", h.rejected_nonnumeric},
                  {"rejected_time", h.rejected_time},
                  {"rejected_speed", h.rejected_speed},
-                 {"rejected_wind", h.rejected_wind}};
+                 {"rejected_wind", h.rejected_wind},
+                 {"rejected_range", h.rejected_range}};
     j["period_s"] = h.period_s;
     j["covered_s"] = h.covered_s;
     j["first_t_s"] = h.first_t_s;

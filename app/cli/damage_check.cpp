@@ -21,9 +21,7 @@
 #include "fatigue/damage_history.hpp"
 #include "fatigue/dynamics_spectrum.hpp"
 #include "hal/scada_csv.hpp"
-#include "model/dynamics/full_model.hpp"
 #include "model/dynamics/rom.hpp"
-#include "model/dynamics/simulate.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
 
 namespace {
@@ -72,19 +70,12 @@ void run(const CheckArgs& a) {
   }
 
   // Online: the ROM stepped continuously.
-  const auto model_full = model::dynamics::build_full_model(d, {}, &error);
-  if (!model_full) throw CommandError("dynamics model: " + error);
-  const auto data =
-      model::dynamics::build_rom(*model_full, 1.0 / a.sample_rate_hz, a.cutoff_hz, &error);
+  model::dynamics::RomSettings rs;
+  rs.dt_s = 1.0 / a.sample_rate_hz;
+  rs.cutoff_hz = a.cutoff_hz;
+  const auto data = model::dynamics::build_rom(d, d.dynamics, rs, &error);
   if (!data) throw CommandError("dynamics model: " + error);
-  model::dynamics::SimulationOutputs ids;
-  model::dynamics::SimulationSettings tiny;
-  tiny.seconds = 1.0 / a.sample_rate_hz;
-  tiny.sample_rate_hz = a.sample_rate_hz;
-  tiny.rom_cutoff_hz = a.cutoff_hz;
-  if (!model::dynamics::simulate_rom(d, {10.0, 1e5}, tiny, ids, &error))
-    throw CommandError("dynamics model: " + error);
-  const app::fatigue::RomLoadConverter conv(d, channels, ids.mesh_ids, ids.bearing_ids);
+  const app::fatigue::RomLoadConverter conv(d, channels, *data);
   if (!conv.valid()) throw CommandError(conv.error());
   mf::AccumulatorConfig cfg;
   cfg.tick_s = 1.0 / a.sample_rate_hz;
@@ -98,8 +89,8 @@ void run(const CheckArgs& a) {
   const auto steps = static_cast<long long>(std::llround(a.period_s * a.sample_rate_hz));
   for (std::size_t k = 0; k < a.rows; ++k) {
     if (rows.next(row) != hal::ScadaReadResult::kRow) throw CommandError(rows.error());
-    const double rpm = row.get(hal::ScadaField::kRotorSpeed),
-                 torque = std::abs(row.get(hal::ScadaField::kTorque));
+    const double rpm = row.get(hal::ScadaQuantity::kRotorSpeed),
+                 torque = std::abs(row.get(hal::ScadaQuantity::kRotorTorque));
     const model::dynamics::RomInputs in{rpm, torque};
     if (k == 0) rom->reset(in);
     for (long long i = 0; i < steps; ++i) {

@@ -165,8 +165,8 @@ std::vector<SynthMeanRow> read_synth_means(const std::string& file) {
                          "; as Kelmarsh columns: " + reader.error());
     }
   }
-  const char* time_column = reader.column_name(hal::ScadaField::kTime).c_str();
-  const char* wind_column = reader.column_name(hal::ScadaField::kWindSpeed).c_str();
+  const char* time_column = reader.time_column_name().c_str();
+  const char* wind_column = reader.column_name(hal::ScadaQuantity::kWindSpeed).c_str();
   std::vector<SynthMeanRow> rows;
   hal::ScadaRow row;
   for (;;) {
@@ -177,11 +177,11 @@ std::vector<SynthMeanRow> read_synth_means(const std::string& file) {
       return file + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
              "), column '" + column + "': ";
     };
-    if (!row.has(hal::ScadaField::kTime)) throw CommandError(where(time_column) + "empty time");
-    if (!row.has(hal::ScadaField::kWindSpeed))
+    if (!row.has_time()) throw CommandError(where(time_column) + "empty time");
+    if (!row.has(hal::ScadaQuantity::kWindSpeed))
       throw CommandError(where(wind_column) + "empty wind speed (a turbulent row needs its mean)");
-    const double t = row.get(hal::ScadaField::kTime);
-    const double v = row.get(hal::ScadaField::kWindSpeed);
+    const double t = row.time_s();
+    const double v = row.get(hal::ScadaQuantity::kWindSpeed);
     if (v < 0.0 || v > 70.0) {
       throw CommandError(where(wind_column) + "wind speed " + synth_number(v) +
                          " m/s outside 0..70");

@@ -69,12 +69,13 @@ void run(const TorqueArgs& args) {
                                      std::fabs(e.reference_torque_nm)
                                : std::nan("");
     if (args.json) {
-      nlohmann::json j{{"row", row.row},
-                       {"t_s", number_or_null(row.get(hal::ScadaField::kTime))},
-                       {"wind_speed_mps", number_or_null(row.get(hal::ScadaField::kWindSpeed))},
-                       {"rotor_speed_rpm", number_or_null(row.get(hal::ScadaField::kRotorSpeed))},
-                       {"region", model::wind::region_name(e.load.region)},
-                       {"torque_nm", e.load.torque_nm}};
+      nlohmann::json j{
+          {"row", row.row},
+          {"t_s", number_or_null(row.time_s())},
+          {"wind_speed_mps", number_or_null(row.get(hal::ScadaQuantity::kWindSpeed))},
+          {"rotor_speed_rpm", number_or_null(row.get(hal::ScadaQuantity::kRotorSpeed))},
+          {"region", model::wind::region_name(e.load.region)},
+          {"torque_nm", e.load.torque_nm}};
       if (args.compare) {
         j["reference_nm"] = has_ref ? nlohmann::json(e.reference_torque_nm) : nullptr;
         j["estimate_nm"] = has_ref ? nlohmann::json(e.compared_torque_nm) : nullptr;
@@ -83,8 +84,8 @@ void run(const TorqueArgs& args) {
       }
       std::printf("%s%s", first ? "\n" : ",\n", j.dump().c_str());
     } else {
-      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12.0f", row.row, row.get(hal::ScadaField::kTime),
-                  row.get(hal::ScadaField::kWindSpeed), row.get(hal::ScadaField::kRotorSpeed),
+      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12.0f", row.row, row.time_s(),
+                  row.get(hal::ScadaQuantity::kWindSpeed), row.get(hal::ScadaQuantity::kRotorSpeed),
                   model::wind::region_name(e.load.region), e.load.torque_nm);
       if (args.compare && has_ref) {
         std::printf(" %12.0f %12.0f %9.2f%s", e.compared_torque_nm, e.reference_torque_nm, err_pct,

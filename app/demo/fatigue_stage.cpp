@@ -1,5 +1,5 @@
 // Demo stage "fatigue": how much life the reference drivetrain (paper-2mw) uses on the
-// built-in day. The day's 10-minute wind speeds (Kelmarsh 2019-05-12, the wind stage's
+// built-in day. The day's 10-minute wind speeds (Kelmarsh 2019-12-05, the wind stage's
 // day) drive paper-2mw's wind load model (controller steady state per row); history mode
 // (app/fatigue/damage_history.hpp) turns each row into ISO 6336 contact and root stresses
 // and ISO 281 bearing loads through the quasi-static load spectrum, counts cycles per ISO

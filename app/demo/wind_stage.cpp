@@ -1,5 +1,5 @@
 // Demo stage "wind load": the torque estimate on a built-in real day of Kelmarsh
-// SCADA (app/data/kelmarsh-day.csv, 2019-05-12, a month not used for the Cp fit)
+// SCADA (app/data/kelmarsh-day.csv, 2019-12-05, a month not used for the Cp fit)
 // with the built-in kelmarsh-mm92 description, compared on the electrical side with
 // the measured P/ω (app/wind/torque_estimate.hpp).
 #include <cmath>
@@ -33,7 +33,7 @@ void run_wind_stage(const app::demo::DemoContext& ctx) {
 
   auto rows = [&](OperatingRegion r) { return s.region_rows[static_cast<std::size_t>(r)]; };
   std::fprintf(ctx.out,
-               "Kelmarsh turbine 1 (Senvion MM92), 2019-05-12, 10-min SCADA: %zu rows\n"
+               "Kelmarsh turbine 1 (Senvion MM92), 2019-12-05, 10-min SCADA: %zu rows\n"
                "(Plumley 2022, doi:10.5281/zenodo.5841833, CC-BY-4.0)\n",
                s.rows);
   std::fprintf(ctx.out, "drivetrain %s: rated %.0f kN·m at %.1f rpm, Cp_max %.3f at λ %.2f\n",

@@ -7,13 +7,14 @@
 #include <utility>
 
 #include "model/wind/wind_load.hpp"
+#include "wind/scada_limits.hpp"
+#include "wind/torque_source.hpp"
 
 namespace app::fatigue {
 namespace {
 constexpr double kDayS = 86400.0;
 constexpr std::size_t kPeriodProbeRows = 64;
-constexpr double kPi = 3.14159265358979323846;
-using hal::ScadaField;
+using hal::ScadaQuantity;
 }  // namespace
 
 HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& drivetrain,
@@ -33,28 +34,26 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   bool day_has_data = false;
 
   const model::wind::WindLoad wind(drivetrain.turbine);
-  const double rated_rpm = drivetrain.turbine.rated_rotor_speed_rpm;
   const double rated_torque =
       drivetrain.turbine.rated_torque_nm > 0 ? drivetrain.turbine.rated_torque_nm : 1.0;
-  const double eta =
-      drivetrain.turbine.drivetrain_efficiency > 0 ? drivetrain.turbine.drivetrain_efficiency : 1.0;
   double prev_t = std::numeric_limits<double>::quiet_NaN();
 
   auto issue = [&](std::size_t row, std::string field, std::string message) {
     if (r.issues.size() < kMaxIssues)
       r.issues.push_back({row, std::move(field), std::move(message)});
   };
-  auto where = [&](const hal::ScadaRow& row, ScadaField f) {
+  auto where = [&](const hal::ScadaRow& row, const std::string& column, std::string_view key) {
     return reader.path() + ": row " + std::to_string(row.row) + " (line " +
-           std::to_string(row.line) + "), column '" + reader.column_name(f) + "' (" +
-           hal::scada_field_name(f) + ")";
+           std::to_string(row.line) + "), column '" + column + "' (" + std::string(key) + ")";
   };
-  auto reject = [&](const hal::ScadaRow& row, ScadaField f, const std::string& what,
-                    std::size_t& counter) {
+  auto reject_time = [&](const hal::ScadaRow& row, const std::string& what) {
     ++r.rows_rejected;
-    ++counter;
-    issue(row.row, hal::scada_field_name(f), where(row, f) + ": " + what + "; row skipped");
+    ++r.rejected_time;
+    issue(
+        row.row, std::string(hal::kScadaTimeKey),
+        where(row, reader.time_column_name(), hal::kScadaTimeKey) + ": " + what + "; row skipped");
   };
+  const app::wind::ScadaLimits limits(drivetrain);
   DayRecord day_record;
   auto flush_day = [&]() {
     if (!day_has_data) return;
@@ -72,72 +71,62 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   };
 
   auto process = [&](const hal::ScadaRow& row) {
-    if (!row.has(ScadaField::kTime)) {
-      reject(row, ScadaField::kTime, "time missing", r.rejected_time);
+    if (!row.has_time()) {
+      reject_time(row, "time missing");
       return;
     }
-    const double t = row.get(ScadaField::kTime);
+    const double t = row.time_s();
     if (!std::isnan(prev_t) && !(t > prev_t)) {
-      reject(row, ScadaField::kTime,
-             t == prev_t ? "duplicate timestamp" : "timestamp before the previous row's (unsorted)",
-             r.rejected_time);
+      reject_time(row, t == prev_t ? "duplicate timestamp"
+                                   : "timestamp before the previous row's (unsorted)");
       return;
     }
-    const TorqueFrom from = options.torque_from;
-    const bool has_speed = row.has(ScadaField::kRotorSpeed) && from != TorqueFrom::kWindSteady;
-    double rpm = has_speed ? row.get(ScadaField::kRotorSpeed) : 0.0;
-    if (has_speed && rpm < -kSpeedOffsetRpm) {
-      reject(row, ScadaField::kRotorSpeed, "negative rotor speed " + std::to_string(rpm) + " rpm",
-             r.rejected_speed);
-      return;
-    }
-    if (has_speed && rated_rpm > 0 && rpm > kMaxSpeedFactor * rated_rpm) {
-      reject(row, ScadaField::kRotorSpeed,
-             "rotor speed " + std::to_string(rpm) + " rpm above 1.5 × rated", r.rejected_speed);
-      return;
-    }
-    rpm = std::max(rpm, 0.0);
-    if (row.has(ScadaField::kWindSpeed) && row.get(ScadaField::kWindSpeed) < 0.0) {
-      reject(row, ScadaField::kWindSpeed, "negative wind speed", r.rejected_wind);
-      return;
-    }
-    // Torque source, in order of preference (see header).
-    double torque = 0.0;
-    const bool any = from == TorqueFrom::kAuto;
-    const bool use_wind = any || from == TorqueFrom::kWind || from == TorqueFrom::kWindSteady;
-    if ((any || from == TorqueFrom::kTorque) && row.has(ScadaField::kTorque)) {
-      torque = std::abs(row.get(ScadaField::kTorque));
-      ++r.torque_rows_measured;
-    } else if ((any || from == TorqueFrom::kPower) && row.has(ScadaField::kPower) && has_speed &&
-               rpm > 0.1) {
-      const double omega = rpm * 2.0 * kPi / 60.0;
-      torque = std::max(0.0, row.get(ScadaField::kPower)) * 1e3 / (eta * omega);
-      ++r.torque_rows_power;
-    } else if (use_wind && row.has(ScadaField::kWindSpeed)) {
-      const double v = row.get(ScadaField::kWindSpeed);
-      model::wind::WindLoadOutput out;
-      if (has_speed) {
-        const bool has_pitch = row.has(ScadaField::kPitch);
-        out = wind.with_rotor_speed(v, rpm * 2.0 * kPi / 60.0,
-                                    has_pitch ? row.get(ScadaField::kPitch) * kPi / 180.0 : 0.0,
-                                    has_pitch);
-      } else {
-        out = wind.steady_state(v);
-        rpm = out.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
+    // Plausibility (app/wind/scada_limits.hpp): one implausible value rejects the row.
+    app::wind::ScadaValues values;
+    for (std::size_t i = 0; i < hal::kScadaQuantityCount; ++i) {
+      const auto q = static_cast<ScadaQuantity>(i);
+      if (!row.has(q)) continue;
+      if (q == ScadaQuantity::kRotorSpeed && options.torque_from == TorqueFrom::kWindSteady) {
+        continue;  // ignored: the wind model's steady state gives the speed
       }
-      torque = std::abs(out.torque_nm);
-      ++r.torque_rows_wind;
-    } else {
-      ++r.rows_no_data;
-      return;
+      if (const std::string why = limits.why_implausible(q, row.get(q)); !why.empty()) {
+        ++r.rows_rejected;
+        ++(q == ScadaQuantity::kRotorSpeed  ? r.rejected_speed
+           : q == ScadaQuantity::kWindSpeed ? r.rejected_wind
+                                            : r.rejected_range);
+        issue(row.row, std::string(hal::scada_quantity_key(q)),
+              where(row, reader.column_name(q), hal::scada_quantity_key(q)) + ": " + why +
+                  "; row skipped");
+        return;
+      }
+      values.set(q, row.get(q));
+    }
+    // Torque source, in order of preference (app/wind/torque_source.hpp).
+    const app::wind::RotorTorque rt =
+        app::wind::rotor_torque(drivetrain.turbine, wind, values, options.torque_from);
+    const double torque = rt.torque_nm;
+    const double rpm = rt.rotor_speed_rpm;
+    switch (rt.source) {
+      case app::wind::TorqueSource::kMeasuredTorque:
+        ++r.torque_rows_measured;
+        break;
+      case app::wind::TorqueSource::kPower:
+        ++r.torque_rows_power;
+        break;
+      case app::wind::TorqueSource::kWind:
+        ++r.torque_rows_wind;
+        break;
+      case app::wind::TorqueSource::kNone:
+        ++r.rows_no_data;
+        return;
     }
     // Gap before this row?
     if (!std::isnan(prev_t) && t - prev_t > kGapFactor * r.period_s) {
       ++r.gaps;
       r.gap_s += t - prev_t - r.period_s;
       issue(row.row, "t_s",
-            where(row, ScadaField::kTime) + ": gap of " + std::to_string(t - prev_t) +
-                " s before this row (not extrapolated)");
+            where(row, reader.time_column_name(), hal::kScadaTimeKey) + ": gap of " +
+                std::to_string(t - prev_t) + " s before this row (not extrapolated)");
     }
     if (r.rows_used == 0) r.first_t_s = t;
     r.last_t_s = t;
@@ -151,8 +140,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     }
     day_has_data = true;
     day_record.covered_s += r.period_s;
-    if (row.has(ScadaField::kWindSpeed)) {
-      day_record.wind_sum_mps += row.get(ScadaField::kWindSpeed);
+    if (row.has(ScadaQuantity::kWindSpeed)) {
+      day_record.wind_sum_mps += row.get(ScadaQuantity::kWindSpeed);
       ++day_record.wind_rows;
     }
     const double revs = rpm / 60.0 * r.period_s;
@@ -199,8 +188,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   if (!(r.period_s > 0.0)) {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 1; i < probe.size(); ++i) {
-      if (probe[i].has(ScadaField::kTime) && probe[i - 1].has(ScadaField::kTime)) {
-        const double dt = probe[i].get(ScadaField::kTime) - probe[i - 1].get(ScadaField::kTime);
+      if (probe[i].has_time() && probe[i - 1].has_time()) {
+        const double dt = probe[i].time_s() - probe[i - 1].time_s();
         if (dt > 0.0) best = std::min(best, dt);
       }
     }

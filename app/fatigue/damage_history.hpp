@@ -7,18 +7,19 @@
 // Per row: rotor torque T and speed n, then D_c += d_c(T, n)·n/60·Δt for every channel,
 // Δt = the SCADA period (each row stands for one period; `--period`, or detected as the
 // smallest positive time step among the first rows).
-//   T: measured torque_nm if present; else P_el/(η·ω) from power_kw and rotor_speed_rpm
-//      (ω > 0); else the wind load model (model/wind) from wind speed (with the measured
-//      rotor speed and pitch where present, otherwise the controller's steady state).
-//   n: measured rotor_speed_rpm; else the wind model's steady-state speed.
+//   T, n: app/wind/torque_source.hpp, the one torque source of the project: measured
+//      torque_nm if present; else (P_el + P_0)/(η·ω) from power_kw and rotor_speed_rpm;
+//      else the wind load model (model/wind) from wind speed (with the measured rotor
+//      speed and pitch where present, otherwise the controller's steady state, which then
+//      also gives n).
 //
 // Row handling (documented contract; every case is counted, the first kMaxIssues listed
 // with data row number and column):
 //   rejected (skipped; never touches the damage; makes the command exit non-zero):
 //     a cell that is not a finite number (reported by the reader), t_s missing,
 //     t_s not after the previous accepted row (duplicate or unsorted),
-//     rotor_speed_rpm < −1 (negative speed; −1..0 is read as 0, sensor offset),
-//     rotor_speed_rpm above 1.5 × rated, negative wind speed.
+//     any value outside its plausibility limit (app/wind/scada_limits.hpp: e.g. rotor
+//     speed below −1 or above 1.5 × rated, negative wind speed, power beyond twice rated).
 //   no data (skipped, not an error): no torque, power or wind value in the row.
 //   gap (reported, not an error): t_s more than 1.5 periods after the previous row; the
 //     missing time is not extrapolated (damage covers recorded time only).
@@ -35,13 +36,12 @@
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
 #include "model/fatigue/rul.hpp"
+#include "wind/torque_source.hpp"
 
 namespace app::fatigue {
 
 inline constexpr std::size_t kMaxIssues = 50;
 inline constexpr double kGapFactor = 1.5;       // [-] × period
-inline constexpr double kSpeedOffsetRpm = 1.0;  // [rpm] negative speeds down to −1 read as 0
-inline constexpr double kMaxSpeedFactor = 1.5;  // [-] × rated rotor speed
 inline constexpr std::size_t kTorqueBins = 12;  // damage by torque, 0.1·rated wide, last open
 
 struct HistoryIssue {
@@ -50,11 +50,8 @@ struct HistoryIssue {
   std::string message;  // full text with file, row and column
 };
 
-/// Where a row's rotor torque comes from. kAuto: the order in the file comment. The
-/// others force one source (a row without it is "no data"); kWindSteady also takes the
-/// rotor speed from the wind model's steady state, ignoring the measured one (to drive
-/// one turbine's drivetrain with another site's wind).
-enum class TorqueFrom { kAuto, kTorque, kPower, kWind, kWindSteady };
+/// Where a row's rotor torque comes from (app/wind/torque_source.hpp).
+using TorqueFrom = app::wind::TorquePreference;
 
 struct HistoryOptions {
   TorqueFrom torque_from = TorqueFrom::kAuto;
@@ -94,6 +91,7 @@ struct HistoryResult {
   std::vector<HistoryIssue> issues;            // first kMaxIssues
   std::vector<DayRecord> days;  // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
+  std::size_t rejected_range = 0;  // another quantity outside its plausibility limit
 };
 
 /// Order statistics of a sample. Quantiles interpolate linearly between order statistics

@@ -13,6 +13,20 @@ namespace app::fatigue {
 
 namespace mf = model::fatigue;
 
+namespace {
+std::vector<std::string> ids_of(const model::dynamics::RomId* ids, int count) {
+  std::vector<std::string> out;
+  for (int i = 0; i < count; ++i) out.emplace_back(ids[i].view());
+  return out;
+}
+}  // namespace
+
+RomLoadConverter::RomLoadConverter(const model::Drivetrain& drivetrain,
+                                   const mf::ChannelSet& channels,
+                                   const model::dynamics::RomData& rom)
+    : RomLoadConverter(drivetrain, channels, ids_of(rom.mesh_ids.data(), rom.mesh_count),
+                       ids_of(rom.bearing_ids.data(), rom.bearing_count)) {}
+
 RomLoadConverter::RomLoadConverter(const model::Drivetrain& drivetrain,
                                    const mf::ChannelSet& channels,
                                    const std::vector<std::string>& rom_mesh_ids,

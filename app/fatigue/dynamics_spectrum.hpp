@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "model/drivetrain/description.hpp"
+#include "model/dynamics/rom.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
 
@@ -55,6 +56,9 @@ class RomLoadConverter {
   RomLoadConverter(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
                    const std::vector<std::string>& rom_mesh_ids,
                    const std::vector<std::string>& rom_bearing_ids);
+  /// The same with the ids the ROM carries (RomData::mesh_ids, bearing_ids).
+  RomLoadConverter(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
+                   const model::dynamics::RomData& rom);
   bool valid() const { return error_.empty(); }
   const std::string& error() const { return error_; }
   /// @param mesh_force_n ROM line-of-action forces [N]; fx, fy ROM bearing forces [N];

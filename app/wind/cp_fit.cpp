@@ -144,16 +144,16 @@ model::CpSurface textbook_cp_surface() {
 
 FitRow fit_row_of(const hal::ScadaRow& row, const RowEstimate& e) {
   constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
-  FitRow r{row.get(hal::ScadaField::kWindSpeed),
-           row.get(hal::ScadaField::kRotorSpeed) * kRpmToRadS,
+  FitRow r{row.get(hal::ScadaQuantity::kWindSpeed),
+           row.get(hal::ScadaQuantity::kRotorSpeed) * kRpmToRadS,
            0.0,  // pitch: see TorqueEstimator (curtailment filter only)
            false,
            e.reference_torque_nm,
            e.reference == ReferenceKind::kPowerOverSpeed,
            {}};
   if (e.density_measured) r.inflow.air_density_kg_m3 = e.air_density_kg_m3;
-  if (row.has(hal::ScadaField::kYawError)) {
-    r.inflow.yaw_error_rad = row.get(hal::ScadaField::kYawError) * kDegToRad;
+  if (row.has(hal::ScadaQuantity::kYawError)) {
+    r.inflow.yaw_error_rad = row.get(hal::ScadaQuantity::kYawError) * kDegToRad;
   }
   return r;
 }

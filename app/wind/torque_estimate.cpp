@@ -13,19 +13,14 @@ namespace app::wind {
 namespace {
 constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-using hal::ScadaField;
+using hal::ScadaQuantity;
 using model::wind::OperatingRegion;
 
-std::string where(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row, ScadaField f) {
+std::string where(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row, ScadaQuantity f) {
   return reader.path() + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
          "), column '" + reader.column_name(f) + "'";
 }
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
 }  // namespace
 
 TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain, bool use_measured_speed,
@@ -34,60 +29,35 @@ TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain, bool use_m
 
 TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain,
                                  const EstimatorOptions& options)
-    : turbine_(drivetrain.turbine), load_(drivetrain.turbine), options_(options) {}
+    : turbine_(drivetrain.turbine),
+      limits_(drivetrain),
+      load_(drivetrain.turbine),
+      options_(options) {}
 
 bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row,
                                RowEstimate& out, std::string* error) const {
   out = RowEstimate{};
   // Plausibility for this turbine (hal only checks that values are finite numbers).
-  const bool has_wind = row.has(ScadaField::kWindSpeed);
-  const double wind = row.get(ScadaField::kWindSpeed);
-  if (has_wind && (wind < 0.0 || wind > kMaxPlausibleWindMps)) {
-    *error = where(reader, row, ScadaField::kWindSpeed) + ": " + num(wind) + " m/s is " +
-             (wind < 0.0 ? "negative; a wind speed is >= 0"
-                         : "beyond any plausible 10-min wind speed (<= 75 m/s)");
-    return false;
+  for (std::size_t i = 0; i < hal::kScadaQuantityCount; ++i) {
+    const auto q = static_cast<ScadaQuantity>(i);
+    if (!row.has(q)) continue;
+    if (const std::string why = limits_.why_implausible(q, row.get(q)); !why.empty()) {
+      *error = where(reader, row, q) + ": " + why;
+      return false;
+    }
   }
-  const bool has_speed = row.has(ScadaField::kRotorSpeed);
-  const double rpm = row.get(ScadaField::kRotorSpeed);
-  const double max_rpm = kMaxPlausibleSpeedFactor * turbine_.rated_rotor_speed_rpm;
-  if (has_speed && (rpm < kMinPlausibleRotorRpm || rpm > max_rpm)) {
-    *error = where(reader, row, ScadaField::kRotorSpeed) + ": " + num(rpm) +
-             " rpm is beyond any plausible rotor speed for this turbine (" +
-             num(kMinPlausibleRotorRpm) + " to " + num(max_rpm) + " rpm = 1.5 x rated)";
-    return false;
-  }
-  const bool has_pitch = row.has(ScadaField::kPitch);
-  const double pitch_deg = row.get(ScadaField::kPitch);
-  if (has_pitch && (pitch_deg < -15.0 || pitch_deg > 120.0)) {
-    *error = where(reader, row, ScadaField::kPitch) + ": " + num(pitch_deg) +
-             " deg is outside the plausible blade pitch range -15 to 120 deg";
-    return false;
-  }
-  const bool has_power = row.has(ScadaField::kPower);
-  const double power_kw = row.get(ScadaField::kPower);
-  const double max_kw = 2.0 * turbine_.rated_power_w / 1e3;
-  if (has_power && std::fabs(power_kw) > max_kw) {
-    *error = where(reader, row, ScadaField::kPower) + ": " + num(power_kw) +
-             " kW is beyond twice the rated power (" + num(max_kw) + " kW)";
-    return false;
-  }
-  const bool has_temperature = row.has(ScadaField::kAmbientTemperature);
-  const double temperature_c = row.get(ScadaField::kAmbientTemperature);
-  if (has_temperature &&
-      (temperature_c < kMinPlausibleTemperatureC || temperature_c > kMaxPlausibleTemperatureC)) {
-    *error = where(reader, row, ScadaField::kAmbientTemperature) + ": " + num(temperature_c) +
-             " degC is outside the plausible ambient range " + num(kMinPlausibleTemperatureC) +
-             " to " + num(kMaxPlausibleTemperatureC) + " degC";
-    return false;
-  }
-  const bool has_yaw = row.has(ScadaField::kYawError);
-  const double yaw_deg = row.get(ScadaField::kYawError);
-  if (has_yaw && std::fabs(yaw_deg) > kMaxPlausibleYawErrorDeg) {
-    *error = where(reader, row, ScadaField::kYawError) + ": " + num(yaw_deg) +
-             " deg is not an angle difference (expected -180 to 180 deg)";
-    return false;
-  }
+  const bool has_wind = row.has(ScadaQuantity::kWindSpeed);
+  const double wind = row.get(ScadaQuantity::kWindSpeed);
+  const bool has_speed = row.has(ScadaQuantity::kRotorSpeed);
+  const double rpm = row.get(ScadaQuantity::kRotorSpeed);
+  const bool has_pitch = row.has(ScadaQuantity::kPitch);
+  const double pitch_deg = row.get(ScadaQuantity::kPitch);
+  const bool has_power = row.has(ScadaQuantity::kPower);
+  const double power_kw = row.get(ScadaQuantity::kPower);
+  const bool has_temperature = row.has(ScadaQuantity::kAmbientTemperature);
+  const double temperature_c = row.get(ScadaQuantity::kAmbientTemperature);
+  const bool has_yaw = row.has(ScadaQuantity::kYawError);
+  const double yaw_deg = row.get(ScadaQuantity::kYawError);
   if (!has_wind) {
     out.excluded_because = "no wind speed";
     return true;
@@ -118,9 +88,9 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
   }
 
   // Reference torque, and the estimate on the same side of the drivetrain.
-  if (row.has(ScadaField::kTorque)) {
+  if (row.has(ScadaQuantity::kRotorTorque)) {
     out.reference = ReferenceKind::kMeasuredTorque;
-    out.reference_torque_nm = row.get(ScadaField::kTorque);
+    out.reference_torque_nm = row.get(ScadaQuantity::kRotorTorque);
     out.compared_torque_nm = out.load.torque_nm;
   } else if (has_power && has_speed && speed_rad_s > 0.0) {
     out.reference = ReferenceKind::kPowerOverSpeed;
@@ -231,8 +201,8 @@ TorqueSummary run_torque(
     const hal::ScadaReadResult r = reader.next(row);
     if (r == hal::ScadaReadResult::kEnd) break;
     if (r == hal::ScadaReadResult::kError) throw std::runtime_error(reader.error());
-    if (row.has(ScadaField::kTime) && !window.contains(row.get(ScadaField::kTime))) continue;
-    if (!row.has(ScadaField::kTime) && (!std::isnan(window.from_s) || !std::isnan(window.to_s))) {
+    if (row.has_time() && !window.contains(row.time_s())) continue;
+    if (!row.has_time() && (!std::isnan(window.from_s) || !std::isnan(window.to_s))) {
       continue;
     }
     if (!estimator.estimate(reader, row, estimate, &error)) throw std::runtime_error(error);

@@ -1,8 +1,8 @@
 #pragma once
 // Rotor input torque from SCADA rows: the app-side glue between hal's SCADA
 // reader and model::wind::WindLoad, shared by `drivetwin torque`, `demo` and
-// `fit-cp`. It checks turbine-dependent plausibility (negative wind speed,
-// rotor speed beyond any plausible range), derives the reference torque the
+// `fit-cp`. It checks turbine-dependent plausibility (wind/scada_limits.hpp, the
+// limits every SCADA reader uses), derives the reference torque the
 // estimate is compared with, decides which rows count as "in operation", and
 // accumulates MAPE per operating region.
 //
@@ -12,8 +12,9 @@
 //   P_el / ω: measured electrical power over measured rotor speed, the measured
 //   torque on the electrical side. The estimate is then converted to that side,
 //   (η·T·ω − P_0)/ω (model/wind/corrections.hpp: drivetrain_efficiency η,
-//   no-load loss P_0), so that the MAPE's denominator is the measurement. With
-//   P_0 = 0 this is the same MAPE as T against P/(η·ω).
+//   no-load loss P_0), so that the MAPE's denominator is the measurement: the
+//   exact inverse of the rotor torque the power source gives everywhere else,
+//   (P_el + P_0)/(η·ω) (wind/torque_source.hpp).
 //
 // Inflow (model::wind::Inflow): with an ambient temperature column the air
 // density is ρ(T, site altitude) (model/wind/corrections.hpp), else the
@@ -42,17 +43,12 @@
 #include "hal/scada_csv.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
+#include "wind/scada_limits.hpp"
 
 namespace app::wind {
 
-inline constexpr double kCurtailPitchDeg = 3.0;          // [deg]
-inline constexpr double kCurtailPowerFraction = 0.5;     // [-] of rated power, above rated wind
-inline constexpr double kMaxPlausibleWindMps = 75.0;     // [m/s] above any recorded 10-min mean
-inline constexpr double kMaxPlausibleSpeedFactor = 1.5;  // [-] × rated rotor speed
-inline constexpr double kMinPlausibleRotorRpm = -1.0;    // [rpm] small negatives are sensor offset
-inline constexpr double kMinPlausibleTemperatureC = -60.0;  // [°C] below any nacelle ambient record
-inline constexpr double kMaxPlausibleTemperatureC = 60.0;   // [°C]
-inline constexpr double kMaxPlausibleYawErrorDeg = 180.0;  // [deg] an angle difference, |γ| ≤ 180
+inline constexpr double kCurtailPitchDeg = 3.0;       // [deg]
+inline constexpr double kCurtailPowerFraction = 0.5;  // [-] of rated power, above rated wind
 
 enum class ReferenceKind { kNone, kMeasuredTorque, kPowerOverSpeed };
 
@@ -101,6 +97,7 @@ class TorqueEstimator {
 
  private:
   model::Turbine turbine_;
+  ScadaLimits limits_;
   model::wind::WindLoad load_;
   EstimatorOptions options_;
 };

@@ -83,12 +83,21 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
 
   // 3. results image
-  hal::TwinResults r;
-  std::memcpy(&r.rotor_torque_nm, data, std::min(size, sizeof(float)));
-  r.sequence = b.u16();
-  hal::ResultsImage img{};
-  hal::encode_results(
-      r, (b.u8() & 1) ? hal::WordOrder::kLowWordFirst : hal::WordOrder::kHighWordFirst, img);
-  if (img[hal::results_reg::kMapVersion] != hal::kResultsMapVersion) std::abort();
+  // 3. a value put into a register image reads back (or is refused) whatever it is
+  float f = 0.0f;
+  std::memcpy(&f, data, std::min(size, sizeof(float)));
+  hal::RegisterImage img;
+  img.count = static_cast<std::uint16_t>(b.u16() % (hal::kMaxImageRegisters + 1));
+  const auto address = static_cast<std::uint16_t>(b.u16() % hal::kMaxImageRegisters);
+  const hal::WordOrder order =
+      (b.u8() & 1) ? hal::WordOrder::kLowWordFirst : hal::WordOrder::kHighWordFirst;
+  if (hal::put_register(img, address, hal::RegisterType::kFloat32, order, f)) {
+    if (std::size_t{address} + 2 > img.count) std::abort();  // wrote outside the image
+    hal::RegisterSpec spec;
+    spec.type = hal::RegisterType::kFloat32;
+    spec.word_order = order;
+    const auto back = hal::decode_register(spec, &img.words[address], 2);
+    if (!back || *back != static_cast<double>(f)) std::abort();
+  }
   return 0;
 }

@@ -4,12 +4,12 @@
 A purely empirical estimator with no physics: the measured power binned in wind
 speed and rotor speed on January-March 2019, each bin's value the 1/P-weighted
 median (the constant that minimises the MAPE within the bin), applied to
-April-June 2019. Rows in operation are selected exactly as app/wind/torque_estimate.hpp
+April-December 2019 (the seasons are in the test). Rows in operation are selected exactly as app/wind/torque_estimate.hpp
 does (wind in [3, 24) m/s, rotor >= 0.9 x 7.8 rpm, P > 0, pitch <= 3 deg below
 12.5 m/s, P >= 50 % rated above). Comparing P is comparing P/omega: the same
 measured omega divides both.
 
-Usage: python3 tools/wind_floor/binned_power_curve.py ../shared/data/kelmarsh/kelmarsh-t1-2019-h1.csv
+Usage: python3 tools/wind_floor/binned_power_curve.py ../shared/data/kelmarsh/kelmarsh-t1-2019.csv
 Host tool, standard library only (Debian's python3).
 """
 import collections
@@ -82,8 +82,8 @@ def run(fit, test, dv, drpm):
 def main():
     rows = [d for d in load(sys.argv[1]) if in_operation(d)]
     fit = [d for d in rows if d["t"] < "2019-04-01"]
-    test = [d for d in rows if "2019-04-01" <= d["t"] < "2019-07-01"]
-    print("bins (wind m/s x rotor rpm)   fitting Jan-Mar   held-out Apr-Jun")
+    test = [d for d in rows if "2019-04-01" <= d["t"] < "2020-01-01"]
+    print("bins (wind m/s x rotor rpm)   fitting Jan-Mar   held-out Apr-Dec")
     for dv, drpm in ((0.5, 100.0), (0.25, 100.0), (0.5, 0.5), (0.5, 0.25), (0.25, 0.25)):
         (f, nf), (t, nt) = run(fit, test, dv, drpm)
         label = f"{dv} x {'-' if drpm > 50 else drpm}"

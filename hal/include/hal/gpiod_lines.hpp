@@ -18,6 +18,7 @@
 
 #include "hal/digital_outputs.hpp"
 #include "hal/keyphasor.hpp"
+#include "hal/thread.hpp"
 
 namespace hal {
 
@@ -32,6 +33,8 @@ struct GpiodKeyphasorConfig {
   bool both_edges = false;  // false: rising edges only
   bool active_low = false;
   std::string consumer = "drivetwin-keyphasor";
+  // The edge-event thread (app/ passes its thread table's entry).
+  ThreadAttributes thread{"dt-keyphasor", SchedPolicy::kOther, 0, -1, 0};
 };
 
 /// Edges the queue between the event thread and the RT thread holds; when full
@@ -51,6 +54,8 @@ class GpiodKeyphasor final : public Keyphasor {
   Status deactivate() override;
   LifecycleState state() const override;
   Status read(KeyphasorEdge& out) override;
+  /// What the OS granted the I/O thread (valid after configure(); warning names refusals).
+  const ThreadReport& thread_report() const;
 
  private:
   struct Impl;

@@ -2,7 +2,7 @@
 // Backends for absent hardware (the "null" backends of the style guide) that
 // remember what they were given, for tests, replays and `--sim` runs: digital
 // outputs with the same safe-state semantics as the GPIO backend, and a results
-// sink holding the last results.
+// sink holding the last register image.
 //
 // Thread context: as the interfaces; the accessors are for the same thread
 // (tests) or after the loop has stopped.
@@ -74,18 +74,18 @@ class MemoryResultsSink final : public ResultsSink {
     return Status::kOk;
   }
   LifecycleState state() const override { return state_; }
-  Status publish(const TwinResults& r) override {
+  Status publish(const RegisterImage& image) override {
     if (state_ != LifecycleState::kActive) return Status::kWrongState;
-    last_ = r;
+    last_ = image;
     ++published_;
     return Status::kOk;
   }
-  const TwinResults& last() const { return last_; }
+  const RegisterImage& last() const { return last_; }
   std::uint64_t published() const { return published_; }
 
  private:
   LifecycleState state_ = LifecycleState::kUnconfigured;
-  TwinResults last_{};
+  RegisterImage last_{};
   std::uint64_t published_ = 0;
 };
 

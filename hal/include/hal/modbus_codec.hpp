@@ -1,7 +1,7 @@
 #pragma once
 // Modbus register encoding and decoding: pure functions, no libmodbus types.
 // Used by the SCADA client (controller registers → quantities) and by the
-// results server (TwinResults → the register image of hal/README.md, map v1).
+// application when it fills the results register image (its register map).
 //
 // Word order: a 32-bit value occupies two 16-bit registers. kHighWordFirst
 // ("ABCD", the Modbus convention and the default) puts the most significant
@@ -94,38 +94,9 @@ std::size_t plan_reads(const ScadaRegisterMap& map, std::uint16_t max_hole,
 ///         (count for the invalid_mask register).
 std::optional<std::size_t> validate_map(const ScadaRegisterMap& map);
 
-// ---- The results register map (server side), version 1 --------------------
-// Layout (0-based addresses, same image served as holding (FC 03) and input
-// (FC 04) registers; 32-bit values in the server's word order, float32 = IEEE 754):
-inline constexpr std::uint16_t kResultsMapVersion = 1;
-namespace results_reg {
-inline constexpr std::uint16_t kMapVersion = 0;       // uint16: kResultsMapVersion
-inline constexpr std::uint16_t kStatusWord = 1;       // uint16: StatusBit
-inline constexpr std::uint16_t kFaultWord = 2;        // uint16
-inline constexpr std::uint16_t kCalibrationWord = 3;  // uint16
-inline constexpr std::uint16_t kSequence = 4;         // uint32 (4-5)
-inline constexpr std::uint16_t kStampS = 6;           // uint32 (6-7) [s] loop time of the results
-inline constexpr std::uint16_t kRotorTorque = 8;      // float32 [N·m]
-inline constexpr std::uint16_t kRotorSpeed = 10;      // float32 [rpm]
-inline constexpr std::uint16_t kWindSpeed = 12;       // float32 [m/s]
-inline constexpr std::uint16_t kHssSpeed = 14;        // float32 [rpm]
-inline constexpr std::uint16_t kCalibrationResidual = 16;  // float32 [-]
-inline constexpr std::uint16_t kComponents =
-    20;  // per component c: 20 + 6c: load, damage, rul_h (float32 each)
-inline constexpr std::uint16_t kComponentStride = 6;
-inline constexpr std::uint16_t kIndicators =
-    kComponents +
-    kComponentStride * static_cast<std::uint16_t>(kResultComponentCount);  // float32 each
-inline constexpr std::uint16_t kCommands =
-    kIndicators + 2 * static_cast<std::uint16_t>(
-                          kResultIndicatorCount);  // 16 command registers (writable if configured)
-inline constexpr std::uint16_t kCommandCount = 16;
-inline constexpr std::uint16_t kCount = kCommands + kCommandCount;  // total registers in the image
-}  // namespace results_reg
-
-using ResultsImage = std::array<std::uint16_t, results_reg::kCount>;
-
-/// Fills the read-only part of the image from `results` (command registers untouched).
-void encode_results(const TwinResults& results, WordOrder order, ResultsImage& image);
+/// Writes `value` as `type` (word order `order`, scale 1, offset 0) at `address` of `image`.
+/// @return false (nothing written) when it does not fit the type or the image's count.
+bool put_register(RegisterImage& image, std::uint16_t address, RegisterType type, WordOrder order,
+                  double value);
 
 }  // namespace hal

@@ -1,12 +1,15 @@
 #pragma once
-// Modbus TCP server exposing the twin's results (hal/README.md, "Results
-// register map", version 1) to the turbine controller / SCADA.
+// Modbus TCP server exposing a register image (hal/results_sink.hpp) to the turbine
+// controller / SCADA. What the registers mean is the application's register map; the
+// server only knows how many registers there are and which block clients may write.
 //
-// - Read-only by default: FC 03 and FC 04 read the results image; writes are
-//   refused with exception 01 (illegal function). When `writable` lists command
-//   registers, FC 06/16 may write those and only those (others: exception 02,
-//   illegal data address). Coil/discrete functions: exception 01.
-// - Addresses outside the image: exception 02.
+// - Read-only by default: FC 03 and FC 04 read the image (the same registers as
+//   holding and input registers); writes are refused with exception 01 (illegal
+//   function). When `writable` lists registers of the command block, FC 06/16 may
+//   write those and only those (others: exception 02, illegal data address). The
+//   command block is served from what clients wrote, not from the published image.
+//   Coil/discrete functions: exception 01.
+// - Addresses at or beyond register_count: exception 02.
 // - Optional allow-list of client IPv4 addresses; others are disconnected on accept.
 // - At most max_connections clients; further connections are accepted and
 //   closed at once. A client that sends a malformed frame (bad MBAP header) or
@@ -26,6 +29,7 @@
 
 #include "hal/modbus_codec.hpp"
 #include "hal/results_sink.hpp"
+#include "hal/thread.hpp"
 
 namespace hal {
 
@@ -36,13 +40,23 @@ struct ModbusServerConfig {
   WordOrder word_order = WordOrder::kHighWordFirst;
   int max_connections = 4;
   std::vector<std::string> allow;       // client IPv4 addresses; empty = anyone
-  std::vector<std::uint16_t> writable;  // command registers (absolute addresses) clients may write
+  std::uint16_t register_count = 0;     // registers served (1..kMaxImageRegisters)
+  std::uint16_t command_start = 0;      // first register of the command block
+  std::uint16_t command_count = 0;      // registers in it (≤ kMaxCommandRegisters; 0: none)
+  std::vector<std::uint16_t> writable;  // registers (absolute addresses, inside the command
+                                        // block) clients may write
   std::chrono::milliseconds idle_timeout{60000};  // close a connection silent for this long
+  // The server thread (app/ passes its thread table's entry).
+  ThreadAttributes thread{"dt-results", SchedPolicy::kOther, 0, -1, 0};
 };
 
-/// What clients wrote into the command registers (last values).
+/// Registers a command block can have.
+inline constexpr std::size_t kMaxCommandRegisters = 64;
+
+/// What clients wrote into the command registers (last values; values[k] is register
+/// command_start + k).
 struct ModbusCommands {
-  std::array<std::uint16_t, results_reg::kCommandCount> values{};
+  std::array<std::uint16_t, kMaxCommandRegisters> values{};
   std::uint32_t writes = 0;  // accepted write requests so far
 };
 
@@ -70,11 +84,13 @@ class ModbusResultsServer final : public ResultsSink {
   /// Stops answering, closes every client connection; keeps the listening socket.
   Status deactivate() override;
   LifecycleState state() const override;
-  Status publish(const TwinResults& results) override;
+  Status publish(const RegisterImage& image) override;
 
   std::uint16_t bound_port() const;
   ModbusCommands commands() const;
   ModbusServerStats stats() const;
+  /// What the OS granted the I/O thread (valid after configure(); warning names refusals).
+  const ThreadReport& thread_report() const;
 
  private:
   struct Impl;

@@ -19,6 +19,7 @@
 #include "hal/clock.hpp"
 #include "hal/modbus_codec.hpp"
 #include "hal/scada_source.hpp"
+#include "hal/thread.hpp"
 
 namespace hal {
 
@@ -43,6 +44,8 @@ struct ModbusClientConfig {
   std::chrono::milliseconds stale_after{3000};  // data older than this → kStale
   std::uint16_t max_hole = 8;                   // registers read across to merge two reads
   ScadaRegisterMap map;
+  // The poll thread (app/ passes its thread table's entry).
+  ThreadAttributes thread{"dt-scada", SchedPolicy::kOther, 0, -1, 0};
 };
 
 class ModbusScadaSource final : public ScadaSource {
@@ -63,6 +66,8 @@ class ModbusScadaSource final : public ScadaSource {
 
   /// True while the poll thread holds a working connection (for diagnostics).
   bool connected() const;
+  /// What the OS granted the I/O thread (valid after configure(); warning names refusals).
+  const ThreadReport& thread_report() const;
 
  private:
   struct Impl;

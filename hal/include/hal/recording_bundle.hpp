@@ -87,10 +87,35 @@ struct BundleError {
 struct BundleReadResult {
   std::optional<Recording> recording;
   BundleError error;  // meaningful only when !recording
+  /// What read_bundle changed on the way in, one printable line each (unit conversions,
+  /// e.g. "channels[0] 'point1': converted from g to m/s^2 (x 9.80665)").
+  std::vector<std::string> notes;
   explicit operator bool() const { return recording.has_value(); }
 };
 
-/// Reads and validates the bundle directory `dir` (every rule of "Bad bundles").
+// ---- Units -----------------------------------------------------------------
+// A channel's `unit` must be one the project knows; read_bundle converts the
+// samples to the SI unit of its quantity (a CMS exporting in g is common) and
+// refuses any other unit by name, so that a value is never taken in the wrong unit.
+
+enum class UnitQuantity : std::uint8_t { kAcceleration, kVelocity, kDisplacement, kVoltage };
+
+struct UnitInfo {
+  UnitQuantity quantity = UnitQuantity::kAcceleration;
+  double to_si = 1.0;            // SI value = file value × to_si
+  const char* si_unit = "m/s^2";  // the unit written after conversion
+};
+
+/// The known units: acceleration m/s^2 (also m/s², m/s2), g (standard gravity
+/// 9.80665 m/s², ISO 80000-3), mm/s^2; velocity m/s, mm/s; displacement m, mm, um
+/// (also µm); voltage V, mV. Case-sensitive (mV is not MV). nullopt otherwise.
+std::optional<UnitInfo> parse_unit(const std::string& unit);
+
+/// The list of known units, for messages ("m/s^2, g, ...").
+const char* known_units();
+
+/// Reads and validates the bundle directory `dir` (every rule of "Bad bundles"), and
+/// converts every channel to the SI unit of its quantity (parse_unit; listed in notes).
 /// @param dir    bundle directory (holding recording.json)
 /// @param range  the turbine's operating range for the operating-point check
 [[nodiscard]] BundleReadResult read_bundle(const std::filesystem::path& dir,

@@ -30,40 +30,31 @@
 #include <string_view>
 #include <vector>
 
+#include "hal/scada_quantity.hpp"
+
 namespace hal {
 
-/// The quantities a SCADA row can carry, in the units of the bundle's scada.csv.
-enum class ScadaField : std::uint8_t {
-  kTime,                // [s]   t_s (or a date-time, converted)
-  kWindSpeed,           // [m/s] wind_speed_mps, hub height / nacelle anemometer
-  kRotorSpeed,          // [rpm] rotor_speed_rpm (low-speed shaft)
-  kPower,               // [kW]  power_kw, electrical
-  kPitch,               // [deg] pitch_deg, blade pitch
-  kTorque,              // [N·m] torque_nm, measured rotor torque
-  kAmbientTemperature,  // [°C] ambient_temperature_c (drivetwin extension of the bundle)
-  kYawError,            // [deg] yaw_error_deg: wind direction − nacelle heading (extension)
-};
-inline constexpr std::size_t kScadaFieldCount = 8;
-
-/// The bundle's column name of a field ("t_s", "wind_speed_mps", ...).
-const char* scada_field_name(ScadaField field);
-
-/// Which column of the file holds each field ("" = not mapped). Time and wind
-/// speed must be mapped and present in the header; the rest are optional.
+/// Which column of the file holds the time and each quantity ("" = not mapped). Time and
+/// wind speed must be mapped and present in the header; the rest are optional. The
+/// quantities are hal::ScadaQuantity, in their fixed units (scada_quantity.hpp).
 struct ScadaColumns {
-  std::array<std::string, kScadaFieldCount> column{};
+  std::string time = "t_s";
+  std::array<std::string, kScadaQuantityCount> quantity{};
 };
 
-/// The bundle's own header names (recording-bundle.md), plus the two optional
-/// extensions ambient_temperature_c and yaw_error_deg.
+/// The bundle's name of the time column.
+inline constexpr std::string_view kScadaTimeKey = "t_s";
+
+/// The bundle's own header names (recording-bundle.md), plus the optional extensions
+/// generator_speed_rpm, ambient_temperature_c and yaw_error_deg: each quantity's key.
 ScadaColumns bundle_scada_columns();
 /// The Kelmarsh wind farm export (Plumley 2022, doi:10.5281/zenodo.5841833).
 ScadaColumns kelmarsh_scada_columns();
 
 /// Parses a mapping: a preset name ("bundle", "kelmarsh") or a list
-/// `field=Column name;field=Column name...` with field one of the bundle names
-/// (t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, torque_nm,
-/// ambient_temperature_c, yaw_error_deg);
+/// `field=Column name;field=Column name...` with field t_s or a quantity's key
+/// (wind_speed_mps, rotor_speed_rpm, generator_speed_rpm, power_kw, pitch_deg, torque_nm,
+/// yaw_error_deg, ambient_temperature_c);
 /// unnamed fields keep the bundle's names. On failure returns nullopt and sets
 /// *error to a message naming the offending part.
 std::optional<ScadaColumns> parse_scada_columns(std::string_view spec, std::string* error);
@@ -73,13 +64,17 @@ std::optional<double> parse_utc_datetime_s(std::string_view text);
 
 /// One data row.
 struct ScadaRow {
-  std::size_t row = 0;                           // data row number, 1 = first row after the header
-  std::size_t line = 0;                          // line number in the file, 1 = header
-  std::array<double, kScadaFieldCount> value{};  // NaN when absent
-  std::array<bool, kScadaFieldCount> present{};  // false: column not mapped or cell empty
+  std::size_t row = 0;        // data row number, 1 = first row after the header
+  std::size_t line = 0;       // line number in the file, 1 = header
+  double t_s = 0.0;           // [s] NaN when absent
+  bool time_present = false;  // false: cell empty
+  std::array<double, kScadaQuantityCount> value{};  // NaN when absent
+  std::array<bool, kScadaQuantityCount> present{};  // false: column not mapped or cell empty
 
-  double get(ScadaField f) const { return value[static_cast<std::size_t>(f)]; }
-  bool has(ScadaField f) const { return present[static_cast<std::size_t>(f)]; }
+  double get(ScadaQuantity q) const { return value[static_cast<std::size_t>(q)]; }
+  bool has(ScadaQuantity q) const { return present[static_cast<std::size_t>(q)]; }
+  double time_s() const { return t_s; }
+  bool has_time() const { return time_present; }
 };
 
 enum class ScadaReadResult : std::uint8_t { kRow, kEnd, kError };
@@ -102,12 +97,14 @@ class ScadaCsvReader {
   /// The last error: "<file>: row <n> (line <l>), column '<name>': <what>".
   const std::string& error() const { return error_; }
   const std::string& path() const { return path_; }
-  /// Whether the header maps the field to a column.
-  bool has_column(ScadaField f) const { return index_[static_cast<std::size_t>(f)] >= 0; }
-  /// Header name of the column mapped to a field ("" when unmapped).
-  const std::string& column_name(ScadaField f) const {
-    return columns_.column[static_cast<std::size_t>(f)];
+  /// Whether the header maps the quantity to a column.
+  bool has_column(ScadaQuantity q) const { return index_[static_cast<std::size_t>(q)] >= 0; }
+  /// Header name of the column mapped to a quantity ("" when unmapped).
+  const std::string& column_name(ScadaQuantity q) const {
+    return columns_.quantity[static_cast<std::size_t>(q)];
   }
+  /// Header name of the time column.
+  const std::string& time_column_name() const { return columns_.time; }
 
  private:
   [[nodiscard]] bool read_header();
@@ -117,7 +114,8 @@ class ScadaCsvReader {
   std::istream* in_ = &file_;
   std::string path_;
   ScadaColumns columns_;
-  std::array<int, kScadaFieldCount> index_{};
+  std::array<int, kScadaQuantityCount> index_{};
+  int time_index_ = -1;
   std::size_t header_fields_ = 0;
   std::size_t line_ = 0;
   std::size_t row_ = 0;

@@ -14,51 +14,9 @@
 
 #include "hal/clock.hpp"
 #include "hal/device.hpp"
+#include "hal/scada_quantity.hpp"
 
 namespace hal {
-
-/// The operating quantities the twin uses. Each has one fixed SI-ish unit;
-/// a register map converts the controller's raw registers into it.
-enum class ScadaQuantity : std::uint8_t {
-  kWindSpeed,           // [m/s] nacelle anemometer
-  kRotorSpeed,          // [rpm] rotor (low-speed shaft)
-  kGeneratorSpeed,      // [rpm] generator (high-speed shaft)
-  kPower,               // [kW] electrical active power
-  kPitch,               // [deg] blade pitch angle
-  kRotorTorque,         // [N·m] rotor torque as reported by the controller
-  kYawError,            // [deg]
-  kAmbientTemperature,  // [degC]
-  kCount
-};
-inline constexpr std::size_t kScadaQuantityCount = static_cast<std::size_t>(ScadaQuantity::kCount);
-
-/// Key as written in config files, and unit, of each quantity.
-struct ScadaQuantityInfo {
-  ScadaQuantity quantity;
-  std::string_view key;
-  std::string_view unit;
-};
-inline constexpr std::array<ScadaQuantityInfo, kScadaQuantityCount> kScadaQuantities{{
-    {ScadaQuantity::kWindSpeed, "wind_speed_mps", "m/s"},
-    {ScadaQuantity::kRotorSpeed, "rotor_speed_rpm", "rpm"},
-    {ScadaQuantity::kGeneratorSpeed, "generator_speed_rpm", "rpm"},
-    {ScadaQuantity::kPower, "power_kw", "kW"},
-    {ScadaQuantity::kPitch, "pitch_deg", "deg"},
-    {ScadaQuantity::kRotorTorque, "torque_nm", "N·m"},
-    {ScadaQuantity::kYawError, "yaw_error_deg", "deg"},
-    {ScadaQuantity::kAmbientTemperature, "ambient_temperature_c", "degC"},
-}};
-
-/// Looks a quantity up by its config key. @return false if unknown.
-constexpr bool scada_quantity_from_key(std::string_view key, ScadaQuantity& out) {
-  for (const auto& q : kScadaQuantities) {
-    if (q.key == key) {
-      out = q.quantity;
-      return true;
-    }
-  }
-  return false;
-}
 
 /// One value with the time it was measured (received) and whether it is usable.
 struct Measurement {

@@ -28,6 +28,7 @@
 #include "hal/clock.hpp"
 #include "hal/cms_can_protocol.hpp"
 #include "hal/cms_stream.hpp"
+#include "hal/thread.hpp"
 
 namespace hal {
 
@@ -43,6 +44,8 @@ struct SocketCanConfig {
   std::chrono::milliseconds min_backoff{100};  // socket re-open back-off
   std::chrono::milliseconds max_backoff{5000};
   std::uint32_t heartbeat_id = 0x170;  // id of the twin's heartbeat frame (send_heartbeat)
+  // The receive thread (app/ passes its thread table's entry).
+  ThreadAttributes thread{"dt-cms", SchedPolicy::kOther, 0, -1, 0};
 };
 
 /// Blocks the queue between the I/O thread and the RT thread holds; when it is
@@ -71,6 +74,8 @@ class SocketCanCmsStream final : public CmsStream {
   /// counter uint16 LE, status word uint16 LE). Non-blocking: kOverflow when
   /// the socket's transmit queue is full.
   Status send_heartbeat(std::uint16_t counter, std::uint16_t status_word);
+  /// What the OS granted the I/O thread (valid after configure(); warning names refusals).
+  const ThreadReport& thread_report() const;
 
  private:
   struct Impl;

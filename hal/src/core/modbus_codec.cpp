@@ -28,13 +28,6 @@ std::uint32_t float_bits(float f) {
   return u;
 }
 
-void put_u32(ResultsImage& img, std::uint16_t addr, std::uint32_t v, WordOrder o) {
-  split(v, o, &img[addr]);
-}
-void put_f32(ResultsImage& img, std::uint16_t addr, float v, WordOrder o) {
-  split(float_bits(v), o, &img[addr]);
-}
-
 }  // namespace
 
 std::optional<double> decode_register(const RegisterSpec& spec, const std::uint16_t* regs,
@@ -233,30 +226,15 @@ std::optional<std::size_t> validate_map(const ScadaRegisterMap& map) {
   return std::nullopt;
 }
 
-void encode_results(const TwinResults& r, WordOrder o, ResultsImage& img) {
-  using namespace results_reg;
-  std::fill(img.begin(), img.begin() + kCommands, std::uint16_t{0});
-  img[kMapVersion] = kResultsMapVersion;
-  img[kStatusWord] = r.status_word;
-  img[kFaultWord] = r.fault_word;
-  img[kCalibrationWord] = r.calibration_word;
-  put_u32(img, kSequence, r.sequence, o);
-  const auto stamp_s = std::chrono::duration_cast<std::chrono::seconds>(r.stamp).count();
-  put_u32(img, kStampS,
-          static_cast<std::uint32_t>(std::clamp<std::int64_t>(stamp_s, 0, 0xFFFFFFFF)), o);
-  put_f32(img, kRotorTorque, r.rotor_torque_nm, o);
-  put_f32(img, kRotorSpeed, r.rotor_speed_rpm, o);
-  put_f32(img, kWindSpeed, r.wind_speed_mps, o);
-  put_f32(img, kHssSpeed, r.hss_speed_rpm, o);
-  put_f32(img, kCalibrationResidual, r.calibration_residual, o);
-  for (std::size_t c = 0; c < kResultComponentCount; ++c) {
-    const auto base = static_cast<std::uint16_t>(kComponents + kComponentStride * c);
-    put_f32(img, base, r.components[c].load, o);
-    put_f32(img, static_cast<std::uint16_t>(base + 2), r.components[c].damage, o);
-    put_f32(img, static_cast<std::uint16_t>(base + 4), r.components[c].rul_h, o);
-  }
-  for (std::size_t k = 0; k < kResultIndicatorCount; ++k)
-    put_f32(img, static_cast<std::uint16_t>(kIndicators + 2 * k), r.indicators[k], o);
+bool put_register(RegisterImage& image, std::uint16_t address, RegisterType type, WordOrder order,
+                  double value) {
+  const std::size_t n = register_count(type);
+  if (std::size_t{address} + n > image.count) return false;
+  RegisterSpec spec;
+  spec.address = address;
+  spec.type = type;
+  spec.word_order = order;
+  return encode_register(spec, value, &image.words[address], n);
 }
 
 }  // namespace hal

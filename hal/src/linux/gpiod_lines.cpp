@@ -6,7 +6,6 @@
 #include <atomic>
 #include <boost/lockfree/spsc_queue.hpp>
 #include <cstring>
-#include <thread>
 
 namespace hal {
 namespace {
@@ -31,7 +30,7 @@ struct GpiodKeyphasor::Impl {
   std::atomic<LifecycleState> lifecycle{LifecycleState::kUnconfigured};
   gpiod_chip* chip = nullptr;
   gpiod_line* line = nullptr;
-  std::thread thread;
+  Thread thread;
   std::atomic<bool> stop{false};
   std::atomic<bool> active{false};
   std::atomic<bool> overflowed{false};
@@ -87,7 +86,7 @@ Status GpiodKeyphasor::configure() {
     m.line = nullptr;
     return Status::kIoError;
   }
-  m.thread = std::thread([&m] { m.run(); });
+  if (m.thread.start(m.config.thread, [&m] { m.run(); }) != Status::kOk) return Status::kIoError;
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;
 }
@@ -198,5 +197,7 @@ Status GpiodDigitalOutputs::set_alarm(bool raised) {
   if (m.lifecycle != LifecycleState::kActive) return Status::kWrongState;
   return gpiod_line_set_value(m.alarm, m.alarm_level(raised)) == 0 ? Status::kOk : Status::kIoError;
 }
+
+const ThreadReport& GpiodKeyphasor::thread_report() const { return impl_->thread.report(); }
 
 }  // namespace hal

@@ -17,7 +17,6 @@
 #include <boost/lockfree/spsc_queue.hpp>
 #include <cerrno>
 #include <cstring>
-#include <thread>
 
 namespace hal {
 
@@ -46,7 +45,7 @@ struct SocketCanCmsStream::Impl {
   std::atomic<LifecycleState> lifecycle{LifecycleState::kUnconfigured};
   std::atomic<int> sock{-1};
   int wake_fd = -1;
-  std::thread thread;
+  Thread thread;
   std::atomic<bool> stop{false};
   std::atomic<bool> active{false};
 
@@ -210,7 +209,7 @@ Status SocketCanCmsStream::configure() {
   m.wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (m.wake_fd < 0) return Status::kIoError;
   m.ingest.start(m.clock.now());
-  m.thread = std::thread([&m] { m.run(); });
+  if (m.thread.start(m.config.thread, [&m] { m.run(); }) != Status::kOk) return Status::kIoError;
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;
 }
@@ -261,5 +260,7 @@ Status SocketCanCmsStream::send_heartbeat(std::uint16_t counter, std::uint16_t s
   if (n < 0 && (errno == EAGAIN || errno == ENOBUFS)) return Status::kOverflow;
   return Status::kIoError;
 }
+
+const ThreadReport& SocketCanCmsStream::thread_report() const { return impl_->thread.report(); }
 
 }  // namespace hal

@@ -23,7 +23,6 @@
 #include <cerrno>
 #include <cstring>
 #include <mutex>
-#include <thread>
 
 #include "hal/latest_value.hpp"
 
@@ -64,16 +63,15 @@ struct ModbusResultsServer::Impl {
   std::array<Connection, kMaxConnectionsLimit> conns{};
   std::array<in_addr_t, 64> allow{};
   std::size_t allow_count = 0;
-  ResultsImage image{};
-
-  LatestValue<TwinResults> latest;
+  RegisterImage image{};  // server thread only
+  LatestValue<RegisterImage> latest;
   LatestValue<ModbusCommands> commands_out;
   ModbusCommands commands{};  // server thread only
   std::atomic<std::uint64_t> requests{0}, exceptions{0}, malformed{0}, rejected{0}, accepted{0};
   std::atomic<int> open{0};
   std::atomic<bool> active{false};
   std::atomic<bool> stop{false};
-  std::thread thread;
+  Thread thread;
 
   bool writable(std::uint16_t addr) const {
     return std::find(config.writable.begin(), config.writable.end(), addr) != config.writable.end();
@@ -92,13 +90,17 @@ struct ModbusResultsServer::Impl {
       if (c.fd >= 0) close_conn(c);
   }
 
+  bool in_command_block(std::uint32_t a) const {
+    return a >= config.command_start &&
+           a < std::uint32_t{config.command_start} + config.command_count;
+  }
   void refresh_image() {
-    TwinResults r;
-    if (!latest.read(r)) return;  // nothing published yet: image stays zero but for the version
-    encode_results(r, config.word_order, image);
-    for (std::uint16_t a = 0; a < results_reg::kCommands; ++a) {
-      mapping->tab_registers[a] = image[a];
-      mapping->tab_input_registers[a] = image[a];
+    if (!latest.read(image)) return;  // nothing published yet: the registers stay zero
+    const std::uint16_t n = std::min(image.count, config.register_count);
+    for (std::uint16_t a = 0; a < n; ++a) {
+      if (in_command_block(a)) continue;  // clients' values, not the image's
+      mapping->tab_registers[a] = image.words[a];
+      mapping->tab_input_registers[a] = image.words[a];
     }
   }
 
@@ -152,7 +154,7 @@ struct ModbusResultsServer::Impl {
         send_exception(c, req, MODBUS_EXCEPTION_ILLEGAL_DATA_VALUE);
         return c.fd >= 0;
       }
-      if (std::uint32_t{start} + count > results_reg::kCount) {
+      if (std::uint32_t{start} + count > config.register_count) {
         send_exception(c, req, MODBUS_EXCEPTION_ILLEGAL_DATA_ADDRESS);
         return c.fd >= 0;
       }
@@ -169,8 +171,8 @@ struct ModbusResultsServer::Impl {
       return false;
     }
     if (is_register_write(fc)) {
-      for (std::uint16_t k = 0; k < results_reg::kCommandCount; ++k)
-        commands.values[k] = mapping->tab_registers[results_reg::kCommands + k];
+      for (std::uint16_t k = 0; k < config.command_count; ++k)
+        commands.values[k] = mapping->tab_registers[config.command_start + k];
       ++commands.writes;
       commands_out.write(commands);
     }
@@ -325,8 +327,12 @@ Status ModbusResultsServer::configure() {
   if (c.max_connections < 1 || c.max_connections > kMaxConnectionsLimit || c.unit_id < 1 ||
       c.unit_id > 247 || c.allow.size() > m.allow.size())
     return Status::kInvalidConfig;
+  if (c.register_count < 1 || c.register_count > kMaxImageRegisters ||
+      c.command_count > kMaxCommandRegisters ||
+      std::uint32_t{c.command_start} + c.command_count > c.register_count)
+    return Status::kInvalidConfig;
   for (auto a : c.writable)
-    if (a < results_reg::kCommands || a >= results_reg::kCount) return Status::kInvalidConfig;
+    if (!m.in_command_block(a)) return Status::kInvalidConfig;
   for (const auto& s : c.allow) {
     in_addr addr{};
     if (::inet_pton(AF_INET, s.c_str(), &addr) != 1) return Status::kInvalidConfig;
@@ -340,11 +346,8 @@ Status ModbusResultsServer::configure() {
 
   m.ctx = modbus_new_tcp("127.0.0.1", 0);  // never connects; only formats replies
   m.mapping =
-      modbus_mapping_new_start_address(0, 0, 0, 0, 0, results_reg::kCount, 0, results_reg::kCount);
+      modbus_mapping_new_start_address(0, 0, 0, 0, 0, c.register_count, 0, c.register_count);
   if (!m.ctx || !m.mapping) return Status::kIoError;
-  m.image[results_reg::kMapVersion] = kResultsMapVersion;
-  m.mapping->tab_registers[results_reg::kMapVersion] = kResultsMapVersion;
-  m.mapping->tab_input_registers[results_reg::kMapVersion] = kResultsMapVersion;
 
   m.listen_fd = ::socket(AF_INET, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
   if (m.listen_fd < 0) return Status::kIoError;
@@ -361,7 +364,7 @@ Status ModbusResultsServer::configure() {
   m.port = ntohs(sa.sin_port);
   m.wake_fd = ::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
   if (m.wake_fd < 0) return Status::kIoError;
-  m.thread = std::thread([&m] { m.run(); });
+  if (m.thread.start(m.config.thread, [&m] { m.run(); }) != Status::kOk) return Status::kIoError;
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;
 }
@@ -386,9 +389,9 @@ Status ModbusResultsServer::deactivate() {
 
 LifecycleState ModbusResultsServer::state() const { return impl_->lifecycle; }
 
-Status ModbusResultsServer::publish(const TwinResults& results) {
+Status ModbusResultsServer::publish(const RegisterImage& image) {
   if (impl_->lifecycle == LifecycleState::kUnconfigured) return Status::kWrongState;
-  impl_->latest.write(results);
+  impl_->latest.write(image);
   return Status::kOk;
 }
 
@@ -405,5 +408,7 @@ ModbusServerStats ModbusResultsServer::stats() const {
   return ModbusServerStats{m.requests.load(), m.exceptions.load(), m.malformed.load(),
                            m.rejected.load(), m.accepted.load(),   m.open.load()};
 }
+
+const ThreadReport& ModbusResultsServer::thread_report() const { return impl_->thread.report(); }
 
 }  // namespace hal

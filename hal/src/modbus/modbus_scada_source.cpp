@@ -8,7 +8,6 @@
 #include <cerrno>
 #include <condition_variable>
 #include <mutex>
-#include <thread>
 
 #include "hal/latest_value.hpp"
 
@@ -33,7 +32,7 @@ struct ModbusScadaSource::Impl {
   std::condition_variable cv;
   bool active = false;  // guarded by mutex
   bool stop = false;    // guarded by mutex
-  std::thread thread;
+  Thread thread;
 
   /// Waits up to `d`; returns false if the thread must stop or the source was deactivated.
   bool wait_for(std::chrono::milliseconds d) {
@@ -171,7 +170,7 @@ Status ModbusScadaSource::configure() {
                               static_cast<std::uint32_t>(us % 1000000));
   modbus_set_byte_timeout(m.ctx, static_cast<std::uint32_t>(us / 1000000),
                           static_cast<std::uint32_t>(us % 1000000));
-  m.thread = std::thread([&m] { m.run(); });
+  if (m.thread.start(m.config.thread, [&m] { m.run(); }) != Status::kOk) return Status::kIoError;
   m.lifecycle = LifecycleState::kInactive;
   return Status::kOk;
 }
@@ -215,5 +214,7 @@ Status ModbusScadaSource::read(Timestamp now, ScadaData& out) {
   if (now - snap.last_update > m.config.stale_after) return Status::kStale;
   return Status::kOk;
 }
+
+const ThreadReport& ModbusScadaSource::thread_report() const { return impl_->thread.report(); }
 
 }  // namespace hal

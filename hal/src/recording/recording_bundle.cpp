@@ -164,6 +164,38 @@ std::string BundleError::to_string() const {
   return s;
 }
 
+std::optional<UnitInfo> parse_unit(const std::string& unit) {
+  struct Known {
+    const char* name;
+    UnitInfo info;
+  };
+  static constexpr double kStandardGravity = 9.80665;  // [m/s²] ISO 80000-3, CGPM 1901
+  static const Known kKnown[] = {
+      {"m/s^2", {UnitQuantity::kAcceleration, 1.0, "m/s^2"}},
+      {"m/s\xc2\xb2", {UnitQuantity::kAcceleration, 1.0, "m/s^2"}},  // m/s²
+      {"m/s2", {UnitQuantity::kAcceleration, 1.0, "m/s^2"}},
+      {"g", {UnitQuantity::kAcceleration, kStandardGravity, "m/s^2"}},
+      {"mm/s^2", {UnitQuantity::kAcceleration, 1e-3, "m/s^2"}},
+      {"m/s", {UnitQuantity::kVelocity, 1.0, "m/s"}},
+      {"mm/s", {UnitQuantity::kVelocity, 1e-3, "m/s"}},
+      {"m", {UnitQuantity::kDisplacement, 1.0, "m"}},
+      {"mm", {UnitQuantity::kDisplacement, 1e-3, "m"}},
+      {"um", {UnitQuantity::kDisplacement, 1e-6, "m"}},
+      {"\xc2\xb5m", {UnitQuantity::kDisplacement, 1e-6, "m"}},  // µm
+      {"V", {UnitQuantity::kVoltage, 1.0, "V"}},
+      {"mV", {UnitQuantity::kVoltage, 1e-3, "V"}},
+  };
+  for (const Known& k : kKnown) {
+    if (unit == k.name) return k.info;
+  }
+  return std::nullopt;
+}
+
+const char* known_units() {
+  return "m/s^2, m/s2, g, mm/s^2 (acceleration), m/s, mm/s (velocity), m, mm, um "
+         "(displacement), V, mV (voltage)";
+}
+
 std::optional<std::size_t> Recording::channel_index(const std::string& name) const {
   for (std::size_t i = 0; i < channels.size(); ++i)
     if (channels[i].name == name) return i;
@@ -275,6 +307,20 @@ std::optional<BundleError> validate_metadata(const Recording& rec, const Operati
     if (c.location.empty())
       return error(file, field + ".location", "empty; expected a component id");
     if (c.unit.empty()) return error(file, field + ".unit", "empty; expected a unit such as m/s^2");
+    const auto unit = parse_unit(c.unit);
+    if (!unit) {
+      return error(file, field + ".unit",
+                   "'" + c.unit + "' is not a unit the project knows; expected one of " +
+                       known_units());
+    }
+    if (!c.kind.empty() && c.kind != "once_per_rev") {
+      return error(file, field + ".kind",
+                   "'" + c.kind + "'; expected \"once_per_rev\" (a tacho) or no kind");
+    }
+    if (c.kind == "once_per_rev" && unit->quantity != UnitQuantity::kVoltage) {
+      return error(file, field + ".unit",
+                   "'" + c.unit + "' for a once_per_rev (tacho) channel; expected a voltage (V, mV)");
+    }
   }
   const BundleOperatingPoint& op = rec.operating_point;
   auto check = [&](const char* field, double v, double max,
@@ -543,26 +589,26 @@ std::optional<BundleError> parse_scada_csv(const std::string& text, const std::s
     if (res == ScadaReadResult::kError) return error(file, "", strip_file(reader.error()));
     const std::string at =
         "row " + std::to_string(row.row) + " (line " + std::to_string(row.line) + ")";
-    for (ScadaField f : {ScadaField::kTime, ScadaField::kWindSpeed}) {
-      if (!row.has(f)) {
-        return error(file, at + ", column '" + scada_field_name(f) + "'",
-                     "empty; expected a number in every row");
-      }
+    if (!row.has_time()) {
+      return error(file, at + ", column 't_s'", "empty; expected a number in every row");
+    }
+    if (!row.has(ScadaQuantity::kWindSpeed)) {
+      return error(file, at + ", column 'wind_speed_mps'", "empty; expected a number in every row");
     }
     BundleScadaRow r;
-    r.t_s = row.get(ScadaField::kTime);
-    r.wind_speed_mps = row.get(ScadaField::kWindSpeed);
+    r.t_s = row.time_s();
+    r.wind_speed_mps = row.get(ScadaQuantity::kWindSpeed);
     if (!out.empty() && r.t_s <= out.back().t_s) {
       return error(file, at + ", column 't_s'",
                    format_double(r.t_s) + "; expected t_s to increase from row to row");
     }
-    auto opt = [&](ScadaField f) {
+    auto opt = [&](ScadaQuantity f) {
       return row.has(f) ? std::optional<double>(row.get(f)) : std::nullopt;
     };
-    r.rotor_speed_rpm = opt(ScadaField::kRotorSpeed);
-    r.power_kw = opt(ScadaField::kPower);
-    r.pitch_deg = opt(ScadaField::kPitch);
-    r.torque_nm = opt(ScadaField::kTorque);
+    r.rotor_speed_rpm = opt(ScadaQuantity::kRotorSpeed);
+    r.power_kw = opt(ScadaQuantity::kPower);
+    r.pitch_deg = opt(ScadaQuantity::kPitch);
+    r.torque_nm = opt(ScadaQuantity::kRotorTorque);
     out.push_back(r);
   }
   return std::nullopt;
@@ -630,6 +676,20 @@ BundleReadResult read_bundle(const fs::path& dir, const OperatingRange& range) {
     if (auto e =
             parse_samples_csv(data, samples_name, rec.channels, rec.sample_rate_hz, rec.samples))
       return fail(*e);
+  }
+
+  // Every channel in the SI unit of its quantity (validate_metadata refused unknown units).
+  for (std::size_t c = 0; c < rec.channels.size(); ++c) {
+    BundleChannel& ch = rec.channels[c];
+    const UnitInfo unit = *parse_unit(ch.unit);
+    if (ch.unit == unit.si_unit) continue;
+    if (unit.to_si != 1.0) {
+      for (double& v : rec.samples[c]) v *= unit.to_si;
+    }
+    result.notes.push_back("channels[" + std::to_string(c) + "] '" + ch.name + "': converted from " +
+                           ch.unit + " to " + unit.si_unit + " (x " + format_double(unit.to_si) +
+                           ")");
+    ch.unit = unit.si_unit;
   }
 
   const fs::path scada_path = dir / kScadaFile;

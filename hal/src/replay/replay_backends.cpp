@@ -11,14 +11,6 @@ Timestamp seconds(double s) {
   return std::chrono::duration_cast<Timestamp>(std::chrono::duration<double>(s));
 }
 
-constexpr std::array<std::pair<ScadaField, ScadaQuantity>, 5> kFieldMap{{
-    {ScadaField::kWindSpeed, ScadaQuantity::kWindSpeed},
-    {ScadaField::kRotorSpeed, ScadaQuantity::kRotorSpeed},
-    {ScadaField::kPower, ScadaQuantity::kPower},
-    {ScadaField::kPitch, ScadaQuantity::kPitch},
-    {ScadaField::kTorque, ScadaQuantity::kRotorTorque},
-}};
-
 }  // namespace
 
 Timestamp ReplayClock::now() const {
@@ -55,21 +47,23 @@ Status ReplayScadaSource::configure() {
         error_ = reader.error();
         return Status::kInvalidConfig;
       }
-      if (!r.has(ScadaField::kTime) || !r.has(ScadaField::kWindSpeed)) {
+      if (!r.has_time() || !r.has(ScadaQuantity::kWindSpeed)) {
         ++skipped_;
         continue;
       }
-      if (!t0) t0 = r.get(ScadaField::kTime);
+      if (!t0) t0 = r.time_s();
       Row row;
-      row.t = seconds(r.get(ScadaField::kTime) - *t0);
+      row.t = seconds(r.time_s() - *t0);
       if (!rows_.empty() && row.t <= rows_.back().t) {
         error_ = csv_path_ + ": row " + std::to_string(r.row) + " (line " + std::to_string(r.line) +
                  "): time does not increase; expected rows in time order";
         return Status::kInvalidConfig;
       }
-      for (const auto& [field, q] : kFieldMap) {
-        row.present[static_cast<std::size_t>(q)] = r.has(field);
-        row.v[static_cast<std::size_t>(q)] = r.has(field) ? r.get(field) : 0.0;
+      // The CSV reader and the SCADA source share hal::ScadaQuantity: every quantity the
+      // file has is replayed.
+      for (std::size_t q = 0; q < kScadaQuantityCount; ++q) {
+        row.present[q] = r.present[q];
+        row.v[q] = r.present[q] ? r.value[q] : 0.0;
       }
       rows_.push_back(row);
     }

@@ -8,10 +8,6 @@
 namespace hal {
 namespace {
 
-constexpr std::array<const char*, kScadaFieldCount> kFieldNames{
-    "t_s",       "wind_speed_mps", "rotor_speed_rpm",       "power_kw",
-    "pitch_deg", "torque_nm",      "ambient_temperature_c", "yaw_error_deg"};
-
 std::string_view trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
@@ -71,26 +67,25 @@ long long days_from_civil(int y, int m, int d) {
 
 }  // namespace
 
-const char* scada_field_name(ScadaField field) {
-  return kFieldNames[static_cast<std::size_t>(field)];
-}
-
 ScadaColumns bundle_scada_columns() {
   ScadaColumns c;
-  for (std::size_t i = 0; i < kScadaFieldCount; ++i) c.column[i] = kFieldNames[i];
+  c.time = kScadaTimeKey;
+  for (std::size_t i = 0; i < kScadaQuantityCount; ++i) c.quantity[i] = kScadaQuantities[i].key;
   return c;
 }
 
 ScadaColumns kelmarsh_scada_columns() {
   ScadaColumns c;
-  c.column = {"Date and time",
-              "Wind speed (m/s)",
-              "Rotor speed (RPM)",
-              "Power (kW)",
-              "Pitch angle (\u00b0)",
-              "",
-              "Nacelle ambient temperature (\u00b0C)",
-              "Yaw error (\u00b0)"};
+  c.time = "Date and time";
+  auto set = [&c](ScadaQuantity q, const char* column) {
+    c.quantity[static_cast<std::size_t>(q)] = column;
+  };
+  set(ScadaQuantity::kWindSpeed, "Wind speed (m/s)");
+  set(ScadaQuantity::kRotorSpeed, "Rotor speed (RPM)");
+  set(ScadaQuantity::kPower, "Power (kW)");
+  set(ScadaQuantity::kPitch, "Pitch angle (\u00b0)");
+  set(ScadaQuantity::kAmbientTemperature, "Nacelle ambient temperature (\u00b0C)");
+  set(ScadaQuantity::kYawError, "Yaw error (\u00b0)");
   return c;
 }
 
@@ -114,17 +109,16 @@ std::optional<ScadaColumns> parse_scada_columns(std::string_view spec, std::stri
     }
     const std::string_view field = trim(item.substr(0, eq));
     const std::string_view column = trim(item.substr(eq + 1));
-    bool known = false;
-    for (std::size_t i = 0; i < kScadaFieldCount; ++i) {
-      if (field == kFieldNames[i]) {
-        columns.column[i] = std::string(column);
-        known = true;
-      }
-    }
-    if (!known) {
-      *error = "column mapping: unknown field '" + std::string(field) +
-               "' (expected one of t_s, wind_speed_mps, rotor_speed_rpm, power_kw, pitch_deg, "
-               "torque_nm, ambient_temperature_c, yaw_error_deg)";
+    ScadaQuantity q{};
+    if (field == kScadaTimeKey) {
+      columns.time = std::string(column);
+    } else if (scada_quantity_from_key(field, q)) {
+      columns.quantity[static_cast<std::size_t>(q)] = std::string(column);
+    } else {
+      std::string known(kScadaTimeKey);
+      for (const ScadaQuantityInfo& i : kScadaQuantities) known += ", " + std::string(i.key);
+      *error = "column mapping: unknown field '" + std::string(field) + "' (expected one of " +
+               known + ")";
       return std::nullopt;
     }
   }
@@ -191,24 +185,24 @@ bool ScadaCsvReader::read_header() {
     return false;
   }
   header_fields_ = names.size();
-  for (std::size_t f = 0; f < kScadaFieldCount; ++f) {
-    if (columns_.column[f].empty()) continue;
+  auto find = [&names](const std::string& column) {
+    if (column.empty()) return -1;
     for (std::size_t i = 0; i < names.size(); ++i) {
-      if (names[i] == columns_.column[f]) {
-        index_[f] = static_cast<int>(i);
-        break;
-      }
+      if (names[i] == column) return static_cast<int>(i);
     }
-  }
-  for (ScadaField required : {ScadaField::kTime, ScadaField::kWindSpeed}) {
-    const auto f = static_cast<std::size_t>(required);
-    if (index_[f] < 0) {
-      error_ = path_ + ": header: missing column '" +
-               (columns_.column[f].empty() ? std::string(kFieldNames[f]) : columns_.column[f]) +
-               "' (" + kFieldNames[f] + ", required)";
-      return false;
-    }
-  }
+    return -1;
+  };
+  index_.fill(-1);
+  for (std::size_t q = 0; q < kScadaQuantityCount; ++q) index_[q] = find(columns_.quantity[q]);
+  time_index_ = find(columns_.time);
+  auto missing = [&](const std::string& column, std::string_view key) {
+    error_ = path_ + ": header: missing column '" + (column.empty() ? std::string(key) : column) +
+             "' (" + std::string(key) + ", required)";
+    return false;
+  };
+  if (time_index_ < 0) return missing(columns_.time, kScadaTimeKey);
+  const auto wind = static_cast<std::size_t>(ScadaQuantity::kWindSpeed);
+  if (index_[wind] < 0) return missing(columns_.quantity[wind], kScadaQuantities[wind].key);
   return true;
 }
 
@@ -218,9 +212,9 @@ ScadaReadResult ScadaCsvReader::next(ScadaRow& row) {
     ++line_;
     if (trim(text_).empty()) continue;
     ++row_;
-    auto where = [&](std::size_t f) {
+    auto where = [&](const std::string& column) {
       return path_ + ": row " + std::to_string(row_) + " (line " + std::to_string(line_) +
-             "), column '" + columns_.column[f] + "'";
+             "), column '" + column + "'";
     };
     if (!split_csv(text_, fields)) {
       error_ = path_ + ": row " + std::to_string(row_) + " (line " + std::to_string(line_) +
@@ -235,7 +229,26 @@ ScadaReadResult ScadaCsvReader::next(ScadaRow& row) {
     }
     row.row = row_;
     row.line = line_;
-    for (std::size_t f = 0; f < kScadaFieldCount; ++f) {
+    // Time: a number of seconds or a date-time.
+    row.t_s = std::numeric_limits<double>::quiet_NaN();
+    row.time_present = false;
+    if (const std::string& cell = fields[static_cast<std::size_t>(time_index_)]; !cell.empty()) {
+      double v = 0.0;
+      const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), v);
+      const bool numeric = r.ec == std::errc() && r.ptr == cell.data() + cell.size();
+      if (numeric && std::isfinite(v)) {
+        row.t_s = v;
+      } else if (const auto t = parse_utc_datetime_s(cell); !numeric && t) {
+        row.t_s = *t;
+      } else {
+        error_ = where(columns_.time) + ": '" + cell +
+                 (numeric ? "' is not a finite number"
+                          : "' is neither a number of seconds nor a date-time YYYY-MM-DD HH:MM:SS");
+        return ScadaReadResult::kError;
+      }
+      row.time_present = true;
+    }
+    for (std::size_t f = 0; f < kScadaQuantityCount; ++f) {
       row.value[f] = std::numeric_limits<double>::quiet_NaN();
       row.present[f] = false;
       if (index_[f] < 0) continue;
@@ -244,22 +257,12 @@ ScadaReadResult ScadaCsvReader::next(ScadaRow& row) {
       double v = 0.0;
       const auto r = std::from_chars(cell.data(), cell.data() + cell.size(), v);
       const bool numeric = r.ec == std::errc() && r.ptr == cell.data() + cell.size();
-      if (!numeric && f == static_cast<std::size_t>(ScadaField::kTime)) {
-        if (const auto t = parse_utc_datetime_s(cell)) {
-          row.value[f] = *t;
-          row.present[f] = true;
-          continue;
-        }
-        error_ = where(f) + ": '" + cell +
-                 "' is neither a number of seconds nor a date-time YYYY-MM-DD HH:MM:SS";
-        return ScadaReadResult::kError;
-      }
       if (!numeric) {
-        error_ = where(f) + ": '" + cell + "' is not a number";
+        error_ = where(columns_.quantity[f]) + ": '" + cell + "' is not a number";
         return ScadaReadResult::kError;
       }
       if (!std::isfinite(v)) {
-        error_ = where(f) + ": '" + cell + "' is not a finite number";
+        error_ = where(columns_.quantity[f]) + ": '" + cell + "' is not a finite number";
         return ScadaReadResult::kError;
       }
       row.value[f] = v;

@@ -254,7 +254,7 @@ bool Calibrator::start(const DynamicsParameters& current,
   problem_.evaluations_to_threshold = 0;
   problem_.best_ratio = 1e300;
   archive_n_ = 0;
-  cancel_requested_.store(false, std::memory_order_relaxed);
+  cancel_requested_ = false;
   std::array<double, kCalibrationVariables> x{};
   if (config_.method == CalibrationMethod::kTrustRegion) {
     tr_.emplace(feature_problem_, config_.trust_region);
@@ -308,7 +308,7 @@ bool Calibrator::start(const DynamicsParameters& current,
 
 StepStatus Calibrator::step() {
   if (state_ != StepStatus::kRunning) return state_;
-  if (cancel_requested_.load(std::memory_order_relaxed)) {
+  if (cancel_requested_) {
     finish(true);
     return state_;
   }
@@ -380,32 +380,14 @@ void Calibrator::finish(bool cancelled) {
 }
 
 void Calibrator::publish(const CalibrationResult& result) {
-  CalibrationResult r = result;
-  r.generation = ++generation_;
-  std::array<std::uint64_t, kResultWords> words{};
-  std::memcpy(words.data(), &r, sizeof(r));
-  const std::uint32_t s = sequence_.load(std::memory_order_relaxed);
-  sequence_.store(s + 1, std::memory_order_relaxed);  // odd: writing
-  std::atomic_thread_fence(std::memory_order_release);
-  for (std::size_t i = 0; i < kResultWords; ++i)
-    result_words_[i].store(words[i], std::memory_order_relaxed);
-  sequence_.store(s + 2, std::memory_order_release);
+  result_ = result;
+  result_.generation = ++generation_;
 }
 
 bool Calibrator::read_result(CalibrationResult& out) const {
-  for (int attempt = 0; attempt < 64; ++attempt) {
-    const std::uint32_t s1 = sequence_.load(std::memory_order_acquire);
-    if (s1 & 1U) continue;
-    std::array<std::uint64_t, kResultWords> words{};
-    for (std::size_t i = 0; i < kResultWords; ++i)
-      words[i] = result_words_[i].load(std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_acquire);
-    if (sequence_.load(std::memory_order_relaxed) != s1) continue;
-    if (s1 == 0) return false;
-    std::memcpy(static_cast<void*>(&out), words.data(), sizeof(out));
-    return true;
-  }
-  return false;
+  if (generation_ == 0) return false;
+  out = result_;
+  return true;
 }
 
 }  // namespace model::calibration

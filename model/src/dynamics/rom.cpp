@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace model::dynamics {
@@ -49,6 +50,17 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
              std::to_string(kRomForces) + ", " + std::to_string(kRomSensors) + ")");
     return nullptr;
   }
+  const auto id_too_long = [&](const std::string& id) {
+    if (id.size() <= kRomIdChars) return false;
+    fail(error, "rom: id '" + id + "' is longer than kRomIdChars = " + std::to_string(kRomIdChars));
+    return true;
+  };
+  for (const auto& v : m.meshes)
+    if (id_too_long(v.id)) return nullptr;
+  for (const auto& v : m.bearings)
+    if (id_too_long(v.id)) return nullptr;
+  for (const auto& v : m.sensors)
+    if (id_too_long(v.channel)) return nullptr;
   for (const auto& b : m.bearings) {
     if (b.directions.cols() != 2) {
       fail(error, "rom: bearing '" + b.id + "' must have rank 2 (x, y)");
@@ -144,6 +156,12 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   d.bearing_count = static_cast<int>(m.bearings.size());
   d.force_count = static_cast<int>(m.forces.size());
   d.sensor_count = static_cast<int>(m.sensors.size());
+  const auto set_id = [](RomId& out, const std::string& id) {
+    std::copy(id.begin(), id.end(), out.chars.begin());  // length checked above
+  };
+  for (int j = 0; j < d.mesh_count; ++j) set_id(d.mesh_ids[j], m.meshes[j].id);
+  for (int j = 0; j < d.bearing_count; ++j) set_id(d.bearing_ids[j], m.bearings[j].id);
+  for (int j = 0; j < d.sensor_count; ++j) set_id(d.sensor_ids[j], m.sensors[j].channel);
   // Modal damping φ_iᵀCφ_i: exact for the retained modes (C is modal in the full model's
   // modes), the diagonal of the projection for the correction vectors' Ritz modes.
   const Eigen::VectorXd c_modal =
@@ -258,48 +276,100 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
 
 Rom::Rom(const RomData& data) noexcept : data_(&data) {}
 
-void Rom::reset(const RomInputs& in) noexcept {
+namespace {
+// frac(order·whole) without the rounding of the product: whole is exact in a double
+// (|whole| < 2^53), p + e = order·whole exactly (fma), and p − floor(p) is exact.
+double frac_of_product(double order, std::int64_t whole) noexcept {
+  const auto w = static_cast<double>(whole);
+  const double p = order * w;
+  const double e = std::fma(order, w, -p);
+  double f = (p - std::floor(p)) + e;
+  f -= std::floor(f);
+  return f;
+}
+double wrap_cycles(double x) noexcept { return x - std::floor(x); }
+}  // namespace
+
+void Rom::adopt(const RomData& next, const RomInputs& in) noexcept {
+  const double t = time_s();  // the old model's step
+  data_ = &next;
+  reset_at(in, whole_revs_, frac_revs_, t, 0);
+}
+
+void Rom::reset(const RomInputs& in, double rotor_revolutions, double time_s) noexcept {
+  const double whole = std::floor(rotor_revolutions);
+  reset_at(in, static_cast<std::int64_t>(whole), rotor_revolutions - whole, time_s, 0);
+}
+
+void Rom::reset(const RomInputs& in, const Rom& at) noexcept {
+  reset_at(in, at.whole_revs_, at.frac_revs_, at.time_s(), 0);
+}
+
+void Rom::set_angle(std::int64_t whole, double fraction) noexcept {
+  if (!std::isfinite(fraction)) fraction = 0.0;  // a non-finite speed: keep the whole count
+  const double carry = std::floor(fraction);
+  whole_revs_ = whole + static_cast<std::int64_t>(carry);
+  frac_revs_ = fraction - carry;
+  if (frac_revs_ >= 1.0) {  // fraction just below an integer rounded up
+    frac_revs_ = 0.0;
+    ++whole_revs_;
+  }
   const RomData& d = *data_;
-  t_ = 0.0;
-  revs_ = 0.0;
+  for (int t = 0; t < kRomTerms; ++t)
+    phase_base_[t] = wrap_cycles(frac_of_product(d.term_order[t], whole_revs_) +
+                                 wrap_cycles(d.term_phase_cycles[t]));
+}
+
+void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
+                   std::int64_t steps) noexcept {
+  const RomData& d = *data_;
+  t0_ = t0;
+  steps_ = steps;
+  set_angle(whole, fraction);
+  // Phase of term t at the current angle [cycles] (unwrapped: value() wraps).
+  const auto phase = [this](int t, double order) { return order * frac_revs_ + phase_base_[t]; };
+  constexpr int kFirstBearingTerm = kRomMeshes;
+  constexpr int kFirstForceTerm = kRomMeshes + kRomBearings;
   // Static equilibrium under the mean stiffness and the mean force: ω² q = Φᵀ f̄.
   RomData::Vec f = RomData::Vec::Zero();
+  RomData::Vec f_now = RomData::Vec::Zero();  // the force at this angle
   for (int j = 0; j < d.force_count; ++j) {
     const RomForceTerm& ft = d.forces[j];
     const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
     f.noalias() += (a * ft.shape.mean()) * d.w_force.col(j);
+    f_now.noalias() +=
+        (a * ft.shape.value(phase(kFirstForceTerm + j, ft.order))) * d.w_force.col(j);
   }
   for (int i = 0; i < kRomDofs; ++i) q_[i] = d.omega2[i] > 0.0 ? f[i] / d.omega2[i] : 0.0;
   v_.setZero();
-  // Modal force at t = 0 with the actual (not mean) stiffness.
+  // Modal force now with the actual (not mean) stiffness at this rotor angle.
   z_bearing_.noalias() = d.w_bearing.transpose() * q_;
   z_mesh_.noalias() = d.w_mesh.transpose() * q_;
   Eigen::Matrix<double, kRomBearingRank, 1> fb;
   for (int j = 0; j < kRomBearings; ++j) {
     const RomStiffnessTerm& b = d.bearings[j];
-    const double dk = b.mean_n_m * (b.shape.value(b.phase_cycles) - 1.0);
+    const double dk = b.mean_n_m * (b.shape.value(phase(kFirstBearingTerm + j, b.order)) - 1.0);
     fb[2 * j] = dk * z_bearing_[2 * j];
     fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
   }
-  // Mesh terms at t = 0: −Δk·δ + k·e (the transmission-error force).
+  // Mesh terms at this angle: −Δk·δ + k·e (the transmission-error force).
   Eigen::Matrix<double, kRomMeshes, 1> fm;
   for (int j = 0; j < kRomMeshes; ++j) {
     const RomStiffnessTerm& mt = d.meshes[j];
-    const double k = mt.mean_n_m * mt.shape.value(mt.phase_cycles);
-    fm[j] = (k - mt.mean_n_m) * z_mesh_[j] - k * mt.transmission_error.value(mt.phase_cycles);
+    const double x = phase(j, mt.order);
+    const double k = mt.mean_n_m * mt.shape.value(x);
+    fm[j] = (k - mt.mean_n_m) * z_mesh_[j] - k * mt.transmission_error.value(x);
   }
-  g_ = f;
+  g_ = f_now;
   g_.noalias() -= d.w_bearing * fb;
   g_.noalias() -= d.w_mesh * fm;
 }
 
 void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
-  if (const RomData* next = pending_.exchange(nullptr, std::memory_order_acq_rel)) {
-    data_ = next;
-    reset(in);
-  }
   const RomData& d = *data_;
-  const double revs_next = revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
+  // The angle within the current revolution (may pass 1 in this step; the phases stay
+  // continuous: order·(f − 1) + frac(order·(w + 1)) = order·f + frac(order·w) mod 1).
+  const double revs_next = frac_revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
 
   // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
   const detail::RomKernelModel model{d.pqq.data(),
@@ -320,7 +390,7 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
                                      d.readout_correction.data(),
                                      d.sensor_rows.data(),
                                      d.term_order.data(),
-                                     d.term_phase_cycles.data(),
+                                     phase_base_.data(),
                                      d.term_scale.data(),
                                      d.term_scale_per_nm.data(),
                                      d.term_values.data()};
@@ -330,8 +400,40 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
                                          out.bearing_force_y_n.data(),
                                          out.acceleration_m_s2.data()};
   detail::rom_step_kernel(model, revs_next, in.input_torque_nm, state, outputs);
-  revs_ = revs_next;
-  t_ += d.dt_s;
+  ++steps_;
+  if (revs_next >= 0.0 && revs_next < 1.0) {
+    frac_revs_ = revs_next;
+  } else {
+    set_angle(whole_revs_, revs_next);  // a revolution completed (or reversed): once per rev
+  }
+}
+
+double rom_settle_time_s(const RomData& d, double fraction) noexcept {
+  if (!(fraction > 0.0 && fraction < 1.0)) return 0.0;
+  double slowest = 0.0;  // [1/s] smallest decay rate of an active mode
+  bool any = false;
+  for (int i = 0; i < kRomDofs; ++i) {
+    const double w2 = d.omega2[i], c = d.damping_1_s[i];
+    if (!(w2 > 0.0)) continue;
+    // Roots of s² + c s + ω² = 0: underdamped → Re = −c/2; overdamped → the slow root.
+    const double disc = c * c - 4.0 * w2;
+    const double rate = disc <= 0.0 ? 0.5 * c : 0.5 * (c - std::sqrt(disc));
+    if (!any || rate < slowest) slowest = rate;
+    any = true;
+  }
+  if (!any || !(slowest > 0.0)) return 0.0;
+  return std::log(1.0 / fraction) / slowest;
+}
+
+std::unique_ptr<RomData> build_rom(const Drivetrain& drivetrain,
+                                   const DynamicsParameters& parameters,
+                                   const RomSettings& settings, std::string* error,
+                                   RomBuildReport* report) {
+  Drivetrain d = drivetrain;
+  d.dynamics = parameters;
+  const std::optional<FullModel> m = build_full_model(d, settings.structure, error);
+  if (!m) return nullptr;
+  return build_rom(*m, settings.dt_s, settings.cutoff_hz, error, report);
 }
 
 const char* rom_step_isa() noexcept { return detail::rom_step_kernel_isa(); }

@@ -14,17 +14,29 @@ bool fail(std::string* error, std::string message) {
   return false;
 }
 
+void allocate(std::size_t samples, double rate, SimulationOutputs& out) {
+  out.sample_rate_hz = rate;
+  out.mesh_force_n.assign(out.mesh_ids.size(), std::vector<double>(samples));
+  out.bearing_force_x_n.assign(out.bearing_ids.size(), std::vector<double>(samples));
+  out.bearing_force_y_n.assign(out.bearing_ids.size(), std::vector<double>(samples));
+  out.acceleration_m_s2.assign(out.sensor_channels.size(), std::vector<double>(samples));
+  out.hss_revolutions.assign(samples, 0.0);
+}
+
 void prepare(const FullModel& m, std::size_t samples, double rate, SimulationOutputs& out) {
   out = SimulationOutputs{};
-  out.sample_rate_hz = rate;
   for (const auto& v : m.meshes) out.mesh_ids.push_back(v.id);
   for (const auto& v : m.bearings) out.bearing_ids.push_back(v.id);
   for (const auto& s : m.sensors) out.sensor_channels.push_back(s.channel);
-  out.mesh_force_n.assign(m.meshes.size(), std::vector<double>(samples));
-  out.bearing_force_x_n.assign(m.bearings.size(), std::vector<double>(samples));
-  out.bearing_force_y_n.assign(m.bearings.size(), std::vector<double>(samples));
-  out.acceleration_m_s2.assign(m.sensors.size(), std::vector<double>(samples));
-  out.hss_revolutions.assign(samples, 0.0);
+  allocate(samples, rate, out);
+}
+
+void prepare(const RomData& d, std::size_t samples, double rate, SimulationOutputs& out) {
+  out = SimulationOutputs{};
+  for (int j = 0; j < d.mesh_count; ++j) out.mesh_ids.emplace_back(d.mesh_ids[j].view());
+  for (int j = 0; j < d.bearing_count; ++j) out.bearing_ids.emplace_back(d.bearing_ids[j].view());
+  for (int j = 0; j < d.sensor_count; ++j) out.sensor_channels.emplace_back(d.sensor_ids[j].view());
+  allocate(samples, rate, out);
 }
 
 }  // namespace
@@ -78,13 +90,13 @@ bool simulate_full(const Drivetrain& d, const OperatingPoint& op, const Simulati
 bool simulate_rom(const Drivetrain& d, const OperatingPoint& op, const SimulationSettings& s,
                   SimulationOutputs& out, std::string* error) {
   if (!check_simulation_inputs(op, s, error)) return false;
-  const std::optional<FullModel> m = build_full_model(d, {}, error);
-  if (!m) return false;
-  const std::unique_ptr<RomData> data =
-      build_rom(*m, 1.0 / s.sample_rate_hz, s.rom_cutoff_hz, error);
+  RomSettings rs;
+  rs.dt_s = 1.0 / s.sample_rate_hz;
+  rs.cutoff_hz = s.rom_cutoff_hz;
+  const std::unique_ptr<RomData> data = build_rom(d, d.dynamics, rs, error);
   if (!data) return false;
   const auto samples = static_cast<std::size_t>(std::llround(s.seconds * s.sample_rate_hz));
-  prepare(*m, samples, s.sample_rate_hz, out);
+  prepare(*data, samples, s.sample_rate_hz, out);
   const double hss_ratio = Kinematics(d).overall_ratio();
   auto rom = std::make_unique<Rom>(*data);
   const RomInputs in{op.rotor_speed_rpm, op.input_torque_nm};

@@ -107,4 +107,36 @@ TEST(DamageHistory, TorqueComesFromPowerOverSpeedWhenNoTorqueColumnIsGiven) {
   }
 }
 
+TEST(DamageHistory, PowerCountsTheNoLoadLossAndTheEfficiency) {
+  // The power source is the project's one (app/wind/torque_source.hpp): with η = 0.94 and
+  // P_0 = 47 356.126 W, P = 1000 kW at 14 rpm is T = (1e6 + 47 356.126)/0.94/1.4660766
+  // = 759 993.49 N·m by hand, not P/(η·ω) = 725 630.44 N·m.
+  HistoryBench s;
+  s.drivetrain.turbine.drivetrain_efficiency = 0.94;
+  s.drivetrain.turbine.corrections.no_load_loss_w = 47356.12631710944;
+  std::string by_power = kHeader, by_torque = kHeader;
+  for (int i = 0; i < 3; ++i) {
+    by_power += std::to_string(600 * i) + ",10,14,1000,,\n";
+    by_torque += std::to_string(600 * i) + ",10,14,,,759993.49\n";
+  }
+  const HistoryResult hp = s.run(by_power, "lossy-power.csv");
+  const HistoryResult ht = s.run(by_torque, "lossy-torque.csv");
+  EXPECT_EQ(hp.torque_rows_power, 3u);
+  for (std::size_t c = 0; c < s.channels.channel_count(); ++c) {
+    EXPECT_NEAR(hp.damage[c], ht.damage[c], 1e-6 * ht.damage[c]) << c;
+  }
+}
+
+TEST(DamageHistory, AnImplausiblePowerRejectsTheRowByName) {
+  // paper-2mw is rated 2 MW: 4 001 kW is beyond twice that.
+  HistoryBench s;
+  const HistoryResult h =
+      s.run(std::string(kHeader) + "0,10,14,4001,,\n600,10,14,1000,,\n", "power-range.csv");
+  EXPECT_EQ(h.rows_used, 1u);
+  EXPECT_EQ(h.rejected_range, 1u);
+  ASSERT_FALSE(h.issues.empty());
+  EXPECT_EQ(h.issues[0].field, "power_kw");
+  EXPECT_NE(h.issues[0].message.find("beyond twice the rated power"), std::string::npos);
+}
+
 }  // namespace

@@ -172,7 +172,7 @@ TEST_F(SynthScada, TenMinuteWindsFromAFileAndFromTheBuiltInDay) {
             0);
   const auto k = read_rows(p("k.csv"));
   ASSERT_EQ(k.size(), 144u);
-  EXPECT_EQ(k[0].t, 1557619200.0);  // 2019-05-12T00:00:00Z
+  EXPECT_EQ(k[0].t, 1575504000.0);  // 2019-12-05T00:00:00Z
   EXPECT_NEAR(k[0].wind, 7.373, 1e-3);
 }
 

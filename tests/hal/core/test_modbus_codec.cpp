@@ -139,34 +139,37 @@ TEST(ModbusCodec, ValidateMapFindsOverlapsDuplicatesAndZeroScale) {
   EXPECT_EQ(hal::validate_map(map), std::optional<std::size_t>(1));
 }
 
-TEST(ResultsRegisterMap, PutsEachResultAtItsDocumentedAddress) {
+TEST(RegisterImage, PutRegisterWritesTheWordsOfEachTypeAtItsAddress) {
   // Arrange
-  hal::TwinResults r;
-  r.sequence = 0x00010002;
-  r.status_word = hal::kStatusRunning | hal::kStatusCalibrated;
-  r.rotor_torque_nm = 361747.0f;
-  r.rotor_speed_rpm = 8.33f;
-  r.components[0].damage = -12.5f;  // sun gear, only to see the slot
-  r.indicators[7] = 361747.0f;
-  hal::ResultsImage img{};
-
+  hal::RegisterImage img;
+  img.count = 12;
   // Act
-  hal::encode_results(r, WordOrder::kHighWordFirst, img);
+  const bool u32 =
+      hal::put_register(img, 4, RegisterType::kUInt32, WordOrder::kHighWordFirst, 0x00010002);
+  const bool f32 = hal::put_register(img, 8, RegisterType::kFloat32, WordOrder::kHighWordFirst,
+                                     361747.0);  // 0x48B0A260, by hand from IEEE 754
+  const bool low = hal::put_register(img, 10, RegisterType::kFloat32, WordOrder::kLowWordFirst,
+                                     -12.5);  // 0xC1480000
+  const bool i16 = hal::put_register(img, 0, RegisterType::kInt16, WordOrder::kHighWordFirst, -2);
+  // Assert
+  EXPECT_TRUE(u32 && f32 && low && i16);
+  EXPECT_EQ(img.words[4], 0x0001);
+  EXPECT_EQ(img.words[5], 0x0002);
+  EXPECT_EQ(img.words[8], 0x48B0);
+  EXPECT_EQ(img.words[9], 0xA260);
+  EXPECT_EQ(img.words[10], 0x0000);
+  EXPECT_EQ(img.words[11], 0xC148);
+  EXPECT_EQ(img.words[0], 0xFFFE);
+}
 
-  // Assert: addresses as in hal/README.md (map v1)
-  EXPECT_EQ(img[0], 1);       // map version
-  EXPECT_EQ(img[1], 0x0021);  // running | calibrated
-  EXPECT_EQ(img[4], 0x0001);
-  EXPECT_EQ(img[5], 0x0002);
-  EXPECT_EQ(img[8], 0x48B0);
-  EXPECT_EQ(img[9], 0xA260);
-  EXPECT_EQ(img[10], 0x4105);
-  EXPECT_EQ(img[11], 0x47AE);
-  EXPECT_EQ(img[22], 0xC148);  // component 0 damage at 20 + 2
-  EXPECT_EQ(hal::results_reg::kIndicators, 134);
-  EXPECT_EQ(img[134 + 14], 0x48B0);  // indicator 7 at 134 + 2·7
-  EXPECT_EQ(hal::results_reg::kCommands, 150);
-  EXPECT_EQ(hal::results_reg::kCount, 166);
+TEST(RegisterImage, PutRegisterRefusesWhatDoesNotFitTheImageOrTheType) {
+  hal::RegisterImage img;
+  img.count = 10;
+  EXPECT_FALSE(hal::put_register(img, 9, RegisterType::kUInt32, WordOrder::kHighWordFirst, 1));
+  EXPECT_FALSE(hal::put_register(img, 0, RegisterType::kUInt16, WordOrder::kHighWordFirst, 70000));
+  EXPECT_FALSE(hal::put_register(img, 0, RegisterType::kUInt16, WordOrder::kHighWordFirst, -1));
+  EXPECT_EQ(img.words[9], 0);
+  EXPECT_EQ(img.words[0], 0);
 }
 
 }  // namespace

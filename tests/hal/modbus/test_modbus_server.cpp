@@ -2,6 +2,9 @@
 // program), a libmodbus master, and raw sockets sending garbage and floods.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
+
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -51,25 +54,49 @@ std::vector<std::string> mbpoll_values(const std::string& out) {
   return v;
 }
 
-hal::TwinResults paper_point_results() {
-  hal::TwinResults r;
-  r.sequence = 77;
-  r.status_word = hal::kStatusRunning | hal::kStatusCalibrated;  // 0x0021 = 33
-  r.rotor_torque_nm = 361747.0f;
-  r.rotor_speed_rpm = 8.33f;
-  r.wind_speed_mps = 6.75f;
-  r.components[0].damage = 1.023e-5f;  // sun gear, one day (paper's check point)
-  return r;
+// hal serves an image without knowing what it means: the tests give it a layout of their
+// own (that of the application's header, so the numbers read like the twin's).
+constexpr std::uint16_t kTestRegisters = 166;
+constexpr std::uint16_t kTestCommandStart = 150;
+constexpr std::uint16_t kTestCommandCount = 16;
+constexpr std::uint16_t kVersionAddr = 0;   // uint16
+constexpr std::uint16_t kStatusAddr = 1;    // uint16
+constexpr std::uint16_t kSequenceAddr = 4;  // uint32
+constexpr std::uint16_t kTorqueAddr = 8;    // float32, then speed at 10, wind at 12
+constexpr std::uint16_t kTestVersion = 1;
+
+hal::RegisterImage paper_point_image(std::uint32_t sequence = 77) {
+  using hal::RegisterType;
+  constexpr auto kHigh = hal::WordOrder::kHighWordFirst;
+  hal::RegisterImage img;
+  img.count = kTestRegisters;
+  EXPECT_TRUE(hal::put_register(img, kVersionAddr, RegisterType::kUInt16, kHigh, kTestVersion));
+  EXPECT_TRUE(hal::put_register(img, kStatusAddr, RegisterType::kUInt16, kHigh, 0x21));  // 33
+  EXPECT_TRUE(hal::put_register(img, kSequenceAddr, RegisterType::kUInt32, kHigh, sequence));
+  EXPECT_TRUE(hal::put_register(img, kTorqueAddr, RegisterType::kFloat32, kHigh, 361747.0));
+  EXPECT_TRUE(hal::put_register(img, kTorqueAddr + 2, RegisterType::kFloat32, kHigh, 8.33));
+  EXPECT_TRUE(hal::put_register(img, kTorqueAddr + 4, RegisterType::kFloat32, kHigh, 6.75));
+  // Words in the command block are the clients', never served from the image.
+  img.words[kTestCommandStart] = 0xDEAD;
+  return img;
+}
+
+hal::ModbusServerConfig test_config() {
+  hal::ModbusServerConfig c;
+  c.register_count = kTestRegisters;
+  c.command_start = kTestCommandStart;
+  c.command_count = kTestCommandCount;
+  return c;
 }
 
 class ResultsServer : public ::testing::Test {
  protected:
-  void start(hal::ModbusServerConfig c = {}) {
+  void start(hal::ModbusServerConfig c = test_config()) {
     c.port = 0;
     server_ = std::make_unique<hal::ModbusResultsServer>(c);
     ASSERT_EQ(server_->configure(), Status::kOk);
     ASSERT_EQ(server_->activate(), Status::kOk);
-    ASSERT_EQ(server_->publish(paper_point_results()), Status::kOk);
+    ASSERT_EQ(server_->publish(paper_point_image()), Status::kOk);
     port_ = server_->bound_port();
   }
   modbus_t* connect_master() {
@@ -102,7 +129,7 @@ class ResultsServer : public ::testing::Test {
   std::uint16_t port_ = 0;
 };
 
-TEST_F(ResultsServer, ServesTheDocumentedRegisterMapToMbpoll) {
+TEST_F(ResultsServer, ServesThePublishedImageToMbpoll) {
   // Arrange
   ASSERT_TRUE(have_mbpoll()) << "mbpoll missing: run tools/setup.sh";
   start();
@@ -114,7 +141,7 @@ TEST_F(ResultsServer, ServesTheDocumentedRegisterMapToMbpoll) {
 
   // Assert
   ASSERT_EQ(words.size(), 2u);
-  EXPECT_EQ(words[0], "1");   // map version
+  EXPECT_EQ(words[0], "1");   // version word
   EXPECT_EQ(words[1], "33");  // running | calibrated
   ASSERT_EQ(floats.size(), 3u);
   EXPECT_EQ(floats[0], "361747");
@@ -133,7 +160,7 @@ TEST_F(ResultsServer, AnswersIllegalAddressesAndFunctionsWithModbusExceptions) {
   std::uint8_t bits[8];
 
   // Act / Assert: beyond the image → exception 02 (illegal data address)
-  EXPECT_EQ(modbus_read_registers(m, hal::results_reg::kCount - 1, 2, regs), -1);
+  EXPECT_EQ(modbus_read_registers(m, kTestRegisters - 1, 2, regs), -1);
   EXPECT_EQ(errno, EMBXILADD);
   // coils → exception 01 (illegal function)
   EXPECT_EQ(modbus_read_bits(m, 0, 1, bits), -1);
@@ -143,7 +170,7 @@ TEST_F(ResultsServer, AnswersIllegalAddressesAndFunctionsWithModbusExceptions) {
   EXPECT_EQ(errno, EMBXILFUN);
   // the connection is still good after the exceptions
   EXPECT_EQ(modbus_read_registers(m, 0, 1, regs), 1);
-  EXPECT_EQ(regs[0], hal::kResultsMapVersion);
+  EXPECT_EQ(regs[0], kTestVersion);
   EXPECT_GE(server_->stats().exceptions, 3u);
   modbus_close(m);
   modbus_free(m);
@@ -163,17 +190,22 @@ TEST_F(ResultsServer, MbpollSeesTheExceptionForAnAddressOutsideTheMap) {
 
 TEST_F(ResultsServer, AcceptsWritesOnlyToTheRegistersListedWritable) {
   // Arrange: command register 150 writable, 151 not
-  hal::ModbusServerConfig c;
-  c.writable = {hal::results_reg::kCommands};
+  hal::ModbusServerConfig c = test_config();
+  c.writable = {kTestCommandStart};
   start(c);
   modbus_t* m = connect_master();
   ASSERT_NE(m, nullptr);
 
   // Act
-  const int ok = modbus_write_register(m, hal::results_reg::kCommands, 0xBEEF);
-  const int refused = modbus_write_register(m, hal::results_reg::kCommands + 1, 1);
+  std::uint16_t before = 0;
+  const int read_before = modbus_read_registers(m, kTestCommandStart, 1, &before);
+  const int ok = modbus_write_register(m, kTestCommandStart, 0xBEEF);
+  const int refused = modbus_write_register(m, kTestCommandStart + 1, 1);
   const int refused_errno = errno;
-  const int refused_results = modbus_write_register(m, hal::results_reg::kRotorTorque, 1);
+  const int refused_results = modbus_write_register(m, kTorqueAddr, 1);
+  ASSERT_EQ(server_->publish(paper_point_image()), Status::kOk);  // image has 0xDEAD there
+  std::uint16_t after = 0;
+  const int read_after = modbus_read_registers(m, kTestCommandStart, 1, &after);
 
   // Assert
   EXPECT_EQ(ok, 1);
@@ -182,6 +214,11 @@ TEST_F(ResultsServer, AcceptsWritesOnlyToTheRegistersListedWritable) {
   EXPECT_EQ(refused_results, -1);
   EXPECT_EQ(server_->commands().values[0], 0xBEEF);
   EXPECT_EQ(server_->commands().writes, 1u);
+  // The command block shows what clients wrote, never what the image holds there.
+  EXPECT_EQ(read_before, 1);
+  EXPECT_EQ(before, 0);
+  EXPECT_EQ(read_after, 1);
+  EXPECT_EQ(after, 0xBEEF);
   modbus_close(m);
   modbus_free(m);
 }
@@ -210,7 +247,7 @@ TEST_F(ResultsServer, DropsAMalformedClientWithoutDisturbingAnother) {
   // Assert
   EXPECT_EQ(closed, 0);
   EXPECT_EQ(read, 1);
-  EXPECT_EQ(reg, hal::kResultsMapVersion);
+  EXPECT_EQ(reg, kTestVersion);
   EXPECT_EQ(server_->stats().malformed, 1u);
   ::close(bad);
   ::close(slow);
@@ -220,7 +257,7 @@ TEST_F(ResultsServer, DropsAMalformedClientWithoutDisturbingAnother) {
 
 TEST_F(ResultsServer, StaysAvailableThroughAFloodOfConnectionsBeyondItsLimit) {
   // Arrange: at most 2 clients; one legitimate client holds a connection
-  hal::ModbusServerConfig c;
+  hal::ModbusServerConfig c = test_config();
   c.max_connections = 2;
   start(c);
   modbus_t* good = connect_master();
@@ -254,7 +291,7 @@ TEST_F(ResultsServer, StaysAvailableThroughAFloodOfConnectionsBeyondItsLimit) {
 
 TEST_F(ResultsServer, DisconnectsClientsNotOnTheAllowList) {
   // Arrange: only 127.0.0.2 may connect; the test connects from 127.0.0.1
-  hal::ModbusServerConfig c;
+  hal::ModbusServerConfig c = test_config();
   c.allow = {"127.0.0.2"};
   start(c);
 
@@ -274,13 +311,12 @@ TEST_F(ResultsServer, ServesNewResultsAsSoonAsTheyArePublished) {
   start();
   modbus_t* m = connect_master();
   ASSERT_NE(m, nullptr);
-  hal::TwinResults r = paper_point_results();
-  r.sequence = 0x12345678;
+  const hal::RegisterImage r = paper_point_image(0x12345678);
 
   // Act
   ASSERT_EQ(server_->publish(r), Status::kOk);
   std::uint16_t regs[2] = {};
-  const int n = modbus_read_input_registers(m, hal::results_reg::kSequence, 2, regs);
+  const int n = modbus_read_input_registers(m, kSequenceAddr, 2, regs);
 
   // Assert
   EXPECT_EQ(n, 2);
@@ -293,12 +329,12 @@ TEST_F(ResultsServer, ServesNewResultsAsSoonAsTheyArePublished) {
 TEST_F(ResultsServer, PublishOnTheLoopThreadAllocatesNothing) {
   // Arrange
   start();
-  hal::TwinResults r = paper_point_results();
+  hal::RegisterImage r = paper_point_image();
 
   // Act
   no_alloc::Scope scope;
   for (std::uint32_t i = 0; i < 1000; ++i) {
-    r.sequence = i;
+    r.words[kSequenceAddr + 1] = static_cast<std::uint16_t>(i);
     (void)server_->publish(r);
   }
 
@@ -307,11 +343,51 @@ TEST_F(ResultsServer, PublishOnTheLoopThreadAllocatesNothing) {
 }
 
 TEST(ResultsServerConfig, RejectsWritableRegistersOutsideTheCommandBlock) {
-  hal::ModbusServerConfig c;
+  hal::ModbusServerConfig c = test_config();
   c.port = 0;
-  c.writable = {hal::results_reg::kRotorTorque};
+  c.writable = {kTorqueAddr};
   hal::ModbusResultsServer s(c);
   EXPECT_EQ(s.configure(), Status::kInvalidConfig);
+}
+
+TEST(ResultsServerConfig, RejectsAnImageSizeOrCommandBlockThatDoesNotFit) {
+  auto refused = [](auto change) {
+    hal::ModbusServerConfig c = test_config();
+    c.port = 0;
+    change(c);
+    hal::ModbusResultsServer s(c);
+    return s.configure() == Status::kInvalidConfig;
+  };
+  EXPECT_TRUE(refused([](hal::ModbusServerConfig& c) { c.register_count = 0; }));
+  EXPECT_TRUE(refused([](hal::ModbusServerConfig& c) {
+    c.register_count = static_cast<std::uint16_t>(hal::kMaxImageRegisters + 1);
+  }));
+  EXPECT_TRUE(refused([](hal::ModbusServerConfig& c) { c.command_start = kTestRegisters - 4; }));
+  EXPECT_TRUE(refused([](hal::ModbusServerConfig& c) {
+    c.command_count = static_cast<std::uint16_t>(hal::kMaxCommandRegisters + 1);
+  }));
+}
+
+TEST(ResultsServerConfig, TheServerThreadRunsWithTheAttributesItWasGiven) {
+  // Arrange
+  hal::ModbusServerConfig c = test_config();
+  c.port = 0;
+  c.thread = {"dt-test-srv", hal::SchedPolicy::kBatch, 4, -1, 128 * 1024};
+  hal::ModbusResultsServer s(c);
+  // Act
+  ASSERT_EQ(s.configure(), Status::kOk);
+  // Assert: a thread of this process carries the name (the OS's view, /proc).
+  bool found = false;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    std::getline(comm, name);
+    found |= name == "dt-test-srv";
+  }
+  EXPECT_TRUE(found);
+  EXPECT_TRUE(s.thread_report().started);
+  EXPECT_TRUE(s.thread_report().policy_applied) << s.thread_report().warning;
+  EXPECT_GE(s.thread_report().stack_bytes, 128u * 1024u);  // sanitizers enlarge stacks
 }
 
 }  // namespace

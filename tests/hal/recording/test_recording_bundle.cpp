@@ -307,9 +307,37 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"wav_not_riff", kJson, "hello, world", "cms.wav", "RIFF", "not a RIFF"},
         BadCase{"wav_truncated", kJson, float_wav(2, 4, {kOne, kOne}).substr(0, 50), "cms.wav",
                 "data chunk", "truncated"},
+        BadCase{"unknown_unit", json_with("\"unit\": \"m/s^2\"", "\"unit\": \"furlong\""),
+                kGoodWav, "recording.json", "channels[0].unit", "'furlong' is not a unit"},
+        BadCase{"unknown_kind", json_with("\"once_per_rev\"", "\"twice_per_rev\""), kGoodWav,
+                "recording.json", "channels[1].kind", "expected \"once_per_rev\""},
+        BadCase{"tacho_not_a_voltage", json_with("\"unit\": \"V\"", "\"unit\": \"g\""),
+                kGoodWav, "recording.json", "channels[1].unit", "expected a voltage"},
         BadCase{"wav_non_finite", kJson, float_wav(2, 4, {kOne, kOne, kNan, kOne}), "cms.wav",
                 "point1' frame 1", "non-finite"}),
     [](const ::testing::TestParamInfo<BadCase>& p) { return std::string(p.param.name); });
+
+TEST(RecordingBundle, ConvertsAChannelInGToMetresPerSecondSquaredAndSaysSo) {
+  // Arrange: point1 in g, the tacho in mV; frames (1.0, -2.0), (0.5, 0.0).
+  TempDir dir;
+  std::string json = json_with("\"unit\": \"m/s^2\"", "\"unit\": \"g\"");
+  json.replace(json.find("\"unit\": \"V\""), 11, "\"unit\": \"mV\"");
+  write(dir.path() / "recording.json", json);
+  write(dir.path() / "cms.wav", float_wav(2, 4, {kOne, kMinusTwo, kHalf, kZero}));
+  // Act
+  const auto result = hal::read_bundle(dir.path());
+  // Assert: standard gravity 9.80665 m/s² (ISO 80000-3) per g; 1 mV = 1e-3 V.
+  ASSERT_TRUE(result) << result.error.to_string();
+  const hal::Recording& r = *result.recording;
+  EXPECT_EQ(r.channels[0].unit, "m/s^2");
+  EXPECT_DOUBLE_EQ(r.samples[0][0], 9.80665);
+  EXPECT_DOUBLE_EQ(r.samples[0][1], 0.5 * 9.80665);
+  EXPECT_EQ(r.channels[1].unit, "V");
+  EXPECT_DOUBLE_EQ(r.samples[1][0], -2e-3);
+  ASSERT_EQ(result.notes.size(), 2u);
+  EXPECT_NE(result.notes[0].find("'point1': converted from g to m/s^2"), std::string::npos)
+      << result.notes[0];
+}
 
 TEST(RecordingBundle, RejectsAWavOfIntegerPcm) {
   // Arrange: format 1 (PCM) 16-bit

@@ -18,6 +18,9 @@ int main() {
     return 2;
   }
   hal::ModbusServerConfig c;
+  c.register_count = 166;  // a test image; hal does not know what the registers mean
+  c.command_start = 150;
+  c.command_count = 16;
   c.bind_address = "0.0.0.0";
   c.port = static_cast<std::uint16_t>(port);
   hal::ModbusResultsServer server(c);
@@ -25,13 +28,19 @@ int main() {
     std::fprintf(stderr, "rigd_modbus_results: cannot listen on 0.0.0.0:%d\n", port);
     return 1;
   }
-  hal::TwinResults r;
-  r.status_word = hal::kStatusRunning | hal::kStatusCalibrated;  // 33
-  r.fault_word = 0;
-  r.calibration_word = 7;
-  r.sequence = 1;
-  r.rotor_torque_nm = 361747.0f;  // 0x48B0 0xA260 at registers 8-9 (1-based 9-10)
-  if (server.publish(r) != hal::Status::kOk) return 1;
+  // The application's header layout (app/results/register_map.hpp), written by hand.
+  constexpr auto kU16 = hal::RegisterType::kUInt16;
+  constexpr auto kHigh = hal::WordOrder::kHighWordFirst;
+  hal::RegisterImage r;
+  r.count = c.register_count;
+  bool ok = hal::put_register(r, 0, kU16, kHigh, 1);
+  ok &= hal::put_register(r, 1, kU16, kHigh, 33);  // running | calibrated
+  ok &= hal::put_register(r, 2, kU16, kHigh, 0);
+  ok &= hal::put_register(r, 3, kU16, kHigh, 7);
+  ok &= hal::put_register(r, 4, hal::RegisterType::kUInt32, kHigh, 1);
+  // 0x48B0 0xA260 at registers 8-9 (1-based 9-10)
+  ok &= hal::put_register(r, 8, hal::RegisterType::kFloat32, kHigh, 361747.0);
+  if (!ok || server.publish(r) != hal::Status::kOk) return 1;
   // Registers 0..3 (1-based 1..4): map version, status, fault, calibration; then 8..9.
   std::printf("RIG-READY modbus rigd_modbus_results port=%d ref=1 values=1,33,0,7\n", port);
   std::fflush(stdout);

@@ -11,7 +11,7 @@
 
 namespace {
 
-using hal::ScadaField;
+using hal::ScadaQuantity;
 using hal::ScadaReadResult;
 
 class ScadaCsv : public ::testing::Test {
@@ -44,18 +44,18 @@ TEST_F(ScadaCsv, ReadsTheBundleFormatRowByRowWithOptionalColumnsAbsent) {
   // Act / Assert: first row
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
   EXPECT_EQ(row.row, 1u);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kWindSpeed), 6.75);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kRotorSpeed), 8.33);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kPower), 300.5);
-  EXPECT_FALSE(row.has(ScadaField::kTorque));
-  EXPECT_FALSE(reader.has_column(ScadaField::kPitch));
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kWindSpeed), 6.75);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kRotorSpeed), 8.33);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kPower), 300.5);
+  EXPECT_FALSE(row.has(ScadaQuantity::kRotorTorque));
+  EXPECT_FALSE(reader.has_column(ScadaQuantity::kPitch));
   // second row: blank line skipped, empty power cell absent
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
   EXPECT_EQ(row.row, 2u);
   EXPECT_EQ(row.line, 4u);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kTime), 600.0);
-  EXPECT_FALSE(row.has(ScadaField::kPower));
-  EXPECT_TRUE(std::isnan(row.get(ScadaField::kPower)));
+  EXPECT_DOUBLE_EQ(row.time_s(), 600.0);
+  EXPECT_FALSE(row.has(ScadaQuantity::kPower));
+  EXPECT_TRUE(std::isnan(row.get(ScadaQuantity::kPower)));
   EXPECT_EQ(reader.next(row), ScadaReadResult::kEnd);
 }
 
@@ -72,9 +72,9 @@ TEST_F(ScadaCsv, ReadsKelmarshColumnsWithDegreeSignsAndDateTimes) {
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
   // Assert: 2019-01-01 is day 17 897 after 1970-01-01 (49 years, 12 leap days):
   // 17 897·86 400 s + 600 s = 1 546 301 400 s.
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kTime), 1546301400.0);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kPitch), 0.06);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kPower), 189.5);
+  EXPECT_DOUBLE_EQ(row.time_s(), 1546301400.0);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kPitch), 0.06);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kPower), 189.5);
 }
 
 TEST_F(ScadaCsv, ReadsKelmarshAmbientTemperatureAndYawErrorAndNamesABadCell) {
@@ -90,8 +90,8 @@ TEST_F(ScadaCsv, ReadsKelmarshAmbientTemperatureAndYawErrorAndNamesABadCell) {
   hal::ScadaRow row;
   // Act / Assert
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kAmbientTemperature), 9.01);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kYawError), -7.5);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kAmbientTemperature), 9.01);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kYawError), -7.5);
   ASSERT_EQ(reader.next(row), ScadaReadResult::kError);
   EXPECT_NE(reader.error().find("row 2 (line 3), column 'Nacelle ambient temperature (\u00b0C)': "
                                 "'warm' is not a number"),
@@ -105,17 +105,19 @@ TEST_F(ScadaCsv, BundleFileWithoutTheOptionalExtensionsHasThemAbsent) {
   ASSERT_TRUE(reader.open(path, hal::bundle_scada_columns())) << reader.error();
   hal::ScadaRow row;
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow) << reader.error();
-  EXPECT_FALSE(reader.has_column(ScadaField::kAmbientTemperature));
-  EXPECT_FALSE(row.has(ScadaField::kYawError));
+  EXPECT_FALSE(reader.has_column(ScadaQuantity::kAmbientTemperature));
+  EXPECT_FALSE(row.has(ScadaQuantity::kYawError));
 }
 
 TEST_F(ScadaCsv, CustomMappingRenamesOnlyTheNamedFields) {
   std::string error;
   const auto columns = hal::parse_scada_columns("wind_speed_mps=WS; power_kw = P (kW)", &error);
   ASSERT_TRUE(columns) << error;
-  EXPECT_EQ(columns->column[1], "WS");
-  EXPECT_EQ(columns->column[3], "P (kW)");
-  EXPECT_EQ(columns->column[0], "t_s");
+  EXPECT_EQ(columns->quantity[static_cast<std::size_t>(hal::ScadaQuantity::kWindSpeed)], "WS");
+  EXPECT_EQ(columns->quantity[static_cast<std::size_t>(hal::ScadaQuantity::kPower)], "P (kW)");
+  EXPECT_EQ(columns->quantity[static_cast<std::size_t>(hal::ScadaQuantity::kRotorSpeed)],
+            "rotor_speed_rpm");
+  EXPECT_EQ(columns->time, "t_s");
 }
 
 TEST_F(ScadaCsv, UnknownFieldInAMappingIsNamed) {
@@ -185,7 +187,7 @@ TEST_F(ScadaCsv, ReadsCsvTextHeldInMemoryUnderTheGivenName) {
                                hal::bundle_scada_columns()));
   hal::ScadaRow row;
   ASSERT_EQ(reader.next(row), ScadaReadResult::kRow);
-  EXPECT_DOUBLE_EQ(row.get(ScadaField::kWindSpeed), 5.0);
+  EXPECT_DOUBLE_EQ(row.get(ScadaQuantity::kWindSpeed), 5.0);
   EXPECT_EQ(reader.next(row), ScadaReadResult::kError);
   EXPECT_NE(reader.error().find("<built-in day.csv>: row 2 (line 3)"), std::string::npos)
       << reader.error();
@@ -198,7 +200,7 @@ TEST_F(ScadaCsv, MissingFileIsReportedNotThrown) {
 }
 
 TEST_F(ScadaCsv, StreamsTheRealKelmarshFileWithoutErrors) {
-  const std::string path = DRIVETWIN_SHARED_DIR "/data/kelmarsh/kelmarsh-t1-2019-h1.csv";
+  const std::string path = DRIVETWIN_SHARED_DIR "/data/kelmarsh/kelmarsh-t1-2019.csv";
   if (!std::filesystem::exists(path)) GTEST_SKIP() << "shared data absent: " << path;
   hal::ScadaCsvReader reader;
   ASSERT_TRUE(reader.open(path, hal::kelmarsh_scada_columns())) << reader.error();

@@ -12,7 +12,6 @@
 #include <memory>
 #include <new>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include "model/calibration/calibrator.hpp"
@@ -398,39 +397,6 @@ TEST_F(CalibratorTest, StepsDoNotAllocate) {
   while (cal->step() == StepStatus::kRunning) {
   }
   EXPECT_EQ(g_allocations.load(), before);
-}
-
-TEST_F(CalibratorTest, AReaderOnAnotherThreadNeverSeesATornResult) {
-  // Arrange: a reader polls while the calibrator publishes 6 results; every
-  // result of this configuration has evaluations = 4·(1 + 1) = 8 and its
-  // generation, so a mix of two publications would break the identity below.
-  auto cal = make(CalibrationMethod::kPublishedMogoa, 4, 1);
-  std::atomic<bool> done{false};
-  std::atomic<int> torn{0};
-  std::atomic<int> reads{0};
-  std::thread reader([&] {
-    std::uint32_t last = 0;
-    while (!done.load()) {
-      CalibrationResult r;
-      if (!cal->read_result(r)) continue;
-      reads.fetch_add(1);
-      if (r.evaluations != 8 || r.generation < last || !r.finished) torn.fetch_add(1);
-      last = r.generation;
-    }
-  });
-  // Act
-  for (int k = 0; k < 6; ++k) {
-    cal->start(nominal_parameters());
-    while (cal->step() == StepStatus::kRunning) {
-    }
-  }
-  done.store(true);
-  reader.join();
-  // Assert
-  CalibrationResult last;
-  ASSERT_TRUE(cal->read_result(last));
-  EXPECT_EQ(last.generation, 6u);
-  EXPECT_EQ(torn.load(), 0);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // The reduced-order model against the full-order model it is reduced from:
 // natural frequencies, statics, energy conservation of its integrator, no heap
-// allocation in step(), capacity checks and the hand-over of a rebuilt model.
+// allocation in step(), capacity checks, adopting a rebuilt model and the builder from
+// the description.
 // Short runs: these also run under qemu-aarch64 and the sanitizers.
 // EIGEN_RUNTIME_NO_MALLOC is defined for this file (CMakeLists.txt); step() itself has no
 // Eigen (rom_kernel.cpp), so the counting operator new below is the allocation check.
@@ -163,7 +164,7 @@ TEST(Rom, BuildRefusesACutOffBeyondItsCapacityAndSaysWhy) {
   EXPECT_NE(error.find("time step"), std::string::npos) << error;
 }
 
-TEST(Rom, SwappedInModelTakesOverAtTheNextStep) {
+TEST(Rom, AdoptedModelTakesOverKeepingTimeAndRotorAngleWithoutAllocating) {
   // Arrange: a stiffer calibrated model built off the RT thread.
   const FullModel m = paper_model();
   model::Drivetrain stiff = model::paper_2mw();
@@ -173,16 +174,152 @@ TEST(Rom, SwappedInModelTakesOverAtTheNextStep) {
   const auto b = build_rom(m2, kDt, kRomDefaultCutoffHz);
   ASSERT_TRUE(a && b);
   auto rom = std::make_unique<Rom>(*a);
-  rom->reset({8.33, 361747.0});
+  const RomInputs in{8.33, 361747.0};
+  rom->reset(in);
   RomOutputs out;
-  rom->step({8.33, 361747.0}, out);
+  for (int i = 0; i < 100; ++i) rom->step(in, out);
+  const double t = rom->time_s(), revs = rom->rotor_revolutions();
   // Act
-  rom->request_swap(b.get());
-  EXPECT_TRUE(rom->swap_pending());
-  rom->step({8.33, 361747.0}, out);
-  // Assert
-  EXPECT_FALSE(rom->swap_pending());
+  const long before = g_allocations.load();
+  rom->adopt(*b, in);
+  rom->step(in, out);
+  const long allocated = g_allocations.load() - before;
+  // Assert: the new model runs on from where the old one was (one more step).
   EXPECT_EQ(&rom->data(), b.get());
+  EXPECT_EQ(allocated, 0);
+  EXPECT_NEAR(rom->time_s(), t + kDt, 1e-15);
+  EXPECT_NEAR(rom->rotor_revolutions(), revs + 8.33 / 60.0 * kDt, 1e-12);
+  EXPECT_GT(revs, 0.0);
+}
+
+TEST(Rom, AReplacementStartedAtTheRunningAngleConvergesWithinItsSettleTime) {
+  // Two trajectories of the same linear model under the same inputs differ by a free
+  // vibration, which rom_settle_time_s() bounds: a ROM reset at the running ROM's time
+  // and angle must agree with it (to 1e-3 of the mesh force's fluctuation, with margin
+  // for the time-varying stiffness) once that time has passed.
+  // Arrange: paper-2mw at a coarse step and cut-off (same physics, cheap under QEMU).
+  constexpr double kCoarseDt = 1.0 / 4096;
+  const auto data = build_rom(paper_model(), kCoarseDt, 1500.0);
+  ASSERT_TRUE(data);
+  const RomInputs in{14.8, 1.23e6};
+  Rom running(*data), replacement(*data);
+  running.reset(in);
+  RomOutputs o1, o2;
+  for (int i = 0; i < 3000; ++i) running.step(in, o1);
+  replacement.reset(in, running.rotor_revolutions(), running.time_s());
+  const double settle = rom_settle_time_s(*data);
+  ASSERT_GT(settle, 0.1);
+  ASSERT_LT(settle, 30.0);
+  // Act: step both for the settle time, tracking the hss mesh force's range.
+  const auto steps = static_cast<int>(std::ceil(settle / kCoarseDt));
+  double lo = 1e300, hi = -1e300, first_diff = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    running.step(in, o1);
+    replacement.step(in, o2);
+    lo = std::min(lo, o1.mesh_force_n[7]);
+    hi = std::max(hi, o1.mesh_force_n[7]);
+    if (i == 0) first_diff = std::abs(o1.mesh_force_n[7] - o2.mesh_force_n[7]);
+  }
+  double last_diff = 0.0;
+  for (int i = 0; i < 64; ++i) {
+    running.step(in, o1);
+    replacement.step(in, o2);
+    last_diff = std::max(last_diff, std::abs(o1.mesh_force_n[7] - o2.mesh_force_n[7]));
+  }
+  // Assert
+  EXPECT_DOUBLE_EQ(replacement.time_s(), running.time_s());
+  EXPECT_DOUBLE_EQ(replacement.rotor_revolutions(), running.rotor_revolutions());
+  EXPECT_GT(first_diff, 0.0);  // there was a start transient to decay
+  EXPECT_LT(last_diff, 2e-3 * (hi - lo));
+}
+
+TEST(Rom, TwentyYearsOfRotationLeaveItsPhasesAndTimeExact) {
+  // 20 years at 15 rpm is 1.58e8 rotor revolutions and 6.3e8 s. A ROM jumped there must
+  // run on as a ROM started near zero whose term phases were advanced by frac(order·W),
+  // W the whole revolutions (computed here independently, in long double): same outputs,
+  // and time advancing by exactly Δt per step. An angle summed in one double would lose
+  // 2e-4 of each step's increment there (ulp 3e-8 rev), a tenth of a mesh cycle per second.
+  // Arrange: paper-2mw at a coarse step and cut-off (same physics, cheap under QEMU).
+  constexpr double kCoarseDt = 1.0 / 4096;
+  const auto data = build_rom(paper_model(), kCoarseDt, 1500.0);
+  ASSERT_TRUE(data);
+  constexpr std::int64_t kWhole = 157'788'000;        // 20 × 365.25 d × 86400 s × 15/60 rev/s
+  constexpr double kFraction = 0.875;                 // crosses a whole revolution below
+  constexpr double kTime = 20 * 365.25 * 86400.0;     // [s]
+  auto shifted = std::make_unique<RomData>(*data);
+  for (int t = 0; t < kRomTerms; ++t) {
+    const long double x = static_cast<long double>(data->term_order[t]) * kWhole;
+    shifted->term_phase_cycles[t] =
+        static_cast<double>(x - std::floor(x)) + data->term_phase_cycles[t];
+  }
+  const RomInputs in{15.0, 8.0e5};
+  Rom aged(*data), young(*shifted);
+  aged.reset(in, static_cast<double>(kWhole) + kFraction, kTime);
+  young.reset(in, kFraction, 0.0);
+  ASSERT_EQ(aged.whole_revolutions(), kWhole);
+  // Act: one second (0.25 rev, through a revolution boundary).
+  constexpr int kSteps = 4096;
+  RomOutputs a, y;
+  double worst = 0.0, lo = 1e300, hi = -1e300;
+  for (int i = 0; i < kSteps; ++i) {
+    aged.step(in, a);
+    young.step(in, y);
+    for (int j = 0; j < data->mesh_count; ++j)
+      worst = std::max(worst, std::abs(a.mesh_force_n[j] - y.mesh_force_n[j]));
+    lo = std::min(lo, y.mesh_force_n[7]);
+    hi = std::max(hi, y.mesh_force_n[7]);
+  }
+  // Assert
+  EXPECT_EQ(aged.whole_revolutions(), kWhole + 1);
+  EXPECT_EQ(young.whole_revolutions(), 1);
+  EXPECT_NEAR(aged.revolution_fraction(), young.revolution_fraction(), 1e-12);
+  EXPECT_LT(worst, 1e-6 * (hi - lo)) << "mesh force range " << hi - lo << " N";
+  EXPECT_NEAR(aged.time_s() - kTime, kSteps * kCoarseDt, 2e-7);  // ulp(6.3e8 s) = 1.2e-7 s
+  EXPECT_EQ(aged.steps(), kSteps);
+}
+
+TEST(Rom, SettleTimeIsTheSlowestModesDecayByHand) {
+  // Arrange: two modes by hand. Underdamped ω² = 100, c = 2: envelope e^{−t};
+  // overdamped ω² = 1, c = 10: slow root (10 − √96)/2 = 0.10102 1/s.
+  RomData d;
+  d.omega2[0] = 100.0;
+  d.damping_1_s[0] = 2.0;
+  // Act / Assert
+  EXPECT_NEAR(rom_settle_time_s(d), std::log(1000.0), 1e-12);
+  d.omega2[1] = 1.0;
+  d.damping_1_s[1] = 10.0;
+  EXPECT_NEAR(rom_settle_time_s(d, 0.01), std::log(100.0) / (0.5 * (10.0 - std::sqrt(96.0))), 1e-9);
+  EXPECT_EQ(rom_settle_time_s(RomData{}), 0.0);
+}
+
+TEST(Rom, BuiltFromTheDescriptionCarriesTheFullModelsIdsAndParameters) {
+  // Arrange: calibrated parameters differing from the description's.
+  const model::Drivetrain d = model::paper_2mw();
+  model::DynamicsParameters p = d.dynamics;
+  p.mesh_stiffness_scale = {1.1, 0.9, 1.2};
+  model::Drivetrain same = d;
+  same.dynamics = p;
+  const FullModel m = paper_model(same);
+  RomSettings settings;
+  settings.dt_s = kDt;
+  std::string error;
+  // Act
+  const auto from_description = build_rom(d, p, settings, &error);
+  const auto from_full = build_rom(m, kDt, kRomDefaultCutoffHz);
+  // Assert: the same model as the two-stage build, with every id of the full model.
+  ASSERT_TRUE(from_description) << error;
+  ASSERT_TRUE(from_full);
+  EXPECT_EQ(from_description->omega_rad_s, from_full->omega_rad_s);
+  ASSERT_EQ(from_description->mesh_count, static_cast<int>(m.meshes.size()));
+  ASSERT_EQ(from_description->bearing_count, static_cast<int>(m.bearings.size()));
+  ASSERT_EQ(from_description->sensor_count, static_cast<int>(m.sensors.size()));
+  for (std::size_t j = 0; j < m.meshes.size(); ++j)
+    EXPECT_EQ(from_description->mesh_ids[j].view(), m.meshes[j].id);
+  for (std::size_t j = 0; j < m.bearings.size(); ++j)
+    EXPECT_EQ(from_description->bearing_ids[j].view(), m.bearings[j].id);
+  for (std::size_t j = 0; j < m.sensors.size(); ++j)
+    EXPECT_EQ(from_description->sensor_ids[j].view(), m.sensors[j].channel);
+  EXPECT_EQ(from_description->mesh_ids[7].view(), "high_speed");
 }
 
 }  // namespace

@@ -34,21 +34,20 @@
 //    population + a preference-guided target (mogoa.hpp).
 //  - kPublishedMogoa: MOGOA as published (random initial population).
 //
-// Thread context: a low-priority worker owns the Calibrator and calls
-// start() and then step() until it returns a final status; each step() is one
-// model evaluation (trust region) or one MOGOA iteration (population × one
-// simulation). cancel() and read_result() may be called from any thread at
-// any time: cancel() sets an atomic flag that the next step() honours, and
-// read_result() reads the last published result through a seqlock of atomic
-// words (lock-free, never blocks the writer; the real-time loop can poll it
-// and swap the parameters in at a cycle boundary). Construct at start-up: all
+// Thread context: one thread owns the Calibrator (in the box: the low-priority
+// calibration thread) and calls start() and then step() until it returns a final
+// status; each step() is one model evaluation (trust region) or one MOGOA
+// iteration (population × one simulation). Every member, cancel() and
+// read_result() included, is called from that thread only: the Calibrator has no
+// thread protocol of its own. The application relays a cancel request from
+// another thread and publishes results to other threads through its mailboxes
+// (app/loop/mailbox.hpp). Construct at start-up: all
 // buffers, the FFT plan, the MOGOA and trust-region storage and the archive
 // are allocated there; start()/step() do not allocate (the simulator must not
 // either for that to hold: the lumped stand-in does not, the dynamics ROM
 // adapter does, see dynamics_simulator.hpp).
 
 #include <array>
-#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -108,7 +107,8 @@ struct CalibratorConfig {
   CalibrationSpace space{};
 };
 
-/// What a calibration produced; trivially copyable so that it can be published atomically.
+/// What a calibration produced; trivially copyable so that the application can publish it
+/// through a lock-free mailbox.
 struct CalibrationResult {
   std::uint32_t generation = 0;  // [-] 1 for the first published result, +1 per publication
   bool finished = false;         // the optimiser ran to its end (or to the threshold)
@@ -161,11 +161,11 @@ class Calibrator {
   /// step evaluates the initial population). Publishes the result when the run ends.
   StepStatus step();
 
-  /// Requests the running calibration to stop at the next step(); any thread.
-  void cancel() { cancel_requested_.store(true, std::memory_order_relaxed); }
+  /// Requests the running calibration to stop at the next step() (owning thread).
+  void cancel() { cancel_requested_ = true; }
 
-  /// Copies the last published result; false when none was published yet or
-  /// the writer kept publishing while this reader retried. Any thread, lock-free.
+  /// Copies the last published result (the end of the last run); false when no run
+  /// has ended yet. Owning thread; the result is trivially copyable for a mailbox.
   bool read_result(CalibrationResult& out) const;
 
   std::size_t evaluations() const { return problem_.evaluations; }
@@ -237,12 +237,9 @@ class Calibrator {
   std::array<std::array<double, kCalibrationVariables>, kMaxArchive> archive_x_{};
   std::array<std::array<double, kCalibrationObjectives>, kMaxArchive> archive_f_{};
   StepStatus state_ = StepStatus::kIdle;
-  std::atomic<bool> cancel_requested_{false};
+  bool cancel_requested_ = false;
 
-  // Seqlock: an odd sequence means a write is in progress.
-  static constexpr std::size_t kResultWords = (sizeof(CalibrationResult) + 7) / 8;
-  std::atomic<std::uint32_t> sequence_{0};
-  std::array<std::atomic<std::uint64_t>, kResultWords> result_words_{};
+  CalibrationResult result_{};  // the last published result (generation_ > 0)
   std::uint32_t generation_ = 0;
 };
 

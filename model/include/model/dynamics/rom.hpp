@@ -49,21 +49,34 @@
 // Thread context: RomData is built on a non-RT thread (build_rom allocates, bounded by
 // the full model's size: one n×n eigen-decomposition, n = 140 for paper-2mw; 6 ms CPU
 // measured by tools/dynamics_bench).
-// Rom::step() is real-time safe: fixed-size arrays, no allocation, no exceptions, no
-// locks, no clock (time is advanced by Δt per call). A new RomData (calibrated
-// parameters) is handed over with Rom::request_swap() from any one non-RT thread; the
-// RT thread adopts it at the start of its next step() (an atomic pointer exchange)
-// and restarts from the new model's static equilibrium. The caller keeps both
-// RomData objects alive until swap_pending() is false again.
+// Rom is a pure step: fixed-size arrays, no allocation, no exceptions, no locks, no
+// atomics, no clock (time is advanced by Δt per call). It knows nothing about threads:
+// handing a newly built RomData (calibrated parameters) to the real-time thread and the
+// old one back is the application's business (app/loop). A Rom switches model with
+// adopt() (or a second Rom is reset() at the running one's time and rotor angle), which
+// restarts from the new model's static equilibrium without restarting time or angle;
+// rom_settle_time_s() says how long the start transient takes to decay.
+//
+// Time and rotor angle stay exact over the box's lifetime: time is an integer step count
+// (t = t₀ + n·Δt), the rotor angle an integer count of whole revolutions plus a fraction in
+// [0, 1), and every time-varying term's phase at the start of the current revolution,
+// frac(order·whole + phase), is kept per term (recomputed, error-free, once per
+// revolution). The step then evaluates order·fraction + that phase: a number below the
+// order + 1 whatever the angle, so a speed of 15 rpm after 20 years (1.6e8 rev) advances
+// the phases as exactly as on the first day. (Accumulating the angle in one double, its
+// increment of ~1e-5 rev per step would be rounded to ulp(1.6e8 rev) = 3e-8 rev: a 0.3 %
+// speed error, whole mesh cycles of phase lost per second.)
 
 #include <Eigen/Dense>
 
 #include <array>
-#include <atomic>
+#include <cstdint>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/periodic_table.hpp"
 #include "model/dynamics/rom_terms.hpp"
@@ -93,6 +106,15 @@ inline constexpr int kRomTerms = kRomMeshes + kRomBearings + kRomForces + kRomMe
 /// padded with zeros to whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
 
+/// Longest mesh, bearing or sensor id a RomData carries (characters, without the
+/// terminating zero). build_rom() refuses a longer id by name.
+inline constexpr std::size_t kRomIdChars = 31;
+/// A fixed-size, zero-terminated id ("sun_planet_1", "b5", "point1").
+struct RomId {
+  std::array<char, kRomIdChars + 1> chars{};
+  std::string_view view() const noexcept { return std::string_view(chars.data()); }
+};
+
 /// Everything a ROM step reads: immutable after build_rom(), fixed size.
 struct RomData {
   using Vec = Eigen::Matrix<double, kRomDofs, 1>;
@@ -101,6 +123,12 @@ struct RomData {
   int eigenmodes = 0;          // [-] retained full-model modes
   int correction_vectors = 0;  // [-] static correction vectors
   int mesh_count = 0, bearing_count = 0, force_count = 0, sensor_count = 0;
+  // The full model's ids of the slots [0, count): what each output index is
+  // (full_model.hpp: sun_planet_1..3, ring_planet_1..3, intermediate, high_speed; b1..b6;
+  // point1, point2 for paper-2mw).
+  std::array<RomId, kRomMeshes> mesh_ids{};
+  std::array<RomId, kRomBearings> bearing_ids{};
+  std::array<RomId, kRomSensors> sensor_ids{};
 
   // The arrays step() streams are cache-line aligned (alignas(64)): the AVX-512 kernel
   // then never splits a load across two lines. Matrices are stored so that the kernel
@@ -173,6 +201,29 @@ struct RomBuildReport {
 std::unique_ptr<RomData> build_rom(const FullModel& model, double dt_s, double cutoff_hz,
                                    std::string* error = nullptr, RomBuildReport* report = nullptr);
 
+/// How the ROM of a drivetrain is built: its fixed step and its mode cut-off.
+struct RomSettings {
+  double dt_s = 1.0 / 25600.0;             // [s] fixed time step (1 / the ROM's sample rate)
+  double cutoff_hz = kRomDefaultCutoffHz;  // [Hz] keep every full-model mode up to here
+  StructuralParameters structure{};        // the full model's structural parameters
+};
+
+/// The ROM of `drivetrain` with its dynamics parameters replaced by `parameters` (e.g. a
+/// calibration's result): build_full_model() then build_rom(). The ids of meshes,
+/// bearings and sensors come with it (RomData::mesh_ids, ...).
+/// nullptr with `error` set on an invalid description, parameters or settings.
+/// Non-RT: allocates (a calibration's builder thread, start-up, host tools).
+std::unique_ptr<RomData> build_rom(const Drivetrain& drivetrain,
+                                   const DynamicsParameters& parameters,
+                                   const RomSettings& settings, std::string* error = nullptr,
+                                   RomBuildReport* report = nullptr);
+
+/// Time for the slowest retained mode's free vibration to decay to `fraction` of its
+/// start [s]: the start transient of reset()/adopt() (envelope e^{−c t/2} of
+/// q̈ + c q̇ + ω² q = 0, c = η + ζω²; the slow root ω²/c… of an overdamped mode).
+/// Non-RT or RT (no allocation); 0 for an empty model.
+double rom_settle_time_s(const RomData& data, double fraction = 1e-3) noexcept;
+
 /// The instruction set of the step kernel this process runs (x86-64: the target_clones
 /// variant the loader picked for the CPU; aarch64: NEON). For benchmark reports.
 const char* rom_step_isa() noexcept;
@@ -193,36 +244,54 @@ struct RomOutputs {
 
 class Rom {
  public:
-  /// @param data must outlive the Rom (or its replacement via request_swap()).
+  /// @param data must outlive the Rom (or its use until adopt() names another).
   explicit Rom(const RomData& data) noexcept;
 
-  /// Static equilibrium under the mean stiffness and `in`, rotor angle 0.
-  void reset(const RomInputs& in) noexcept;
+  /// Static equilibrium under the mean stiffness and `in` at rotor angle
+  /// `rotor_revolutions` [rev] and time `time_s` [s] (both 0 at a first start; a
+  /// replacement ROM takes the running one's). RT-safe.
+  void reset(const RomInputs& in, double rotor_revolutions = 0.0, double time_s = 0.0) noexcept;
+  /// The same at `at`'s exact time and rotor angle (a replacement started beside the running
+  /// ROM: no rounding of a lifetime's angle through one double). RT-safe.
+  void reset(const RomInputs& in, const Rom& at) noexcept;
+  /// Switches to `next` (e.g. calibrated parameters; must outlive its use) and restarts
+  /// from its static equilibrium under `in`, keeping time and rotor angle. The start
+  /// transient decays within rom_settle_time_s(next). RT-safe (no allocation).
+  void adopt(const RomData& next, const RomInputs& in) noexcept;
   /// Advances one fixed step Δt = data().dt_s. RT-safe.
   void step(const RomInputs& in, RomOutputs& out) noexcept;
 
-  /// Non-RT: hand a new model to the RT thread (adopted at the start of its next step).
-  void request_swap(const RomData* next) noexcept {
-    pending_.store(next, std::memory_order_release);
-  }
-  bool swap_pending() const noexcept { return pending_.load(std::memory_order_acquire) != nullptr; }
-
   const RomData& data() const noexcept { return *data_; }
-  double time_s() const noexcept { return t_; }
-  double rotor_revolutions() const noexcept { return revs_; }
+  /// [s] t₀ + steps·Δt (exact up to one rounding, at any age).
+  double time_s() const noexcept { return t0_ + static_cast<double>(steps_) * data_->dt_s; }
+  /// [rev] the rotor angle (for reports: one double; the step uses the exact split below).
+  double rotor_revolutions() const noexcept {
+    return static_cast<double>(whole_revs_) + frac_revs_;
+  }
+  std::int64_t whole_revolutions() const noexcept { return whole_revs_; }
+  double revolution_fraction() const noexcept { return frac_revs_; }  // [rev] in [0, 1)
+  std::int64_t steps() const noexcept { return steps_; }  // [-] steps since the last reset
   const RomData::Vec& modal_displacement() const noexcept { return q_; }
   const RomData::Vec& modal_velocity() const noexcept { return v_; }
 
  private:
   const RomData* data_;
-  std::atomic<const RomData*> pending_{nullptr};
   alignas(64) RomData::Vec q_ = RomData::Vec::Zero();
   alignas(64) RomData::Vec v_ = RomData::Vec::Zero();
   alignas(64) RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
   Eigen::Matrix<double, kRomBearingRank, 1> z_bearing_ = decltype(z_bearing_)::Zero();
   Eigen::Matrix<double, kRomMeshes, 1> z_mesh_ = decltype(z_mesh_)::Zero();
-  double t_ = 0.0;
-  double revs_ = 0.0;
+  // Sets the angle (whole + fraction, normalised to [0, 1)) and every term's phase at it.
+  void set_angle(std::int64_t whole, double fraction) noexcept;
+  void reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
+                std::int64_t steps) noexcept;
+
+  double t0_ = 0.0;            // [s] time at the last reset
+  std::int64_t steps_ = 0;     // [-] steps since
+  std::int64_t whole_revs_ = 0;  // [rev] whole rotor revolutions
+  double frac_revs_ = 0.0;       // [rev] in [0, 1)
+  // frac(order·whole_revs_ + phase) per term [cycles] (RomData's term layout).
+  alignas(64) std::array<double, kRomTerms> phase_base_{};
 };
 
 }  // namespace model::dynamics

@@ -1,0 +1,77 @@
+#include "wind/torque_source.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "model/wind/corrections.hpp"
+
+namespace app::wind {
+namespace {
+constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+using Q = hal::ScadaQuantity;
+}  // namespace
+
+const char* to_string(TorqueSource source) {
+  switch (source) {
+    case TorqueSource::kNone:
+      return "none";
+    case TorqueSource::kMeasuredTorque:
+      return "measured torque";
+    case TorqueSource::kPower:
+      return "power";
+    case TorqueSource::kWind:
+      return "wind";
+  }
+  return "?";
+}
+
+double rotor_torque_from_power_nm(const model::Turbine& t, double power_kw,
+                                  double rotor_speed_rpm) {
+  if (!(rotor_speed_rpm >= kMinPowerSpeedRpm) || !(t.drivetrain_efficiency > 0.0)) return 0.0;
+  // P_aero = (P_el + P_0)/η (model/wind/corrections.hpp), the inverse of what the wind
+  // model's electrical_power_w() predicts.
+  const double p_aero_w = model::wind::aerodynamic_power_w(power_kw * 1e3, t.drivetrain_efficiency,
+                                                           t.corrections.no_load_loss_w);
+  return std::max(0.0, p_aero_w) / (rotor_speed_rpm * kRpmToRadS);
+}
+
+RotorTorque rotor_torque(const model::Turbine& turbine, const model::wind::WindLoad& wind,
+                         const ScadaValues& v, TorquePreference pref,
+                         const WindSourceOptions& options) {
+  RotorTorque r;
+  const bool any = pref == TorquePreference::kAuto;
+  const bool steady = pref == TorquePreference::kWindSteady;
+  const bool has_speed = v.has(Q::kRotorSpeed) && !steady;
+  const double rpm = has_speed ? std::max(0.0, v.get(Q::kRotorSpeed)) : 0.0;
+  r.rotor_speed_rpm = rpm;
+  if ((any || pref == TorquePreference::kTorque) && v.has(Q::kRotorTorque)) {
+    r.torque_nm = std::abs(v.get(Q::kRotorTorque));
+    r.source = TorqueSource::kMeasuredTorque;
+    return r;
+  }
+  if ((any || pref == TorquePreference::kPower) && v.has(Q::kPower) && has_speed &&
+      rpm >= kMinPowerSpeedRpm) {
+    r.torque_nm = rotor_torque_from_power_nm(turbine, v.get(Q::kPower), rpm);
+    r.source = TorqueSource::kPower;
+    return r;
+  }
+  const bool use_wind = any || pref == TorquePreference::kWind || steady;
+  if (use_wind && v.has(Q::kWindSpeed)) {
+    const double ws = v.get(Q::kWindSpeed);
+    if (has_speed) {
+      const bool pitch = options.measured_pitch && v.has(Q::kPitch);
+      r.wind = wind.with_rotor_speed(
+          ws, rpm * kRpmToRadS, pitch ? v.get(Q::kPitch) * kDegToRad : 0.0, pitch, options.inflow);
+    } else {
+      r.wind = wind.steady_state(ws);
+      r.rotor_speed_rpm = r.wind.rotor_speed_rad_s / kRpmToRadS;
+    }
+    r.torque_nm = std::abs(r.wind.torque_nm);
+    r.source = TorqueSource::kWind;
+  }
+  return r;
+}
+
+}  // namespace app::wind
