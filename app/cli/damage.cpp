@@ -10,6 +10,8 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include <map>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +24,8 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
+#include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "fatigue/damage_history.hpp"
@@ -48,6 +52,8 @@ struct DamageArgs {
   bool bench = false;
   std::string json;
   std::string spectrum = "quasi-static";
+  double rom_rate_hz = app::fatigue::DynamicsSpectrumSettings{}.sample_rate_hz;
+  double rom_cutoff_hz = app::fatigue::DynamicsSpectrumSettings{}.rom_cutoff_hz;
   std::string cache_dir;
   std::string sn = "haibach";
   double period_s = 0.0;
@@ -115,6 +121,18 @@ double estimate_rows(const std::string& path) {
   return lines > 1 ? static_cast<double>(size) / (bytes / lines) : 0.0;
 }
 
+// A row time as a UTC date-time when it is one (after 1990), else in seconds.
+std::string time_text(double t_s) {
+  if (!std::isfinite(t_s)) return "?";
+  if (t_s < 631152000.0) return "t_s = " + std::to_string(t_s) + " s";
+  const std::time_t t = static_cast<std::time_t>(t_s);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[40];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d %H:%M:%S UTC", &tm);
+  return buf;
+}
+
 nlohmann::json num(double v) {
   return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
 }
@@ -175,11 +193,16 @@ void run(const DamageArgs& args) {
     throw CommandError("--f-ma must be in [0, 1]");
   if (!(args.pinion_offset >= 0.0 && args.pinion_offset < 0.5))
     throw CommandError("--pinion-offset must be in [0, 0.5)");
-  if (args.spectrum != "quasi-static" && args.spectrum != "dynamics") {
-    throw CommandError("--spectrum: '" + args.spectrum + "' is not one of dynamics, quasi-static");
+  if (args.spectrum != "quasi-static" && args.spectrum != "dynamics" &&
+      args.spectrum != "dynamics-rows") {
+    throw CommandError("--spectrum: '" + args.spectrum +
+                       "' is not one of dynamics, dynamics-rows, quasi-static");
   }
-  const mf::SpectrumSource source = args.spectrum == "dynamics" ? mf::SpectrumSource::kDynamics
-                                                                : mf::SpectrumSource::kQuasiStatic;
+  // dynamics-rows: the dynamics model at every row's own operating point (no grid).
+  const bool rows_mode = args.spectrum == "dynamics-rows";
+  const mf::SpectrumSource source = args.spectrum != "quasi-static"
+                                        ? mf::SpectrumSource::kDynamics
+                                        : mf::SpectrumSource::kQuasiStatic;
 
   const mf::ChannelSet channels(drivetrain, options);
   if (!channels.valid())
@@ -190,21 +213,34 @@ void run(const DamageArgs& args) {
                                     : app::fatigue::quasi_static_grid(drivetrain);
   if (!(grid.torque_max_nm > 0.0))
     throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
-  const std::uint64_t key = app::fatigue::spectrum_key(drivetrain, channels, grid, source);
+  app::fatigue::DynamicsSpectrumSettings dynamics_settings;
+  const bool default_rom = args.rom_rate_hz == dynamics_settings.sample_rate_hz &&
+                           args.rom_cutoff_hz == dynamics_settings.rom_cutoff_hz;
+  dynamics_settings.sample_rate_hz = args.rom_rate_hz;
+  dynamics_settings.rom_cutoff_hz = args.rom_cutoff_hz;
+  const std::uint64_t key = app::fatigue::spectrum_key(
+      drivetrain, channels, grid, source, app::fatigue::kSpectrumCodeVersion,
+      default_rom || source != mf::SpectrumSource::kDynamics ? 0.0 : args.rom_rate_hz,
+      default_rom || source != mf::SpectrumSource::kDynamics ? 0.0 : args.rom_cutoff_hz);
   const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir()
                                                     : fs::path(args.cache_dir);
   const fs::path cache_file = app::fatigue::spectrum_cache_file(cache_dir, key);
   mf::LoadSpectrum spectrum;
   spectrum.grid = grid;
   spectrum.source = source;
-  bool cache_hit = !args.no_cache && app::fatigue::load_cached_spectrum(
-                                         cache_file, key, channels.channel_count(), spectrum);
-  if (!cache_hit) {
+  bool cache_hit =
+      !rows_mode && !args.no_cache &&
+      app::fatigue::load_cached_spectrum(cache_file, key, channels.channel_count(), spectrum);
+  std::string rows_sim_error;
+  const mf::LoadSimulator rows_simulator =
+      rows_mode ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings,
+                                                   &rows_sim_error)
+                : mf::LoadSimulator{};
+  if (!cache_hit && !rows_mode) {
     std::string sim_error;
     const mf::LoadSimulator simulator =
         source == mf::SpectrumSource::kDynamics
-            ? app::fatigue::dynamics_simulator(drivetrain, channels,
-                                               app::fatigue::DynamicsSpectrumSettings{}, &sim_error)
+            ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings, &sim_error)
             : mf::quasi_static_simulator(channels);
     if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
       std::fprintf(
@@ -217,7 +253,7 @@ void run(const DamageArgs& args) {
       throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);
   }
-  spectrum.prepare();
+  if (!rows_mode) spectrum.prepare();
   const auto t1 = std::chrono::steady_clock::now();
 
   std::string temp;
@@ -255,6 +291,24 @@ void run(const DamageArgs& args) {
   }
 
   app::fatigue::HistoryOptions hopt;
+  // Rows mode: one simulation per distinct operating point, remembered (a SCADA export
+  // repeats points only when values repeat exactly).
+  std::map<std::pair<double, double>, std::vector<double>> rows_cache;
+  if (rows_mode) {
+    hopt.at_point = [&](double torque_nm, double rotor_rpm, double* out) {
+      auto it = rows_cache.find({torque_nm, rotor_rpm});
+      if (it == rows_cache.end()) {
+        std::vector<double> d(channels.channel_count());
+        std::string why;
+        if (!mf::damage_per_rev_at_point(channels, rows_simulator, torque_nm, rotor_rpm, d.data(),
+                                         &why))
+          throw std::runtime_error(why + (rows_sim_error.empty() ? "" : ": " + rows_sim_error));
+        it = rows_cache.emplace(std::make_pair(torque_nm, rotor_rpm), std::move(d)).first;
+      }
+      std::copy(it->second.begin(), it->second.end(), out);
+      return true;
+    };
+  }
   hopt.period_s = args.period_s;
   hopt.torque_from = torque_from;
   hopt.per_day = args.per_day || !args.per_day_csv.empty();
@@ -293,7 +347,15 @@ void run(const DamageArgs& args) {
   const char* src = mf::spectrum_source_name(spectrum.source);
   std::printf("# drivetwin damage %s (drivetrain %s)\n", args.file.c_str(),
               drivetrain.name.c_str());
-  if (source == mf::SpectrumSource::kDynamics) {
+  if (rows_mode) {
+    std::printf(
+        "# load spectrum: dynamics-rows — the ROM at every row's own (torque, speed), %zu "
+        "simulations at %.0f Hz (cut-off %.0f Hz), no interpolation "
+        "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, "
+        "K_v = 1\n",
+        rows_cache.size(), args.rom_rate_hz, args.rom_cutoff_hz, drivetrain.dynamics.rayleigh_eta,
+        drivetrain.dynamics.rayleigh_zeta, args.k_a);
+  } else if (source == mf::SpectrumSource::kDynamics) {
     std::printf(
         "# load spectrum: %s — ROM mesh forces and bearing reactions per (torque, speed) point "
         "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, K_v = "
@@ -328,17 +390,36 @@ void run(const DamageArgs& args) {
     std::printf("\n");
   }
   std::printf("# bearing ratings C [kN] (the description's, else ISO 281:2007 from geometry):");
+  bool assumed_rating = false;
   for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
-    std::printf(" %s %.0f", channels.bearing_id(b).c_str(),
-                channels.bearing(b).dynamic_rating_n / 1e3);
+    const model::Bearing* desc = drivetrain.bearing(channels.bearing_id(b));
+    const bool from_geometry = desc == nullptr || !(desc->dynamic_rating_n > 0.0);
+    assumed_rating |= from_geometry;
+    std::printf(" %s %.0f%s", channels.bearing_id(b).c_str(),
+                channels.bearing(b).dynamic_rating_n / 1e3, from_geometry ? "*" : "");
   }
   std::printf("\n");
+  if (assumed_rating) {
+    std::printf(
+        "# * assumed: no dynamic_rating_n in the description, C computed from the bearing's "
+        "geometry (ISO 281 formula); a catalogue rating can be 2-3 x higher: these lives rest "
+        "on that assumption\n");
+  }
   std::printf(
       "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu, other "
-      "range %zu), no data %zu; gaps %zu (%.1f h missing)\n",
+      "range %zu, beyond the load spectrum %zu), no data %zu; gaps %zu (%.1f h missing)\n",
       h.rows, h.rows_used, h.rows_rejected, h.rejected_nonnumeric, h.rejected_time,
-      h.rejected_speed, h.rejected_wind, h.rejected_range, h.rows_no_data, h.gaps,
-      h.gap_s / 3600.0);
+      h.rejected_speed, h.rejected_wind, h.rejected_range, h.rejected_spectrum, h.rows_no_data,
+      h.gaps, h.gap_s / 3600.0);
+  if (h.rejected_spectrum > 0) {
+    const double rated = drivetrain.turbine.rated_torque_nm;
+    std::printf(
+        "# %zu rows beyond the load spectrum (torque above %.1f x rated, up to %.2f x rated, or "
+        "speed above %.3g rpm) were not accumulated: their damage is NOT in the totals below (a "
+        "torque column in kN·m or the wrong --torque-from?)\n",
+        h.rejected_spectrum, spectrum.grid.torque_max_nm / rated, h.max_rejected_torque_nm / rated,
+        spectrum.grid.speed_max_rpm);
+  }
   std::printf(
       "# period %.0f s; covered %.3f days (%.3f years); torque from: torque_nm %zu rows, "
       "P/(eta*omega) %zu, "
@@ -347,14 +428,27 @@ void run(const DamageArgs& args) {
       h.torque_rows_wind);
   std::printf("%-9s %-16s %-8s %12s %12s %10s %10s %10s %10s\n", "component", "detail", "mode",
               "damage", "per_day", "rul_y", "rul_short_y", "rul_low_y", "rul_high_y");
+  std::vector<std::string> exceeded;
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
     const mf::Channel& ch = channels.channel(c);
     const mf::RulEstimate& e = h.rul[c];
+    if (h.damage[c] >= 1.0) {
+      // Past its life: no remaining life to print, the date it was used up instead.
+      std::printf("%-9s %-16s %-8s %12.4e %12.4e %10s %10s %10s %10s\n", ch.component.c_str(),
+                  ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode),
+                  h.damage[c], days > 0 ? h.damage[c] / days : 0.0, "exceeded", "exceeded",
+                  "exceeded", "exceeded");
+      exceeded.push_back(ch.component + (ch.detail.empty() ? "" : " " + ch.detail) + " " +
+                         mf::failure_mode_name(ch.mode) + ": D = " + std::to_string(h.damage[c]) +
+                         ", life exceeded since " + time_text(h.exceeded_at_s[c]));
+      continue;
+    }
     std::printf("%-9s %-16s %-8s %12.4e %12.4e %10.3g %10.3g %10.3g %10.3g\n", ch.component.c_str(),
                 ch.detail.empty() ? "-" : ch.detail.c_str(), mf::failure_mode_name(ch.mode),
                 h.damage[c], days > 0 ? h.damage[c] / days : 0.0, e.rul_s / kYearS,
                 e.rul_short_term_s / kYearS, e.rul_low_s / kYearS, e.rul_high_s / kYearS);
   }
+  for (const auto& line : exceeded) std::printf("# PAST ITS LIFE: %s\n", line.c_str());
   const mf::Channel& bc = channels.channel(h.breakdown_channel);
   std::printf(
       "# %s %s damage by rotor torque (bins of 0.1 x rated): share of time, share of damage, "
@@ -441,7 +535,11 @@ void run(const DamageArgs& args) {
     j["format"] = "drivetwin-damage/1";
     j["file"] = args.file;
     j["drivetrain"] = drivetrain.name;
-    j["spectrum"] = {{"source", src}, {"k_a", args.k_a}, {"cache", cache_hit ? "hit" : "built"}};
+    j["spectrum"] = {{"source", rows_mode ? "dynamics-rows" : src},
+                     {"k_a", args.k_a},
+                     {"cache", rows_mode ? "none" : (cache_hit ? "hit" : "built")},
+                     {"rom_rate_hz", args.rom_rate_hz},
+                     {"rom_cutoff_hz", args.rom_cutoff_hz}};
     j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta)
                                                     : nlohmann::json("iso6336-1-method-c")},
                    {"lead_modification", args.lead},
@@ -467,7 +565,8 @@ void run(const DamageArgs& args) {
                  {"rejected_time", h.rejected_time},
                  {"rejected_speed", h.rejected_speed},
                  {"rejected_wind", h.rejected_wind},
-                 {"rejected_range", h.rejected_range}};
+                 {"rejected_range", h.rejected_range},
+                 {"rejected_beyond_spectrum", h.rejected_spectrum}};
     j["period_s"] = h.period_s;
     j["covered_s"] = h.covered_s;
     j["first_t_s"] = h.first_t_s;
@@ -481,6 +580,7 @@ void run(const DamageArgs& args) {
                                {"damage", h.damage[c]},
                                {"damage_per_day", days > 0 ? h.damage[c] / days : 0.0},
                                {"rul_years", num(e.rul_s / kYearS)},
+                               {"exceeded_since_t_s", num(h.exceeded_at_s[c])},
                                {"rul_short_term_years", num(e.rul_short_term_s / kYearS)},
                                {"rul_low_years", num(e.rul_low_s / kYearS)},
                                {"rul_high_years", num(e.rul_high_s / kYearS)}});
@@ -534,21 +634,38 @@ void setup_damage(CLI::App& sub) {
                  "Rotor torque source: auto (torque_nm, else P/(eta*omega), else wind model), "
                  "torque, power, "
                  "wind, wind-steady (wind model with its own steady-state speed)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::one_of({"auto", "torque", "power", "wind", "wind-steady"}));
   sub.add_flag("--bench", args->bench,
                "Also time a reading-only pass (baseline) and print the ratio");
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
   sub.add_option("--spectrum", args->spectrum,
                  "Load spectrum source: quasi-static (the fallback: mean mesh forces) | dynamics "
-                 "(ROM per grid point)")
-      ->capture_default_str();
+                 "(ROM per grid point, interpolated) | dynamics-rows (ROM at every row's own "
+                 "operating point: no interpolation, one simulation per distinct row; short "
+                 "histories)")
+      ->capture_default_str()
+      ->check(app::cli::one_of({"quasi-static", "dynamics", "dynamics-rows"}));
+  sub.add_option("--rom-rate", args->rom_rate_hz,
+                 "Dynamics spectrum: the ROM's sample (step) rate [Hz]; `drivetwin run` steps its "
+                 "ROM at period / rom_steps_per_cycle")
+      ->capture_default_str()
+      ->check(app::cli::number_in(256.0, 1e6, "Hz"));
+  sub.add_option("--rom-cutoff", args->rom_cutoff_hz,
+                 "Dynamics spectrum: the ROM's mode cut-off [Hz]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(10.0, 2500.0, "Hz"));
   sub.add_option("--cache-dir", args->cache_dir,
                  "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
   sub.add_flag("--no-cache", args->no_cache, "Always rebuild the spectrum, write no cache");
-  sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)");
-  sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")->capture_default_str();
+  sub.add_option("--period", args->period_s, "SCADA period [s] (default: detected)")
+      ->check(app::cli::number_in(0.0, 366.0 * 86400.0, "s", true));
+  sub.add_option("--sn", args->sn, "S-N beyond the knee: haibach | iso")
+      ->capture_default_str()
+      ->check(app::cli::one_of({"haibach", "iso"}));
   sub.add_option("--k-a", args->k_a, "Application factor K_A of the quasi-static spectrum")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(1.0, 10.0));
   sub.add_option(
       "--k-h-beta", args->k_h_beta,
       "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
@@ -563,12 +680,16 @@ void setup_damage(CLI::App& sub) {
       ->capture_default_str();
   sub.add_option("--f-ma", args->f_ma_factor,
                  "Mesh misalignment f_ma as a fraction of f_Hbeta (1: no adjustment)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0));
   sub.add_option("--pinion-offset", args->pinion_offset,
                  "Parallel-stage pinion offset s/l from mid-span (K_Hbeta method C)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 0.5, "", false, true));
   sub.add_option("--grade", args->accuracy_grade, "ISO 1328-1 accuracy class (K_Halpha)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::integer_in(app::config::kMinAccuracyGrade, app::config::kMaxAccuracyGrade,
+                                   "ISO 1328-1:2013 classes"));
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
   sub.add_flag("--per-day", args->per_day,
                "Distribution of the most damaged gear-contact channel's damage per full UTC day, "

@@ -12,6 +12,7 @@
 #include "cli/command.hpp"
 #include "config/drivetrain_file.hpp"
 #include "hal/scada_csv.hpp"
+#include "wind/heldout.hpp"
 #include "wind/torque_estimate.hpp"
 
 namespace {
@@ -24,6 +25,8 @@ struct TorqueArgs {
   std::string columns = "bundle";
   std::string from;
   std::string to;
+  std::string months;
+  bool breakdown = false;
   bool compare = false;
   bool json = false;
   bool no_rows = false;
@@ -40,6 +43,12 @@ void run(const TorqueArgs& args) {
   app::wind::TimeWindow window;
   if (!args.from.empty()) window.from_s = app::wind::parse_time_option("--from", args.from);
   if (!args.to.empty()) window.to_s = app::wind::parse_time_option("--to", args.to);
+  if (!args.months.empty()) {
+    const auto set = app::wind::MonthSet::parse(args.months, &error);
+    if (!set) throw app::cli::CommandError("--months: " + error);
+    window.months = set->mask();
+  }
+  app::wind::ErrorBreakdown breakdown;
 
   hal::ScadaCsvReader reader;
   if (!reader.open(args.file, *columns)) throw app::cli::CommandError(reader.error());
@@ -62,6 +71,9 @@ void run(const TorqueArgs& args) {
                 "region", "torque_nm", "estimate_nm", "reference_nm", "error_pct");
   }
   auto on_row = [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
+    if (args.breakdown) {
+      breakdown.add(row.time_s(), row.get(hal::ScadaQuantity::kWindSpeed), e);
+    }
     if (args.no_rows) return;
     const bool has_ref = e.reference != ReferenceKind::kNone;
     const double err_pct = has_ref && e.reference_torque_nm != 0.0
@@ -74,8 +86,8 @@ void run(const TorqueArgs& args) {
           {"t_s", number_or_null(row.time_s())},
           {"wind_speed_mps", number_or_null(row.get(hal::ScadaQuantity::kWindSpeed))},
           {"rotor_speed_rpm", number_or_null(row.get(hal::ScadaQuantity::kRotorSpeed))},
-          {"region", model::wind::region_name(e.load.region)},
-          {"torque_nm", e.load.torque_nm}};
+          {"region", e.estimated ? model::wind::region_name(e.load.region) : "no_wind_speed"},
+          {"torque_nm", e.estimated ? nlohmann::json(e.load.torque_nm) : nlohmann::json(nullptr)}};
       if (args.compare) {
         j["reference_nm"] = has_ref ? nlohmann::json(e.reference_torque_nm) : nullptr;
         j["estimate_nm"] = has_ref ? nlohmann::json(e.compared_torque_nm) : nullptr;
@@ -84,9 +96,11 @@ void run(const TorqueArgs& args) {
       }
       std::printf("%s%s", first ? "\n" : ",\n", j.dump().c_str());
     } else {
-      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12.0f", row.row, row.time_s(),
+      // No wind speed: no estimate, and no region (a turning rotor is not below cut-in).
+      std::printf("%8zu %14.0f %9.3f %9.3f %13s %12s", row.row, row.time_s(),
                   row.get(hal::ScadaQuantity::kWindSpeed), row.get(hal::ScadaQuantity::kRotorSpeed),
-                  model::wind::region_name(e.load.region), e.load.torque_nm);
+                  e.estimated ? model::wind::region_name(e.load.region) : "no_wind_speed",
+                  e.estimated ? std::to_string(std::lround(e.load.torque_nm)).c_str() : "-");
       if (args.compare && has_ref) {
         std::printf(" %12.0f %12.0f %9.2f%s", e.compared_torque_nm, e.reference_torque_nm, err_pct,
                     e.in_operation ? "" : "  (not counted)");
@@ -167,6 +181,10 @@ void run(const TorqueArgs& args) {
   for (const auto& [reason, count] : summary.excluded) {
     std::printf("# not counted: %zu rows, %s\n", count, reason.c_str());
   }
+  if (args.breakdown) {
+    std::printf("# per month and region:\n%s# per wind-speed bin (nacelle wind):\n%s",
+                breakdown.month_table().c_str(), breakdown.wind_table().c_str());
+  }
 }
 
 void setup_torque(CLI::App& sub) {
@@ -188,6 +206,11 @@ void setup_torque(CLI::App& sub) {
   sub.add_option("--from", args->from,
                  "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
   sub.add_option("--to", args->to, "Only rows before this UTC time");
+  sub.add_option("--months", args->months,
+                 "Only rows of these calendar months (UTC): e.g. 4-12, 12,1,2 or JJA,SON");
+  sub.add_flag("--breakdown", args->breakdown,
+               "With --compare: MAPE and bias per month and region and per wind-speed bin, as "
+               "Markdown tables");
   sub.callback([args] { run(*args); });
 }
 

@@ -14,6 +14,7 @@
 #include <type_traits>
 #include <variant>
 
+#include "config/drivetrain_checks.hpp"
 #include "data/embedded.hpp"
 
 namespace app::config {
@@ -76,6 +77,10 @@ const std::vector<Key<TurbineCorrections>> kCorrectionKeys{
     {"nacelle_wind_gain", &TurbineCorrections::nacelle_wind_gain, Range::kPositive},
     {"nacelle_wind_offset_mps", &TurbineCorrections::nacelle_wind_offset_mps},
     {"yaw_loss_exponent", &TurbineCorrections::yaw_loss_exponent, Range::kNonNegative},
+    {"tracking_tip_speed_ratio", &TurbineCorrections::tracking_tip_speed_ratio,
+     Range::kNonNegative},
+    {"tracking_band_margin", &TurbineCorrections::tracking_band_margin, Range::kNonNegative},
+    {"turbulence_intensity", &TurbineCorrections::turbulence_intensity, Range::kNonNegative},
 };
 const std::vector<Key<CpSurface>> kCpKeys{
     {"c", &CpSurface::c},
@@ -376,6 +381,25 @@ class Reader {
 
 std::optional<Drivetrain> builtin(std::string_view name, int depth);
 
+/// The node of the file that an issue is about: its key, else its entry, else its table;
+/// nullptr when the entry comes from the base.
+const toml::node* locate(const toml::table& root, const DrivetrainIssue& issue) {
+  const toml::node* list = root.get(issue.list);
+  if (list == nullptr) return nullptr;
+  const toml::table* entry = nullptr;
+  if (const toml::table* t = list->as_table(); t != nullptr && issue.id.empty()) {
+    entry = t;
+  } else if (const toml::array* a = list->as_array()) {
+    for (const toml::node& e : *a) {
+      const toml::table* t2 = e.as_table();
+      if (t2 != nullptr && (*t2)["id"].value_exact<std::string>() == issue.id) entry = t2;
+    }
+  }
+  if (entry == nullptr) return nullptr;
+  if (const toml::node* field = entry->get(issue.field)) return field;
+  return entry;
+}
+
 Drivetrain parse(std::string_view text, const std::string& source, int depth) {
   toml::table root;
   try {
@@ -507,11 +531,25 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
                   "expected less than pitch_diameter_m");
     }
   }
+  // Physics of the whole description (config/drivetrain_checks.hpp): the first violated
+  // rule, at the line of the key (or of its entry) when the file names it.
+  const std::vector<DrivetrainIssue> issues = check_drivetrain(d);
+  if (!issues.empty()) {
+    const DrivetrainIssue& issue = issues.front();
+    reader.fail(locate(root, issue), issue.key, issue.message);
+  }
   return d;
 }
 
 std::optional<Drivetrain> builtin(std::string_view name, int depth) {
-  if (auto d = model::builtin_drivetrain(name)) return d;
+  if (auto d = model::builtin_drivetrain(name)) {
+    const std::vector<DrivetrainIssue> issues = check_drivetrain(*d);
+    if (!issues.empty()) {
+      throw DrivetrainFileError("<built-in " + std::string(name) + ">: key '" + issues.front().key +
+                                "': " + issues.front().message);
+    }
+    return d;
+  }
   const std::string file = std::string(name) + ".toml";
   if (const auto text = app::data::embedded_file(file)) {
     return parse(*text, "<built-in " + file + ">", depth);

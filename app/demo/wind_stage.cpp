@@ -36,10 +36,17 @@ void run_wind_stage(const app::demo::DemoContext& ctx) {
                "Kelmarsh turbine 1 (Senvion MM92), 2019-12-05, 10-min SCADA: %zu rows\n"
                "(Plumley 2022, doi:10.5281/zenodo.5841833, CC-BY-4.0)\n",
                s.rows);
-  std::fprintf(ctx.out, "drivetrain %s: rated %.0f kN·m at %.1f rpm, Cp_max %.3f at λ %.2f\n",
+  const model::TurbineCorrections& k = drivetrain.turbine.corrections;
+  std::fprintf(ctx.out,
+               "drivetrain %s: rated %.0f kN·m at %.2f rpm, Cp_max %.3f (at λ %.2f); the rotor's "
+               "speed gives the wind at λ %.2f between %.2f and %.2f rpm, the anemometer at the "
+               "limits; wind spread within a row %.1f %%\n",
                drivetrain.name.c_str(), drivetrain.turbine.rated_torque_nm / 1e3,
                drivetrain.turbine.rated_rotor_speed_rpm, estimator.load().cp_peak().cp_max,
-               estimator.load().cp_peak().lambda_opt);
+               estimator.load().cp_peak().lambda_opt, k.tracking_tip_speed_ratio,
+               (1.0 + k.tracking_band_margin) * drivetrain.turbine.min_rotor_speed_rpm,
+               (1.0 - k.tracking_band_margin) * drivetrain.turbine.rated_rotor_speed_rpm,
+               100.0 * k.turbulence_intensity);
   std::fprintf(ctx.out,
                "regions: below cut-in %zu, 2 (tracking) %zu, 2.5 (speed-limited) %zu, "
                "3 (rated) %zu, above cut-out %zu, stopped %zu\n",

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <utility>
@@ -24,6 +25,7 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   HistoryResult r;
   const std::size_t nc = channels.channel_count();
   r.damage.assign(nc, 0.0);
+  r.exceeded_at_s.assign(nc, std::numeric_limits<double>::quiet_NaN());
   r.bin_time_s.assign(kTorqueBins, 0.0);
   std::vector<std::vector<double>> bin_damage(nc, std::vector<double>(kTorqueBins, 0.0));
   std::vector<model::fatigue::DamageRateHistory> rates;
@@ -120,6 +122,40 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
         ++r.rows_no_data;
         return;
     }
+    // Beyond the load spectrum: its damage cannot be interpolated (clamping it to the
+    // spectrum's edge would hide a torque column in the wrong unit): rejected and counted.
+    if (torque > spectrum.grid.torque_max_nm || rpm > spectrum.grid.speed_max_rpm) {
+      ++r.rows_rejected;
+      ++r.rejected_spectrum;
+      r.max_rejected_torque_nm = std::max(r.max_rejected_torque_nm, torque);
+      char what[240];
+      if (torque > spectrum.grid.torque_max_nm) {
+        std::snprintf(what, sizeof what,
+                      "rotor torque %.6g N·m (%.2f x rated, from %s) is above the load spectrum "
+                      "(<= %.6g N·m = %.1f x rated); row skipped, its damage not counted",
+                      torque, torque / rated_torque, app::wind::to_string(rt.source),
+                      spectrum.grid.torque_max_nm, spectrum.grid.torque_max_nm / rated_torque);
+      } else {
+        std::snprintf(what, sizeof what,
+                      "rotor speed %.4g rpm is above the load spectrum (<= %.4g rpm); row "
+                      "skipped, its damage not counted",
+                      rpm, spectrum.grid.speed_max_rpm);
+      }
+      const bool torque_side = torque > spectrum.grid.torque_max_nm;
+      issue(row.row, torque_side ? "torque" : "rotor_speed_rpm",
+            reader.path() + ": row " + std::to_string(row.row) + " (line " +
+                std::to_string(row.line) + "): " + what);
+      return;
+    }
+    // Damage per rotor revolution at this operating point.
+    if (options.at_point) {
+      if (!options.at_point(torque, rpm, d.data())) {
+        ++r.rows_no_data;
+        return;
+      }
+    } else {
+      spectrum.damage_per_rev_at(torque, rpm, d.data());
+    }
     // Gap before this row?
     if (!std::isnan(prev_t) && t - prev_t > kGapFactor * r.period_s) {
       ++r.gaps;
@@ -145,15 +181,16 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       ++day_record.wind_rows;
     }
     const double revs = rpm / 60.0 * r.period_s;
-    spectrum.damage_per_rev_at(torque, rpm, d.data());
     const auto bin =
         std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
     r.bin_time_s[bin] += r.period_s;
     for (std::size_t c = 0; c < nc; ++c) {
       const double inc = d[c] * revs;
+      const bool alive = r.damage[c] < 1.0;
       r.damage[c] += inc;
       day_inc[c] += inc;
       bin_damage[c][bin] += inc;
+      if (alive && r.damage[c] >= 1.0) r.exceeded_at_s[c] = t;  // Miner's D = 1 reached
     }
     if (options.progress && (r.rows_used & 0x3fff) == 0) options.progress(r.rows);
   };
@@ -184,6 +221,10 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     }
   };
   while (probe.size() < kPeriodProbeRows && (end = !read(row)) == false) probe.push_back(row);
+  if (r.rows == 0) {
+    throw std::runtime_error(reader.path() +
+                             ": no data rows after the header; nothing to accumulate");
+  }
   r.period_s = options.period_s;
   if (!(r.period_s > 0.0)) {
     double best = std::numeric_limits<double>::infinity();
@@ -194,10 +235,16 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       }
     }
     if (!std::isfinite(best)) {
+      // Name the rows that left too few to measure the period with.
+      std::string rejected;
+      for (std::size_t i = 0; i < r.issues.size() && i < 3; ++i)
+        rejected += "; " + r.issues[i].message;
       throw std::runtime_error(
-          reader.path() +
-          ": cannot detect the SCADA period from the first rows (need two rows "
-          "with increasing t_s); pass --period");
+          reader.path() + ": cannot detect the SCADA period: of the first " +
+          std::to_string(r.rows) + " data rows " + std::to_string(r.rows_rejected) +
+          " were rejected and fewer than two of the rest have increasing t_s (pass --period, "
+          "or fix the rows)" +
+          rejected);
     }
     r.period_s = best;
   }
@@ -206,6 +253,15 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
     while (read(row)) process(row);
   }
   flush_day();
+  if (r.rows_used == 0) {
+    std::string rejected;
+    for (std::size_t i = 0; i < r.issues.size() && i < 3; ++i)
+      rejected += "; " + r.issues[i].message;
+    throw std::runtime_error(reader.path() + ": none of the " + std::to_string(r.rows) +
+                             " data rows is usable (" + std::to_string(r.rows_rejected) +
+                             " rejected, " + std::to_string(r.rows_no_data) +
+                             " without torque, power or wind); nothing accumulated" + rejected);
+  }
   // Issues were found in reading order (the period probe reads ahead): list them by row.
   std::stable_sort(r.issues.begin(), r.issues.end(),
                    [](const HistoryIssue& a, const HistoryIssue& b) { return a.row < b.row; });

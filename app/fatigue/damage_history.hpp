@@ -19,7 +19,11 @@
 //     a cell that is not a finite number (reported by the reader), t_s missing,
 //     t_s not after the previous accepted row (duplicate or unsorted),
 //     any value outside its plausibility limit (app/wind/scada_limits.hpp: e.g. rotor
-//     speed below −1 or above 1.5 × rated, negative wind speed, power beyond twice rated).
+//     speed below −1 or above 1.5 × rated, negative wind speed, power beyond twice rated),
+//     a rotor torque or speed beyond the load spectrum's grid (torque above 1.5 × rated:
+//     its damage cannot be interpolated, and clamping it to the edge would hide a torque
+//     column in the wrong unit; counted as rejected_spectrum, the largest such torque kept).
+//   A file with no data row, or none usable, is an error (nothing is accumulated).
 //   no data (skipped, not an error): no torque, power or wind value in the row.
 //   gap (reported, not an error): t_s more than 1.5 periods after the previous row; the
 //     missing time is not extrapolated (damage covers recorded time only).
@@ -60,6 +64,10 @@ struct HistoryOptions {
   std::size_t max_rows = 0;  // stop after this many data rows (0: all)
   bool per_day = false;      // also record the damage of every UTC day (HistoryResult::days)
   std::function<void(std::size_t rows)> progress;  // called every few thousand rows (may be empty)
+  /// When set, a row's damage per rotor revolution comes from this evaluation at the row's
+  /// exact (torque [N·m], speed [rpm]) instead of the spectrum's interpolation (`damage
+  /// --spectrum dynamics-rows`); a false return skips the row as one without data.
+  std::function<bool(double torque_nm, double rotor_rpm, double* damage_per_rev)> at_point;
 };
 
 /// One UTC day of the history (rows with t_s in [day·86 400, (day+1)·86 400)).
@@ -91,7 +99,10 @@ struct HistoryResult {
   std::vector<HistoryIssue> issues;            // first kMaxIssues
   std::vector<DayRecord> days;  // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
-  std::size_t rejected_range = 0;  // another quantity outside its plausibility limit
+  std::size_t rejected_range = 0;       // another quantity outside its plausibility limit
+  std::size_t rejected_spectrum = 0;    // torque or speed beyond the load spectrum's grid
+  double max_rejected_torque_nm = 0.0;  // [N·m] largest torque among those
+  std::vector<double> exceeded_at_s;    // per channel: t_s of the row where D reached 1 (NaN: not)
 };
 
 /// Order statistics of a sample. Quantiles interpolate linearly between order statistics

@@ -20,7 +20,13 @@
 // for 10-minute averaging (from the description alone, before any fit), and a
 // weak pull of each knot towards its textbook value keeps knots without data
 // where the textbook puts them (cp_fit.cpp, kKnotPriorWeight).
-// With FitOptions also the no-load loss
+// Cp(λ, 0) of a rotor has one maximum: table steps that rise above the tracked tip-speed
+// ratio (or fall below it) are penalised (cp_fit.cpp, kShapeWeight), which keeps the
+// anemometer's scatter at the speed floor from bending the table upwards at high λ
+// (regression dilution: E[P | v_nacelle] is flatter than P(v)). IRLS rounds need not lower
+// the L1 objective monotonically: the best point over the rounds is kept.
+// With FitOptions also the tracked tip-speed ratio λ_c, the tracking band margin m and the
+// within-row turbulence intensity I (model/wind/wind_load.hpp), the no-load loss
 // P_0, the nacelle transfer function's offset b (gain a stays 1: with a and b
 // free, a trades against c1 and s), and the yaw loss exponent x
 // (model/wind/corrections.hpp); the corrections not freed are set to none. The
@@ -63,6 +69,9 @@ struct FitOptions {
   bool nacelle_offset = false;  // b of v_free = a·v_nacelle + b
   bool nacelle_gain = false;    // a
   bool yaw_exponent = false;    // x of cos^x(γ)
+  bool tracking_tsr = false;    // λ_c, the tip-speed ratio the controller tracks
+  bool tracking_band = false;   // m, where the measured speed gives the wind ωR/λ_c
+  bool turbulence = false;      // I, the spread of the wind within a row
 };
 
 struct CpFitResult {

@@ -62,6 +62,7 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
     out.excluded_because = "no wind speed";
     return true;
   }
+  out.estimated = true;
 
   const double speed_rad_s = std::max(0.0, rpm) * kRpmToRadS;
   model::wind::Inflow inflow;
@@ -163,7 +164,11 @@ const char* MapeAccumulator::region_label(std::size_t region) {
 
 void TorqueSummary::add(const RowEstimate& e) {
   ++rows;
-  ++region_rows[static_cast<std::size_t>(e.load.region)];
+  if (e.estimated) {
+    ++region_rows[static_cast<std::size_t>(e.load.region)];
+  } else {
+    ++no_wind_rows;
+  }
   if (e.load.torque_nm > 0.0) {
     min_torque_nm = std::min(min_torque_nm, e.load.torque_nm);
     max_torque_nm = std::max(max_torque_nm, e.load.torque_nm);
@@ -184,9 +189,23 @@ void TorqueSummary::add(const RowEstimate& e) {
   }
 }
 
+int utc_month(double t_s) {
+  // Days since 1970-01-01 to the civil date (H. Hinnant, "chrono-Compatible Low-Level Date
+  // Algorithms", civil_from_days): only the month is needed.
+  const auto days = static_cast<long long>(std::floor(t_s / 86400.0));
+  const long long z = days + 719468;
+  const long long era = (z >= 0 ? z : z - 146096) / 146097;
+  const long long doe = z - era * 146097;                                       // [0, 146096]
+  const long long yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;  // [0, 399]
+  const long long doy = doe - (365 * yoe + yoe / 4 - yoe / 100);                // [0, 365]
+  const long long mp = (5 * doy + 2) / 153;  // [0, 11], March = 0
+  return static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
+}
+
 bool TimeWindow::contains(double t_s) const {
   if (!std::isnan(from_s) && !(t_s >= from_s)) return false;
   if (!std::isnan(to_s) && !(t_s < to_s)) return false;
+  if (months != 0x0FFF && !((months >> (utc_month(t_s) - 1)) & 1u)) return false;
   return true;
 }
 
@@ -202,7 +221,7 @@ TorqueSummary run_torque(
     if (r == hal::ScadaReadResult::kEnd) break;
     if (r == hal::ScadaReadResult::kError) throw std::runtime_error(reader.error());
     if (row.has_time() && !window.contains(row.time_s())) continue;
-    if (!row.has_time() && (!std::isnan(window.from_s) || !std::isnan(window.to_s))) {
+    if (!row.has_time() && window.restricted()) {
       continue;
     }
     if (!estimator.estimate(reader, row, estimate, &error)) throw std::runtime_error(error);

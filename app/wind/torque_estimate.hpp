@@ -33,7 +33,9 @@
 // Thread context: non-real-time command code (allocates for messages only).
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <limits>
 #include <string>
@@ -53,7 +55,9 @@ inline constexpr double kCurtailPowerFraction = 0.5;  // [-] of rated power, abo
 enum class ReferenceKind { kNone, kMeasuredTorque, kPowerOverSpeed };
 
 struct RowEstimate {
-  model::wind::WindLoadOutput load;
+  model::wind::WindLoadOutput load;  // meaningful only when estimated
+  bool estimated = false;            // false: no wind speed in the row, no estimate (not a
+                                     // region: a rotor turning at 10 rpm is not below cut-in)
   double reference_torque_nm = 0.0;  // [N·m] valid when reference != kNone
   double compared_torque_nm = 0.0;   // [N·m] the estimate on the reference's side: load.torque_nm
                                      // against torque_nm, (η·T·ω − P_0)/ω against P/ω
@@ -122,6 +126,7 @@ class MapeAccumulator {
 struct TorqueSummary {
   std::size_t rows = 0;
   std::array<std::size_t, 6> region_rows{};  // indexed by model::wind::OperatingRegion
+  std::size_t no_wind_rows = 0;              // rows without a wind speed (no estimate)
   double min_torque_nm = std::numeric_limits<double>::infinity();  // [N·m] over rows with T > 0
   double max_torque_nm = 0.0;                                      // [N·m]
   std::size_t measured_torque_rows = 0;                            // reference = measured torque_nm
@@ -133,11 +138,18 @@ struct TorqueSummary {
   void add(const RowEstimate& e);
 };
 
-/// Time window [from, to) in seconds (t_s of the file); NaN bounds are open.
+/// Calendar month 1..12 of a UTC time in seconds since 1970-01-01 (proleptic Gregorian).
+int utc_month(double t_s);
+
+/// Time window [from, to) in seconds (t_s of the file); NaN bounds are open. Only the
+/// calendar months (UTC) whose bit is set in `months` (bit m − 1 for month m) are inside;
+/// app/wind/heldout.hpp's MonthSet builds the mask.
 struct TimeWindow {
   double from_s = std::numeric_limits<double>::quiet_NaN();
   double to_s = std::numeric_limits<double>::quiet_NaN();
+  std::uint16_t months = 0x0FFF;
   bool contains(double t_s) const;
+  bool restricted() const { return !std::isnan(from_s) || !std::isnan(to_s) || months != 0x0FFF; }
 };
 
 /// Streams every row of an opened reader through the estimator; rows outside

@@ -30,6 +30,11 @@ const char* to_string(TorqueSource source) {
 double rotor_torque_from_power_nm(const model::Turbine& t, double power_kw,
                                   double rotor_speed_rpm) {
   if (!(rotor_speed_rpm >= kMinPowerSpeedRpm) || !(t.drivetrain_efficiency > 0.0)) return 0.0;
+  // Not generating (P_el ≤ 0: idling, parked or the generator off the grid): the no-load
+  // loss P_0 is not being drawn through the drivetrain, and (P_el + P_0)/(η·ω) would turn it
+  // into a torque that grows without bound as an idling rotor slows (2–3 × rated at
+  // 0.2 rpm in the Kelmarsh data). The load is the idling drag: taken as 0.
+  if (!(power_kw > 0.0)) return 0.0;
   // P_aero = (P_el + P_0)/η (model/wind/corrections.hpp), the inverse of what the wind
   // model's electrical_power_w() predicts.
   const double p_aero_w = model::wind::aerodynamic_power_w(power_kw * 1e3, t.drivetrain_efficiency,

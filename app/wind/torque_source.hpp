@@ -7,7 +7,8 @@
 //   1. measured rotor torque torque_nm: T = |T_meas|;
 //   2. electrical power and rotor speed (ω ≥ kMinPowerSpeedRpm): the electrical power is
 //      P_el = η·P_aero − P_0 (model/wind/corrections.hpp: drivetrain_efficiency η, no-load
-//      loss P_0), so T = P_aero/ω = max(0, P_el + P_0)/(η·ω);
+//      loss P_0), so T = P_aero/ω = (P_el + P_0)/(η·ω) while generating (P_el > 0), 0 when
+//      not (idling: no P_0 drawn through the drivetrain);
 //   3. wind speed through the Cp(λ, β) wind load model (model/wind): at the measured rotor
 //      speed (and pitch when asked) if present, else the controller's steady state, which
 //      then also gives the rotor speed.

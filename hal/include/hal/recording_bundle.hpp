@@ -102,7 +102,7 @@ enum class UnitQuantity : std::uint8_t { kAcceleration, kVelocity, kDisplacement
 
 struct UnitInfo {
   UnitQuantity quantity = UnitQuantity::kAcceleration;
-  double to_si = 1.0;            // SI value = file value × to_si
+  double to_si = 1.0;             // SI value = file value × to_si
   const char* si_unit = "m/s^2";  // the unit written after conversion
 };
 

@@ -17,6 +17,9 @@
 //   kGaps     every 4th CMS frame / SCADA update / keyphasor edge is lost (→ gaps counted, kGap)
 //   kBusOff   CMS: error frames announcing bus-off (→ kBusOff) until the fault is cleared,
 //             then a "restarted" error frame
+//   kNonFinite SCADA: every value NaN, flagged valid (a controller's float register with no
+//             value behind it): the supervisor must reject it
+//   kOutOfRange SCADA: every value ×1000, flagged valid (a scaling or unit error)
 //
 // Thread context: read()/health()/stats() from the RT thread; inject() from any thread.
 
@@ -33,7 +36,17 @@
 
 namespace hal {
 
-enum class SimFault : std::uint8_t { kNone, kSilent, kStuck, kNoisy, kGarbage, kGaps, kBusOff };
+enum class SimFault : std::uint8_t {
+  kNone,
+  kSilent,
+  kStuck,
+  kNoisy,
+  kGarbage,
+  kGaps,
+  kBusOff,
+  kNonFinite,
+  kOutOfRange
+};
 const char* to_string(SimFault f);
 bool parse_sim_fault(const char* s, SimFault& out);
 

@@ -309,17 +309,18 @@ std::optional<BundleError> validate_metadata(const Recording& rec, const Operati
     if (c.unit.empty()) return error(file, field + ".unit", "empty; expected a unit such as m/s^2");
     const auto unit = parse_unit(c.unit);
     if (!unit) {
-      return error(file, field + ".unit",
-                   "'" + c.unit + "' is not a unit the project knows; expected one of " +
-                       known_units());
+      return error(
+          file, field + ".unit",
+          "'" + c.unit + "' is not a unit the project knows; expected one of " + known_units());
     }
     if (!c.kind.empty() && c.kind != "once_per_rev") {
       return error(file, field + ".kind",
                    "'" + c.kind + "'; expected \"once_per_rev\" (a tacho) or no kind");
     }
     if (c.kind == "once_per_rev" && unit->quantity != UnitQuantity::kVoltage) {
-      return error(file, field + ".unit",
-                   "'" + c.unit + "' for a once_per_rev (tacho) channel; expected a voltage (V, mV)");
+      return error(
+          file, field + ".unit",
+          "'" + c.unit + "' for a once_per_rev (tacho) channel; expected a voltage (V, mV)");
     }
   }
   const BundleOperatingPoint& op = rec.operating_point;
@@ -686,9 +687,9 @@ BundleReadResult read_bundle(const fs::path& dir, const OperatingRange& range) {
     if (unit.to_si != 1.0) {
       for (double& v : rec.samples[c]) v *= unit.to_si;
     }
-    result.notes.push_back("channels[" + std::to_string(c) + "] '" + ch.name + "': converted from " +
-                           ch.unit + " to " + unit.si_unit + " (x " + format_double(unit.to_si) +
-                           ")");
+    result.notes.push_back("channels[" + std::to_string(c) + "] '" + ch.name +
+                           "': converted from " + ch.unit + " to " + unit.si_unit + " (x " +
+                           format_double(unit.to_si) + ")");
     ch.unit = unit.si_unit;
   }
 

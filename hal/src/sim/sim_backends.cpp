@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 
 namespace hal {
@@ -24,13 +25,18 @@ const char* to_string(SimFault f) {
       return "gaps";
     case SimFault::kBusOff:
       return "bus_off";
+    case SimFault::kNonFinite:
+      return "non_finite";
+    case SimFault::kOutOfRange:
+      return "out_of_range";
   }
   return "?";
 }
 
 bool parse_sim_fault(const char* s, SimFault& out) {
-  for (auto f : {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy,
-                 SimFault::kGarbage, SimFault::kGaps, SimFault::kBusOff}) {
+  for (auto f :
+       {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy, SimFault::kGarbage,
+        SimFault::kGaps, SimFault::kBusOff, SimFault::kNonFinite, SimFault::kOutOfRange}) {
     if (std::strcmp(s, to_string(f)) == 0) {
       out = f;
       return true;
@@ -108,6 +114,8 @@ Status SimScadaSource::read(Timestamp now, ScadaData& out) {
         Measurement& m = data_.values[q];
         m.valid = config_.present[q];
         m.value = config_.present[q] ? config_.base[q] * (1.0 + var * rng_.uniform()) : 0.0;
+        if (fault == SimFault::kNonFinite) m.value = std::numeric_limits<double>::quiet_NaN();
+        if (fault == SimFault::kOutOfRange) m.value *= 1000.0;
         m.stamp = t;
       }
       data_.last_update = t;

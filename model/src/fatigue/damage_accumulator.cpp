@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "model/fatigue/damage_accumulator.hpp"
 
@@ -34,6 +35,28 @@ DamageAccumulator::DamageAccumulator(const ChannelSet& channels, const Accumulat
     h = fnv(h, &fs, sizeof fs);
   }
   config_hash_ = h;
+  for (std::size_t c = 0; c < channels.channel_count(); ++c) {
+    const SnCurve& sn = channels.channel(c).curve;
+    CurveConstants& k = curve_[c];
+    // SnCurve::cycles_to_failure: N = n_ref·(C/σ)^m, beyond the knee N0·(σ_k/σ)^k2.
+    k.k1 = sn.m;
+    k.ln_n1 = std::log(sn.n_ref) + sn.m * std::log(sn.c);
+    const bool knee = sn.branch != KneeBranch::kNone && std::isfinite(sn.knee_cycles);
+    k.ln_knee = knee ? std::log(sn.knee_cycles) : std::numeric_limits<double>::infinity();
+    k.k2 = knee ? sn.exponent_beyond_knee() : sn.m;
+    k.ln_n2 = knee ? k.ln_knee + k.k2 * std::log(sn.knee_stress()) : k.ln_n1;
+  }
+  for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
+    const Bearing& br = channels.bearing(b);
+    BearingConstants& k = bearing_[b];
+    // equivalent_load_n()'s constants, computed the same way.
+    k.radial_only = br.type == BearingType::kBall || br.contact_angle_rad <= 0.0;
+    k.single_row = br.rows <= 1;
+    if (!k.radial_only) {
+      k.e = 1.5 * std::tan(br.contact_angle_rad);
+      k.cot = 1.0 / std::tan(br.contact_angle_rad);
+    }
+  }
   reset();
 }
 
@@ -82,11 +105,42 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
   ++s.valid_steps;
   s.elapsed_ticks += dt_ticks;
   s.rotor_rev_q += rev_q;
+  // Every slot's stresses once (a mesh feeds up to four channels).
+  std::array<MeshStresses, kMaxMeshes> mesh;
+  for (std::size_t i = 0; i < cs.mesh_count(); ++i)
+    mesh[i] = cs.mesh(i).stresses(loads.mesh_force_n[i]);
+  std::array<double, kMaxBearings> bearing_p;
+  for (std::size_t i = 0; i < cs.bearing_count(); ++i) {
+    // equivalent_load_n() with e and cot α from construction.
+    const BearingConstants& b = bearing_[i];
+    const double fr = std::abs(loads.bearing_radial_n[i]), fa = std::abs(loads.bearing_axial_n[i]);
+    if (b.radial_only) {
+      bearing_p[i] = fr;
+    } else {
+      const bool low_axial = fa <= b.e * fr;
+      bearing_p[i] = b.single_row
+                         ? (low_axial ? fr : 0.4 * fr + 0.4 * b.cot * fa)
+                         : (low_axial ? fr + 0.45 * b.cot * fa : 0.67 * fr + 0.67 * b.cot * fa);
+    }
+  }
   const std::size_t overflow = config_.bins;
   for (std::size_t c = 0; c < cs.channel_count(); ++c) {
     const Channel& ch = cs.channel(c);
-    for (std::size_t k = 0; k < ch.source_count; ++k) {
-      const double sigma = cs.stress(c, k, loads);
+    const CurveConstants& k = curve_[c];
+    for (std::size_t j = 0; j < ch.source_count; ++j) {
+      const Source& src = ch.sources[j];
+      double sigma = 0.0;
+      switch (ch.mode) {
+        case FailureMode::kContact:
+          sigma = mesh[src.slot].contact_mpa[src.gear];
+          break;
+        case FailureMode::kBending:
+          sigma = mesh[src.slot].bending_mpa[src.gear];
+          break;
+        case FailureMode::kBearing:
+          sigma = bearing_p[src.slot];
+          break;
+      }
       std::size_t bin = overflow;
       if (sigma < config_.full_scale[c]) {
         bin =
@@ -96,9 +150,12 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
       }
       s.bin_ticks[c][bin] += dt_ticks;
       s.bin_rev_q[c][bin] += rev_q;
+      if (!(sigma > 0.0)) continue;  // no load, no damage
       // Palmgren–Miner increment n/N(σ), n = revs·cycles per rotor rev (ISO 6336-6 §5).
-      const double inc =
-          revs * ch.sources[k].cycles_per_rotor_rev * ch.curve.damage_per_cycle(sigma);
+      const double ln_sigma = std::log(sigma);
+      double ln_n = k.ln_n1 - k.k1 * ln_sigma;
+      if (ln_n > k.ln_knee) ln_n = k.ln_n2 - k.k2 * ln_sigma;
+      const double inc = revs * src.cycles_per_rotor_rev * std::exp(-ln_n);
       // Neumaier compensated summation.
       const double sum = s.damage[c];
       const double t = sum + inc;

@@ -295,10 +295,11 @@ FaceLoad MeshRating::face_load(double ft_n) const {
   return f;
 }
 
-double MeshRating::k_alpha(double ft_n) const {
+double MeshRating::k_alpha(double ft_n) const { return k_alpha_at(ft_n, face_load(ft_n).k_h_beta); }
+
+double MeshRating::k_alpha_at(double ft_n, double k_h_beta) const {
   const double b_mm = geometry.b_m * kMm;
-  const double fth_per_b =
-      std::max(1e-9, std::abs(ft_n) * k_a * k_v * face_load(ft_n).k_h_beta / b_mm);  // [N/mm]
+  const double fth_per_b = std::max(1e-9, std::abs(ft_n) * k_a * k_v * k_h_beta / b_mm);  // [N/mm]
   double k;
   if (eps_gamma <= 2.0) {
     k = eps_gamma / 2.0 * (0.9 + 0.4 * k_alpha_term_n_mm / fth_per_b);  // eq. 75
@@ -333,6 +334,28 @@ double MeshRating::bending_stress_mpa(double ft_n, int gear) const {
   // σ_F = F_t/(b·m_n)·Y_F·Y_S·Y_β·Y_B·Y_DT·K_A·K_v·K_Fβ·K_Fα, Y_B = Y_DT = 1.
   return std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v *
          face_load(ft_n).k_f_beta * k_fa;
+}
+
+MeshStresses MeshRating::stresses(double ft_n) const {
+  // The arithmetic of contact_stress_mpa() and bending_stress_mpa(), operation for operation.
+  const FaceLoad fl = face_load(ft_n);
+  const double k = k_alpha_at(ft_n, fl.k_h_beta);
+  MeshStresses s;
+  const double k_ha = std::min(k, std::max(1.0, k_h_alpha_max));
+  const double nominal = contact_stress_nominal_mpa(ft_n);
+  const double root = std::sqrt(k_a * k_v * fl.k_h_beta * k_ha);
+  s.contact_mpa[0] = z_b * nominal * root;
+  s.contact_mpa[1] = z_d * nominal * root;
+  const double k_fa = std::min(k, std::max(1.0, k_f_alpha_max));
+  const double b_mm = geometry.b_m * kMm;
+  const double m_mm = geometry.m_n_m * kMm;
+  for (int g = 0; g < 2; ++g) {
+    if (!bending_rated[g]) continue;
+    const BendingFormFactors& f = bending[g];
+    s.bending_mpa[g] =
+        std::abs(ft_n) / (b_mm * m_mm) * f.y_f * f.y_s * y_beta * k_a * k_v * fl.k_f_beta * k_fa;
+  }
+  return s;
 }
 
 }  // namespace model::fatigue

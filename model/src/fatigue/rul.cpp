@@ -1,6 +1,7 @@
 #include "model/fatigue/rul.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace model::fatigue {
@@ -21,6 +22,25 @@ void DamageRateHistory::add_interval(double inc) {
   count_ = std::min(count_ + 1, kMaxRateIntervals);
   total_increment_ += inc;
   ++total_intervals_;
+}
+
+double DamageRateHistory::increment(std::size_t i) const {
+  const std::size_t start = (head_ + kMaxRateIntervals - count_) % kMaxRateIntervals;
+  return ring_[(start + i) % kMaxRateIntervals];
+}
+
+bool DamageRateHistory::restore(const double* increments, std::size_t n, double total_increment,
+                                std::uint64_t total_intervals) {
+  if (total_intervals < n || !std::isfinite(total_increment)) return false;
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(increments[i])) return false;
+  const std::size_t keep = std::min(n, kMaxRateIntervals);
+  for (std::size_t i = 0; i < keep; ++i) ring_[i] = increments[n - keep + i];
+  count_ = keep;
+  head_ = keep % kMaxRateIntervals;
+  total_increment_ = total_increment;
+  total_intervals_ = total_intervals;
+  return true;
 }
 
 RulEstimate DamageRateHistory::estimate(double damage_now) const {

@@ -37,8 +37,11 @@ WindLoad::WindLoad(const Turbine& turbine)
       rated_torque_nm_(turbine.rated_torque_nm),
       half_rho_area_(0.5 * turbine.air_density_kg_m3 * kPi * turbine.rotor_radius_m *
                      turbine.rotor_radius_m) {
-  speed_limit_wind_mps_ = peak_.lambda_opt > 0.0
-                              ? rated_speed_rad_s_ * turbine_.rotor_radius_m / peak_.lambda_opt
+  tracking_lambda_ = turbine.corrections.tracking_tip_speed_ratio > 0.0
+                         ? turbine.corrections.tracking_tip_speed_ratio
+                         : peak_.lambda_opt;
+  speed_limit_wind_mps_ = tracking_lambda_ > 0.0
+                              ? rated_speed_rad_s_ * turbine_.rotor_radius_m / tracking_lambda_
                               : 0.0;
   double speed = 0.0;
   torque_at_speed_limit_nm_ = tracking_torque_nm(speed_limit_wind_mps_, &speed);
@@ -55,7 +58,7 @@ double WindLoad::aerodynamic_torque_nm(double wind_speed_mps, double rotor_speed
 
 double WindLoad::tracking_torque_nm(double wind_speed_mps, double* speed_rad_s) const {
   // Region 2: ω = λ_opt·v/R within the controller's speed range.
-  double speed = peak_.lambda_opt * wind_speed_mps / turbine_.rotor_radius_m;
+  double speed = tracking_lambda_ * wind_speed_mps / turbine_.rotor_radius_m;
   speed = std::clamp(speed, min_speed_rad_s_, std::max(min_speed_rad_s_, rated_speed_rad_s_));
   *speed_rad_s = speed;
   return std::min(aerodynamic_torque_nm(wind_speed_mps, speed, 0.0), rated_torque_nm_);
@@ -129,8 +132,21 @@ WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_sp
     return out;
   }
   const TurbineCorrections& k = turbine_.corrections;
-  const double free_wind_mps =
+  double free_wind_mps =
       free_stream_wind_mps(wind_speed_mps, k.nacelle_wind_gain, k.nacelle_wind_offset_mps);
+  if (k.tracking_band_margin > 0.0 && tracking_lambda_ > 0.0) {
+    // Between its speed limits the controller holds its tip-speed ratio λ_c, so the measured
+    // speed gives the rotor-effective wind ωR/λ_c; at a limit the speed is held and says nothing
+    // about the wind. A 10-minute mean near a limit mixes both: the weight rises linearly from 0 at
+    // the limit to 1 at (1 + m)·ω_min and (1 − m)·ω_rated.
+    const double m = k.tracking_band_margin;
+    const double lo = min_speed_rad_s_, hi = rated_speed_rad_s_;
+    const double w_lo = lo > 0.0 ? std::clamp((rotor_speed_rad_s - lo) / (m * lo), 0.0, 1.0) : 1.0;
+    const double w_hi = std::clamp((hi - rotor_speed_rad_s) / (m * hi), 0.0, 1.0);
+    const double w = w_lo * w_hi;
+    const double tracking_wind = rotor_speed_rad_s * turbine_.rotor_radius_m / tracking_lambda_;
+    free_wind_mps = w * tracking_wind + (1.0 - w) * free_wind_mps;
+  }
   out.tip_speed_ratio =
       free_wind_mps > 0.0 ? rotor_speed_rad_s * turbine_.rotor_radius_m / free_wind_mps : 0.0;
   if (out.region == OperatingRegion::kRated && !has_pitch) {
@@ -142,10 +158,28 @@ WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_sp
     const double yaw_scale = k.yaw_loss_exponent > 0.0
                                  ? yaw_power_factor(inflow.yaw_error_rad, k.yaw_loss_exponent)
                                  : 1.0;
-    out.torque_nm = std::min(
-        density_scale * yaw_scale *
-            aerodynamic_torque_nm(free_wind_mps, rotor_speed_rad_s, has_pitch ? pitch_rad : 0.0),
-        rated_torque_nm_);
+    const double scale = density_scale * yaw_scale;
+    const double beta = has_pitch ? pitch_rad : 0.0;
+    auto capped = [&](double v) {
+      return std::min(scale * aerodynamic_torque_nm(v, rotor_speed_rad_s, beta), rated_torque_nm_);
+    };
+    const double intensity = std::fabs(k.turbulence_intensity);
+    if (intensity > 0.0) {
+      // The 10-minute mean of the torque over a Gaussian wind v(1 + I·ξ) at the measured mean
+      // speed: 5-point Gauss–Hermite quadrature (probabilists' nodes; weights sum to 1).
+      static constexpr double kNode[5] = {-2.8569700138728056, -1.3556261799742659, 0.0,
+                                          1.3556261799742659, 2.8569700138728056};
+      static constexpr double kWeight[5] = {0.011257411327720691, 0.22207592200561265,
+                                            0.53333333333333333, 0.22207592200561265,
+                                            0.011257411327720691};
+      double mean = 0.0;
+      for (int i = 0; i < 5; ++i) {
+        mean += kWeight[i] * capped(std::max(0.0, free_wind_mps * (1.0 + intensity * kNode[i])));
+      }
+      out.torque_nm = mean;
+    } else {
+      out.torque_nm = capped(free_wind_mps);
+    }
   }
   out.power_coefficient = effective_cp(out.torque_nm, rotor_speed_rad_s, free_wind_mps);
   return out;

@@ -160,15 +160,16 @@ TEST(DrivetrainFile, DefaultAndBuiltinNamesLoadWithoutAFile) {
 }
 
 TEST(DrivetrainFile, BaseIsCopiedAndOnlyTheNamedKeysChange) {
-  // Arrange: start from paper-2mw, change one turbine key, one gear key, add a gear.
+  // Arrange: start from paper-2mw, change one turbine key, one gear key, add a gear (values
+  // a real gearbox can have: drivetrain_checks.hpp refuses an impossible one).
   const std::string text = R"(
 base = "paper-2mw"
 name = "variant"
 [turbine]
-rated_power_w = 2.5e6
+rated_power_w = 1.8e6
 [[gears]]
 id = "sun"
-teeth = 22
+mass_kg = 300.0
 [[gears]]
 id = "extra"
 teeth = 40
@@ -179,10 +180,11 @@ face_width_m = 0.1
   // Assert
   const model::Drivetrain paper = model::paper_2mw();
   EXPECT_EQ(d.name, "variant");
-  EXPECT_DOUBLE_EQ(d.turbine.rated_power_w, 2.5e6);
+  EXPECT_DOUBLE_EQ(d.turbine.rated_power_w, 1.8e6);
   EXPECT_DOUBLE_EQ(d.turbine.rated_torque_nm, paper.turbine.rated_torque_nm);
   ASSERT_NE(d.gear("sun"), nullptr);
-  EXPECT_EQ(d.gear("sun")->teeth, 22);
+  EXPECT_DOUBLE_EQ(d.gear("sun")->mass_kg, 300.0);
+  EXPECT_EQ(d.gear("sun")->teeth, paper.gear("sun")->teeth);
   EXPECT_DOUBLE_EQ(d.gear("sun")->face_width_m, paper.gear("sun")->face_width_m);
   ASSERT_EQ(d.gears.size(), paper.gears.size() + 1);
   EXPECT_EQ(d.gear("extra")->teeth, 40);

@@ -40,11 +40,11 @@ fs::path scratch(const std::string& name) {
 }
 
 struct Synth {
-  double true_rpm = kRpm;        // what the signal says
-  double true_rate_hz = 25600;   // rate the signal was sampled at
+  double true_rpm = kRpm;       // what the signal says
+  double true_rate_hz = 25600;  // rate the signal was sampled at
   std::size_t samples = 32768;
   bool tacho = true;
-  double noise = 0.05;           // [m/s²] rms
+  double noise = 0.05;  // [m/s²] rms
 };
 
 // point1: hss mesh line (1 m/s²) and its 2nd harmonic, intermediate mesh line (0.3 m/s²),
@@ -169,8 +169,7 @@ TEST(BundleCheck, RefusesASampleRateDeclaredWrongFromTheMeshLinesAlone) {
   EXPECT_NEAR(number_after(twice, "a sample rate of "), 25600.0, 0.005 * 25600) << twice;
   EXPECT_NEAR(number_after(two_thirds, "the strongest family sits at "), 2.0 / 3.0, 0.01)
       << two_thirds;
-  EXPECT_NEAR(number_after(two_thirds, "a sample rate of "), 25600.0, 0.005 * 25600)
-      << two_thirds;
+  EXPECT_NEAR(number_after(two_thirds, "a sample rate of "), 25600.0, 0.005 * 25600) << two_thirds;
   fs::remove_all(dir_double);
   fs::remove_all(dir_two_thirds);
 }
@@ -222,7 +221,8 @@ TEST(BundleCheck, OnlyAWindSpeedGivesTheWindModelsTorqueAndSaysSo) {
   EXPECT_TRUE(b.torque_estimated);
   EXPECT_NEAR(b.input_torque_nm / 361747.0, 1.0, 0.05);
   bool noted = false;
-  for (const auto& n : b.notes) noted |= n.find("estimated from wind_speed_mps 6.75") != std::string::npos;
+  for (const auto& n : b.notes)
+    noted |= n.find("estimated from wind_speed_mps 6.75") != std::string::npos;
   EXPECT_TRUE(noted);
   fs::remove_all(dir);
 }

@@ -102,6 +102,51 @@ TEST(CpFit, RecoversNoLoadLossNacelleOffsetAndYawExponentWithTheSurface) {
   EXPECT_LT(fit.mean_abs_relative_error_after, 1e-4);
 }
 
+TEST(CpFit, RecoversTheTrackedTipSpeedRatioBandAndTurbulenceIntensity) {
+  // Arrange: electrical-side rows from a turbine whose controller tracks λ_c = 7.6, whose
+  // speed gives the wind between (1 ± 0.08) of its limits, and whose torque is averaged over
+  // I = 0.12 within the row, with P_0 = 40 kW and the textbook surface; rows at the floor,
+  // across both band edges, in the band and at rated speed, for anemometer winds that do
+  // not match the speed (the anemometer only counts near the limits).
+  model::Turbine truth = app::config::load_drivetrain("kelmarsh-mm92").turbine;
+  truth.cp = app::wind::textbook_cp_surface();
+  truth.corrections = model::TurbineCorrections{};
+  truth.corrections.no_load_loss_w = 40e3;
+  truth.corrections.tracking_tip_speed_ratio = 7.6;
+  truth.corrections.tracking_band_margin = 0.08;
+  truth.corrections.turbulence_intensity = 0.12;
+  const model::wind::WindLoad load(truth);
+  std::vector<app::wind::FitRow> rows;
+  const double floor = truth.min_rotor_speed_rpm, rated = truth.rated_rotor_speed_rpm;
+  for (double v = 3.5; v < 11.0; v += 0.1) {
+    for (double rpm :
+         {floor, 1.03 * floor, 1.06 * floor, 10.0, 12.0, 0.96 * rated, 0.98 * rated, rated}) {
+      const double w = rpm * kRpm;
+      const double torque = load.with_rotor_speed(v, w, 0.0, false).torque_nm;
+      const double reference = load.electrical_power_w(torque, w) / w;
+      if (reference > 0.0 && torque < truth.rated_torque_nm) {
+        rows.push_back({v, w, 0.0, false, reference, true, {}});
+      }
+    }
+  }
+  ASSERT_GT(rows.size(), 300u);
+  app::wind::FitOptions options;
+  options.no_load_loss = true;
+  options.tracking_tsr = true;
+  options.tracking_band = true;
+  options.turbulence = true;
+  // Act: from λ_c = the textbook λ_opt (8.1), m = 0.1, I = 0.1.
+  const app::wind::CpFitResult fit = app::wind::fit_cp_surface(truth, rows, options);
+  // Assert
+  EXPECT_NEAR(fit.corrections.tracking_tip_speed_ratio, 7.6, 1e-3);
+  EXPECT_NEAR(fit.corrections.tracking_band_margin, 0.08, 1e-3);
+  EXPECT_NEAR(fit.corrections.turbulence_intensity, 0.12, 1e-3);
+  EXPECT_NEAR(fit.corrections.no_load_loss_w, 40e3, 50.0);
+  EXPECT_NEAR(fit.surface.c[0], 0.5176, 1e-3);
+  EXPECT_NEAR(fit.surface.lambda_scale, 1.0, 1e-3);
+  EXPECT_LT(fit.mean_abs_relative_error_after, 1e-4);
+}
+
 TEST(CpFit, RecoversAYawExponentAwayFromItsStartValue) {
   model::Turbine truth = app::config::load_drivetrain("kelmarsh-mm92").turbine;
   truth.cp = app::wind::textbook_cp_surface();

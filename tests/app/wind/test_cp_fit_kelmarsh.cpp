@@ -1,7 +1,7 @@
 // The committed kelmarsh-mm92 description against the real Kelmarsh data: it is
 // what `fit-cp` produces on January–March 2019, and on the held-out months
-// April–December (the seasons are in the test) it beats the textbook surface and
-// keeps region 3 within 5 %. Runs the full fit (a few
+// April–December (the seasons are in the test) it beats the textbook surface, meets the
+// paper's 8.34 % and keeps region 3 within 5 %. Runs the full fit (a few
 // seconds natively): NO_EMULATOR.
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 #include "hal/scada_csv.hpp"
 #include "model/wind/cp_surface.hpp"
 #include "wind/cp_fit.hpp"
+#include "wind/heldout.hpp"
 #include "wind/torque_estimate.hpp"
 
 namespace {
@@ -24,13 +25,13 @@ struct Pass {
   std::vector<app::wind::FitRow> rows;
 };
 
-Pass run_kelmarsh(const model::Drivetrain& d, const char* from, const char* to) {
+Pass run_kelmarsh(const model::Drivetrain& d, const char* months) {
   hal::ScadaCsvReader reader;
   EXPECT_TRUE(reader.open(kKelmarsh, hal::kelmarsh_scada_columns())) << reader.error();
   const app::wind::TorqueEstimator estimator(d, app::wind::EstimatorOptions{});
   app::wind::TimeWindow window;
-  window.from_s = app::wind::parse_time_option("from", from);
-  window.to_s = app::wind::parse_time_option("to", to);
+  std::string error;
+  window.months = app::wind::MonthSet::parse(months, &error).value().mask();
   Pass pass;
   const auto summary = app::wind::run_torque(
       reader, estimator, window, [&](const hal::ScadaRow& row, const app::wind::RowEstimate& e) {
@@ -44,9 +45,10 @@ TEST(CpFitKelmarsh, CommittedDescriptionIsWhatFitCpProducesOnJanuaryToMarch) {
   if (!std::filesystem::exists(kKelmarsh)) GTEST_SKIP() << "shared data absent: " << kKelmarsh;
   // Arrange
   const model::Drivetrain d = app::config::load_drivetrain("kelmarsh-mm92");
-  const Pass train = run_kelmarsh(d, "2019-01-01", "2019-04-01");
-  app::wind::FitOptions options;  // fit-cp's default: table,loss,offset,gain
+  const Pass train = run_kelmarsh(d, "1-3");
+  app::wind::FitOptions options;  // fit-cp's default
   options.cp_table = options.no_load_loss = options.nacelle_offset = options.nacelle_gain = true;
+  options.tracking_tsr = options.tracking_band = options.turbulence = true;
   // Act
   const app::wind::CpFitResult fit = app::wind::fit_cp_surface(d.turbine, train.rows, options);
   // Assert: the file holds the fit (to the digits a re-run on another CPU reproduces).
@@ -57,6 +59,12 @@ TEST(CpFitKelmarsh, CommittedDescriptionIsWhatFitCpProducesOnJanuaryToMarch) {
   EXPECT_NEAR(fit.corrections.nacelle_wind_gain, d.turbine.corrections.nacelle_wind_gain, 1e-5);
   EXPECT_NEAR(fit.corrections.nacelle_wind_offset_mps,
               d.turbine.corrections.nacelle_wind_offset_mps, 1e-5);
+  EXPECT_NEAR(fit.corrections.tracking_tip_speed_ratio,
+              d.turbine.corrections.tracking_tip_speed_ratio, 1e-5);
+  EXPECT_NEAR(fit.corrections.tracking_band_margin, d.turbine.corrections.tracking_band_margin,
+              1e-5);
+  EXPECT_NEAR(fit.corrections.turbulence_intensity, d.turbine.corrections.turbulence_intensity,
+              1e-5);
 }
 
 TEST(CpFitKelmarsh, FittedDescriptionBeatsTheTextbookSurfaceOnTheHeldOutMonths) {
@@ -67,15 +75,15 @@ TEST(CpFitKelmarsh, FittedDescriptionBeatsTheTextbookSurfaceOnTheHeldOutMonths) 
   textbook.turbine.cp = app::wind::textbook_cp_surface();
   textbook.turbine.corrections = model::TurbineCorrections{};
   // Act: April–December, not used for fitting.
-  const Pass with_fit = run_kelmarsh(fitted, "2019-04-01", "2020-01-01");
-  const Pass without = run_kelmarsh(textbook, "2019-04-01", "2020-01-01");
-  const Pass train = run_kelmarsh(fitted, "2019-01-01", "2019-04-01");
-  // Assert: the fit helps out of sample, and the seasons cost at most 2.5 points over
-  // the fitting window (measured: 8.74 % held-out against 6.63 % in January–March; the
-  // former, mislabelled split, days 1–3 against 4–6 of the same months, showed 0.2).
+  const Pass with_fit = run_kelmarsh(fitted, "4-12");
+  const Pass without = run_kelmarsh(textbook, "4-12");
+  const Pass train = run_kelmarsh(fitted, "1-3");
+  // Assert: the fit helps out of sample and meets the paper's 8.34 % with the seasons in the
+  // test (measured 6.13 % against 4.14 % in January–March; docs/wind.md).
   RecordProperty("heldout_mape_pct", std::to_string(with_fit.mape.mape_pct()));
   EXPECT_GT(with_fit.mape.count(), 6000u);
   EXPECT_LT(with_fit.mape.mape_pct(), without.mape.mape_pct());
+  EXPECT_LT(with_fit.mape.mape_pct(), 8.34);
   EXPECT_LT(with_fit.mape.mape_pct(), train.mape.mape_pct() + 2.5);
   // Region 3 is rated torque held by the controller: within 5 % of P/ω.
   EXPECT_LT(with_fit.mape.mape_pct(2), 5.0);

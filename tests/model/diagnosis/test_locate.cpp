@@ -55,8 +55,8 @@ struct Case {
   md::AngleMap rec_map, sim_map;
 };
 
-template <typename Effect>
-Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
+template <typename Effect, typename SimExtra>
+Case make_case2(Effect&& effect, SimExtra&& sim_extra, double duration = 10.0, unsigned seed = 1) {
   Case c;
   const Drift s;
   const auto n = static_cast<std::size_t>(duration * kFs);
@@ -68,11 +68,17 @@ Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
     const double t = static_cast<double>(i) / kFs;
     const double th = s.theta(t);
     c.rec[i] = healthy(th) + effect(t, th) + gauss(rng);
-    c.sim[i] = healthy(kHss * t);
+    c.sim[i] = healthy(kHss * t) + sim_extra(kHss * t);
   }
   c.rec_map = md::AngleMap::from_pulses(pulses(s, duration));
   c.sim_map = md::AngleMap::constant(kHss);
   return c;
+}
+
+template <typename Effect>
+Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
+  return make_case2(
+      effect, [](double) { return 0.0; }, duration, seed);
 }
 
 struct Analysed {
@@ -86,8 +92,10 @@ void analyse(const Case& c, const md::Catalogue& cat, Analysed& a) {
   cfg.band_max_hz = 12000.0;
   const double env = md::envelope_max_order(cat);
   md::AnalysisWindow w{1.0, 135};
-  ASSERT_TRUE(md::analyse_channel(c.rec.data(), c.rec.size(), kFs, c.rec_map, w, cat, cfg, env, nullptr, a.rec));
-  ASSERT_TRUE(md::analyse_channel(c.sim.data(), c.sim.size(), kFs, c.sim_map, w, cat, cfg, env, &a.rec.band, a.sim));
+  ASSERT_TRUE(md::analyse_channel(c.rec.data(), c.rec.size(), kFs, c.rec_map, w, cat, cfg, env,
+                                  nullptr, a.rec));
+  ASSERT_TRUE(md::analyse_channel(c.sim.data(), c.sim.size(), kFs, c.sim_map, w, cat, cfg, env,
+                                  &a.rec.band, a.sim));
   a.pairs = {{"point1", "b5", &a.rec, &a.sim}};
   a.result = md::locate(cat, a.pairs);
 }
@@ -104,7 +112,8 @@ TEST(Locate, NamesABroadHssSidebandFamilyAroundTheHsMeshAsACrackOfG4) {
     double v = 0.0;
     for (int h = 1; h <= 3; ++h)
       for (int k = 1; k <= 5; ++k)
-        v += 0.02 / h * (std::cos(2 * kPi * (26.0 * h + k) * th) + std::cos(2 * kPi * (26.0 * h - k) * th));
+        v += 0.02 / h *
+             (std::cos(2 * kPi * (26.0 * h + k) * th) + std::cos(2 * kPi * (26.0 * h - k) * th));
     return v;
   });
   Analysed a;
@@ -127,7 +136,8 @@ TEST(Locate, NamesFirstSidebandsAndA1xLineAsEccentricityOfG4) {
   const Case c = make_case([](double, double th) {
     double v = 0.03 * std::cos(2 * kPi * th);
     for (int h = 1; h <= 3; ++h)
-      v += 0.03 / h * (std::cos(2 * kPi * (26.0 * h + 1) * th) + std::cos(2 * kPi * (26.0 * h - 1) * th));
+      v += 0.03 / h *
+           (std::cos(2 * kPi * (26.0 * h + 1) * th) + std::cos(2 * kPi * (26.0 * h - 1) * th));
     return v;
   });
   Analysed a;
@@ -141,13 +151,16 @@ TEST(Locate, NamesA2xLineAsMisalignmentAndA1xLineAsUnbalanceOfTheIms) {
   const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
   const double ims = 26.0 / 107.0;
   Analysed a2;
-  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * 2 * ims * th) + 0.02 * std::cos(2 * kPi * ims * th); }),
+  analyse(make_case([&](double, double th) {
+            return 0.05 * std::cos(2 * kPi * 2 * ims * th) + 0.02 * std::cos(2 * kPi * ims * th);
+          }),
           cat, a2);
   ASSERT_FALSE(a2.result.ranking.empty());
   EXPECT_EQ(md::effect_id(top(cat, a2.result).effect), std::string("shaft_misalignment"));
   EXPECT_EQ(top(cat, a2.result).location, "ims");
   Analysed a1;
-  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * ims * th); }), cat, a1);
+  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * ims * th); }), cat,
+          a1);
   ASSERT_FALSE(a1.result.ranking.empty());
   EXPECT_EQ(md::effect_id(top(cat, a1.result).effect), std::string("shaft_unbalance"));
   EXPECT_EQ(top(cat, a1.result).location, "ims");
@@ -160,7 +173,8 @@ TEST(Locate, FindsOuterRaceImpactsOfB5InTheEnvelopeOfTheBandWhereTheyRing) {
   const double bpfo = 93.066 / kHss * 0.99;
   const double wn = 2 * kPi * 6000.0;
   const Case c = make_case([&](double t, double th) {
-    const double since_rev = std::fmod(th * bpfo, 1.0) / (bpfo * kHss);  // [s] since the last impact
+    const double since_rev =
+        std::fmod(th * bpfo, 1.0) / (bpfo * kHss);  // [s] since the last impact
     (void)t;
     return 0.25 * std::exp(-0.03 * wn * since_rev) * std::sin(wn * since_rev);
   });
@@ -177,7 +191,56 @@ TEST(Locate, FindsNothingWhenTheRecordingIsTheSimulationPlusNoise) {
   const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
   Analysed a;
   analyse(make_case([](double, double) { return 0.0; }), cat, a);
-  for (const auto& s : a.result.ranking) EXPECT_LT(s.score, 0.05) << md::effect_id(cat.hypotheses[s.hypothesis].effect);
+  for (const auto& s : a.result.ranking)
+    EXPECT_LT(s.score, 0.05) << md::effect_id(cat.hypotheses[s.hypothesis].effect);
+}
+
+}  // namespace
+
+namespace {
+
+// A comb of lines: every hss harmonic 1..120 with a slowly varying amplitude.
+double comb(double th, const std::vector<double>& gain) {
+  double v = 0.0;
+  for (int k = 1; k <= 120; ++k)
+    v += gain[k] * 0.05 / std::sqrt(k) * std::cos(2 * kPi * k * th + 0.37 * k * k);
+  return v;
+}
+
+TEST(Locate, FitsAResonanceWhenEveryLineOfABandIsAmplifiedAlongOneTransmissibilityCurve) {
+  const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
+  // The recording: every line × |H(f)| of a 600 Hz resonator with 3 % damping.
+  std::vector<double> ones(121, 1.0), h(121, 1.0);
+  for (int k = 1; k <= 120; ++k) {
+    const double r = k * kHss / 600.0, z = 0.03;
+    h[k] = std::sqrt((1 + 4 * z * z * r * r) / ((1 - r * r) * (1 - r * r) + 4 * z * z * r * r));
+  }
+  const Case c = make_case2([&](double, double th) { return comb(th, h); },
+                            [&](double th) { return comb(th, ones); });
+  Analysed a;
+  analyse(c, cat, a);
+  const md::ResidualFeature* band = nullptr;
+  for (const auto& f : a.result.features)
+    if (f.domain == md::FeatureDomain::kBand) band = &f;
+  ASSERT_NE(band, nullptr);
+  EXPECT_NEAR(band->resonance_hz, 600.0, 30.0);
+  ASSERT_FALSE(a.result.ranking.empty());
+  EXPECT_EQ(md::effect_id(top(cat, a.result).effect), std::string("housing_resonance"));
+}
+
+TEST(Locate, FindsNoResonanceInAMisfitThatScattersFromLineToLine) {
+  // A foreign gearbox's lines: each line's gain drawn at random (±10 dB), no common curve.
+  const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
+  std::vector<double> ones(121, 1.0), g(121, 1.0);
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> u(-10.0, 10.0);
+  for (int k = 1; k <= 120; ++k) g[k] = std::pow(10.0, u(rng) / 20.0);
+  const Case c = make_case2([&](double, double th) { return comb(th, g); },
+                            [&](double th) { return comb(th, ones); });
+  Analysed a;
+  analyse(c, cat, a);
+  for (const auto& f : a.result.features)
+    EXPECT_NE(f.domain, md::FeatureDomain::kBand) << f.resonance_hz;
 }
 
 }  // namespace

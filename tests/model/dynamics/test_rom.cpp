@@ -243,9 +243,9 @@ TEST(Rom, TwentyYearsOfRotationLeaveItsPhasesAndTimeExact) {
   constexpr double kCoarseDt = 1.0 / 4096;
   const auto data = build_rom(paper_model(), kCoarseDt, 1500.0);
   ASSERT_TRUE(data);
-  constexpr std::int64_t kWhole = 157'788'000;        // 20 × 365.25 d × 86400 s × 15/60 rev/s
-  constexpr double kFraction = 0.875;                 // crosses a whole revolution below
-  constexpr double kTime = 20 * 365.25 * 86400.0;     // [s]
+  constexpr std::int64_t kWhole = 157'788'000;     // 20 × 365.25 d × 86400 s × 15/60 rev/s
+  constexpr double kFraction = 0.875;              // crosses a whole revolution below
+  constexpr double kTime = 20 * 365.25 * 86400.0;  // [s]
   auto shifted = std::make_unique<RomData>(*data);
   for (int t = 0; t < kRomTerms; ++t) {
     const long double x = static_cast<long double>(data->term_order[t]) * kWhole;

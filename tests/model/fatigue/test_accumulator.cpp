@@ -62,6 +62,68 @@ TEST(Accumulator, CountsCyclesAsTimeTimesSpeedTimesContactsPerRevolution) {
               1e-12 * acc.damage(sun));
 }
 
+TEST(Accumulator, EveryChannelsIncrementIsItsSnCurvesDamageAtItsStressOnBothSidesOfTheKnee) {
+  // The step evaluates stresses per mesh and n/N(σ) from constants hoisted out of the
+  // S-N curve; the oracle is the public per-source path: ChannelSet::stress() and
+  // SnCurve::cycles_to_failure(). Loads from 5 % to 150 % of rated put every channel on
+  // both sides of its knee; every knee branch.
+  for (const KneeBranch branch :
+       {KneeBranch::kHaibach, KneeBranch::kIsoLifeLine, KneeBranch::kNone}) {
+    ChannelOptions options;
+    options.branch = branch;
+    const model::Drivetrain d = model::paper_2mw();
+    const ChannelSet cs(d, options);
+    ASSERT_TRUE(cs.valid()) << cs.error();
+    std::size_t below = 0, above = 0;
+    for (const double torque : {0.06e6, 0.3e6, 0.9e6, 1.85e6}) {
+      // Arrange: a load sample with every mesh and bearing at its own level.
+      LoadSample loads = cs.quasi_static_loads(torque);
+      for (std::size_t m = 0; m < cs.mesh_count(); ++m) loads.mesh_force_n[m] *= 1.0 + 0.03 * m;
+      for (std::size_t b = 0; b < cs.bearing_count(); ++b)
+        loads.bearing_axial_n[b] *= 1.0 + 0.5 * b;
+      AccumulatorConfig cfg;
+      cfg.tick_s = 1e-3;
+      DamageAccumulator acc(cs, cfg);
+      // Act: one step of 100 ms at 12 rpm.
+      ASSERT_EQ(acc.step(loads, 12.0, 100), StepResult::kAccumulated);
+      // Assert
+      const double revs = 12.0 / 60.0 * 0.1;
+      for (std::size_t c = 0; c < cs.channel_count(); ++c) {
+        const Channel& ch = cs.channel(c);
+        double expected = 0.0;
+        for (std::size_t k = 0; k < ch.source_count; ++k) {
+          const double sigma = cs.stress(c, k, loads);
+          if (sigma > 0.0)
+            expected +=
+                revs * ch.sources[k].cycles_per_rotor_rev / ch.curve.cycles_to_failure(sigma);
+          (sigma >= ch.curve.knee_stress() ? above : below) += 1;
+        }
+        EXPECT_NEAR(acc.damage(c), expected, 1e-12 * expected)
+            << ch.component << " " << failure_mode_name(ch.mode) << " at " << torque << " N·m";
+      }
+    }
+    if (branch != KneeBranch::kNone) {
+      EXPECT_GT(below, 0u);
+      EXPECT_GT(above, 0u);
+    }
+  }
+}
+
+TEST(Accumulator, AMeshsFourStressesAtOnceAreItsStressFunctionsToTheLastBit) {
+  const model::Drivetrain d = model::paper_2mw();
+  const ChannelSet cs(d, ChannelOptions{});
+  for (std::size_t m = 0; m < cs.mesh_count(); ++m) {
+    const MeshRating& r = cs.mesh(m);
+    for (const double ft : {0.0, 1.0, 3.0e3, 2.0e5, 1.1e6, -4.0e5}) {
+      const MeshStresses s = r.stresses(ft);
+      for (int g = 0; g < 2; ++g) {
+        EXPECT_EQ(s.contact_mpa[g], r.contact_stress_mpa(ft, g)) << cs.mesh_id(m) << " " << ft;
+        EXPECT_EQ(s.bending_mpa[g], r.bending_stress_mpa(ft, g)) << cs.mesh_id(m) << " " << ft;
+      }
+    }
+  }
+}
+
 TEST(Accumulator, MinerDamageIsAdditiveAndIndependentOfTheOrderOfLoadBlocks) {
   Fixture f;
   const LoadSample low = f.channels.quasi_static_loads(0.6e6),

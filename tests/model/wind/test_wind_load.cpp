@@ -134,13 +134,95 @@ TEST(WindLoad, MeasuredSpeedEstimateIsNeverAboveRatedTorque) {
   }
 }
 
+// A turbine with a speed range of 8–15 rpm, the paper's surface and the rotor-effective wind
+// switched on: tracked λ_c = 7.5, band margin m = 0.1 (so the weight is 1 between 8.8 and
+// 13.5 rpm), nacelle transfer function v_free = 1.05·v + 0.2.
+model::Turbine tracking_turbine() {
+  model::Turbine t = model::paper_2mw().turbine;
+  t.min_rotor_speed_rpm = 8.0;
+  t.rated_rotor_speed_rpm = 15.0;
+  t.corrections.tracking_tip_speed_ratio = 7.5;
+  t.corrections.tracking_band_margin = 0.1;
+  t.corrections.nacelle_wind_gain = 1.05;
+  t.corrections.nacelle_wind_offset_mps = 0.2;
+  return t;
+}
+
+TEST(WindLoad, InsideTheTrackingBandTheMeasuredSpeedGivesTheWind) {
+  const model::Turbine t = tracking_turbine();
+  const WindLoad load(t);
+  const double w = 11.0 * kRpm;
+  const double v_rotor = w * t.rotor_radius_m / 7.5;  // ωR/λ_c
+  // Whatever the anemometer says (in range), the torque is the aerodynamic torque at ωR/λ_c.
+  for (double v_nacelle : {5.0, 6.0, 7.5}) {
+    EXPECT_NEAR(load.with_rotor_speed(v_nacelle, w, 0.0, false).torque_nm,
+                load.aerodynamic_torque_nm(v_rotor, w, 0.0), 1e-6);
+  }
+}
+
+TEST(WindLoad, AtTheSpeedFloorTheAnemometerGivesTheWindAndNearItBothMix) {
+  const model::Turbine t = tracking_turbine();
+  const WindLoad load(t);
+  const double v_nacelle = 4.0, v_free = 1.05 * 4.0 + 0.2;
+  // At the floor (8 rpm) the weight is 0: the nacelle wind through its transfer function.
+  const double w0 = 8.0 * kRpm;
+  EXPECT_NEAR(load.with_rotor_speed(v_nacelle, w0, 0.0, false).torque_nm,
+              load.aerodynamic_torque_nm(v_free, w0, 0.0), 1e-6);
+  // At 8.4 rpm the weight is (8.4 − 8)/(0.1·8) = 0.5.
+  const double w = 8.4 * kRpm;
+  const double v_mix = 0.5 * (w * t.rotor_radius_m / 7.5) + 0.5 * v_free;
+  EXPECT_NEAR(load.with_rotor_speed(v_nacelle, w, 0.0, false).torque_nm,
+              load.aerodynamic_torque_nm(v_mix, w, 0.0), 1e-6);
+  // Near rated speed likewise: at 14.25 rpm, (15 − 14.25)/(0.1·15) = 0.5.
+  const double wr = 14.25 * kRpm;
+  const double v_mix_r = 0.5 * (wr * t.rotor_radius_m / 7.5) + 0.5 * (1.05 * 9.0 + 0.2);
+  EXPECT_NEAR(load.with_rotor_speed(9.0, wr, 0.0, false).torque_nm,
+              load.aerodynamic_torque_nm(v_mix_r, wr, 0.0), 1e-6);
+}
+
+TEST(WindLoad, TheSteadyStateTracksTheControllersTipSpeedRatio) {
+  const model::Turbine t = tracking_turbine();
+  const WindLoad load(t);
+  const auto out = load.steady_state(6.0);
+  ASSERT_EQ(out.region, OperatingRegion::kTracking);
+  EXPECT_NEAR(out.rotor_speed_rad_s, 7.5 * 6.0 / t.rotor_radius_m, 1e-12);
+  EXPECT_NEAR(load.speed_limit_wind_mps(), 15.0 * kRpm * t.rotor_radius_m / 7.5, 1e-12);
+}
+
+TEST(WindLoad, TheTorqueAveragedOverTheWindWithinARowGainsOnePlusThreeISquared) {
+  // With Cp constant in λ the torque at a fixed speed is ∝ v³, and E[(1 + Iξ)³] = 1 + 3I² for
+  // a standard normal ξ; 5-point Gauss–Hermite quadrature is exact for that cubic.
+  model::Turbine t = model::paper_2mw().turbine;
+  t.cp.table_lambda_min = 2.0;
+  t.cp.table_lambda_max = 16.0;
+  t.cp.table_cp.fill(0.4);
+  const WindLoad plain(t);
+  t.corrections.turbulence_intensity = 0.12;
+  const WindLoad turbulent(t);
+  const double w = 10.0 * kRpm;
+  const double base = plain.with_rotor_speed(6.0, w, 0.0, false).torque_nm;
+  ASSERT_GT(base, 0.0);
+  ASSERT_LT(1.4 * base, t.rated_torque_nm);  // the cap is far
+  EXPECT_NEAR(turbulent.with_rotor_speed(6.0, w, 0.0, false).torque_nm / base,
+              1.0 + 3.0 * 0.12 * 0.12, 1e-12);
+  // Near rated the cap bites inside the row: the mean stays at or below rated torque.
+  for (double v = 9.0; v < 16.0; v += 0.5) {
+    EXPECT_LE(turbulent.with_rotor_speed(v, 14.8 * kRpm, 0.0, false).torque_nm,
+              t.rated_torque_nm * (1.0 + 1e-12));
+  }
+}
+
 TEST(WindLoad, QueriesDoNotAllocate) {
   const WindLoad load = paper_load();
+  model::Turbine t = tracking_turbine();
+  t.corrections.turbulence_intensity = 0.1;
+  const WindLoad tracking(t);
   const int before = g_allocations;
   double sum = 0.0;
   for (double v = 0.0; v < 25.0; v += 0.1) {
     sum += load.steady_state(v).torque_nm;
     sum += load.with_rotor_speed(v, 12.0 * kRpm, 0.01, true).torque_nm;
+    sum += tracking.with_rotor_speed(v, 8.4 * kRpm, 0.0, false).torque_nm;
   }
   EXPECT_EQ(g_allocations, before);
   EXPECT_GT(sum, 0.0);

@@ -10,28 +10,33 @@
 //   excess  e = m² − s² − n²            (energy the simulation and the noise leave unexplained)
 //   significant when m ≥ snr_min·n and m² ≥ excess_ratio·(s² + n²).
 // A hypothesis is scored only when its significant lines add up to min_evidence.
-// Bearing lines may lie within ±slip of nominal: the strongest position is taken.
+// Bearing lines may lie within ±slip of nominal: the strongest position is taken, but
+// never one on a harmonic of a mesh (envelope_exclusions()), and no envelope peak there
+// is counted.
 //
 // Residual features. Every significant excess peak of a channel's order spectrum (up to
 // the analysis band) and envelope spectrum is found; the families of the catalogue then
 // claim them greedily — the family that explains the most excess energy first — and each
 // claim is one feature; peaks no family claims stay as "unexplained" features. A band in
-// which the lines the simulation does have are all stronger in the recording by more than
-// `gain_db` (a run of at least three lines, contiguous in frequency) is a band feature
-// ("amplified in one band"). A shaft whose synchronous-average difference signal is
-// impulsive (kurtosis above `impulsive_kurtosis` and above the simulation's) is a feature
-// of the synchronous-average domain.
+// which the lines the simulation does have are stronger in the recording along the
+// transmissibility curve of one resonator (by ≥ gain_db at its peak; see band_features in
+// locate.cpp) is a band feature ("amplified in one band"). A shaft whose synchronous-average
+// difference signal is impulsive (kurtosis above `impulsive_kurtosis` and above the simulation's)
+// is a feature of the synchronous-average domain.
 //
-// Ranking. A hypothesis explains, in its domain, the share
-//   share = Σ_lines w·e (significant lines, all channels) / total significant excess
-// and is present to the degree
-//   presence = Σ_lines w·[significant] / Σ_lines w   (at its best channel);
-// its score is share·√presence (a family that explains the excess with fewer predicted
-// but absent lines ranks higher: the narrow eccentricity family over the broad crack
-// family when only first sidebands are there), a tooth crack's score is multiplied by
-// 1 + its shaft's impulsiveness evidence, and a housing resonance's share is that of its
-// band feature on the channel measured at its bearing. Scores are relative evidence for
-// choosing what to model, not the reported confidence (that comes from the refit, refit.hpp).
+// Ranking. Over its significant lines (all points) a hypothesis has the strength
+//   strength = Σ w·ln(m² / (s² + n²))          (how far above what is explained they stand)
+// and explains, of the significant excess on the lines of its broad family (the same
+// modulation at every sideband order, or the shaft's harmonics) and its own, the share
+//   share = Σ_its lines w·e / Σ_family lines e;
+// it is present to the degree presence = Σ w·[significant] / Σ w (at its best point). Its
+// score is share·√presence·strength: the narrow eccentricity family wins over the broad
+// crack family when only first sidebands are there (equal share, higher presence), the
+// crack when the higher sidebands are there too (the eccentricity's share drops), and
+// misfit elsewhere in the spectrum (a foreign gearbox's mesh harmonics) changes neither.
+// A tooth crack's score is multiplied by 1 + its shaft's impulsiveness evidence; a
+// housing resonance scores the resonance fit's share × its amplification strength.
+// Scores rank what to model; the reported confidence comes from the refit (diagnoser.hpp).
 //
 // Thread context: host tools and the diagnosis's low-priority thread; allocates.
 
@@ -72,17 +77,21 @@ struct ChannelPair {
 enum class FeatureDomain : unsigned char { kSpectrum, kEnvelope, kAverage, kBand };
 
 struct ResidualFeature {
-  std::size_t channel = 0;      // index into the ChannelPair list
+  std::size_t channel = 0;  // index into the ChannelPair list
   FeatureDomain domain = FeatureDomain::kSpectrum;
-  double band_lo_hz = 0.0;      // [Hz]
-  double band_hi_hz = 0.0;      // [Hz]
-  std::vector<double> peaks_hz; // [Hz] strongest lines, descending excess
+  double band_lo_hz = 0.0;       // [Hz]
+  double band_hi_hz = 0.0;       // [Hz]
+  std::vector<double> peaks_hz;  // [Hz] strongest lines, descending excess
   std::size_t family = kNoFamily;
-  std::string shaft;            // kAverage: the shaft
-  double excess = 0.0;          // [unit²] (envelope: [-]) excess energy of its lines
-  double share = 0.0;           // [-] of the channel's significant excess in its domain
-  double max_snr = 0.0;         // [-] strongest line / noise floor
-  double gain_db = 0.0;         // kBand: mean amplification [dB]; kAverage: kurtosis
+  std::string shaft;          // kAverage: the shaft
+  double excess = 0.0;        // [unit²] (envelope: [-]) excess energy of its lines
+  double share = 0.0;         // [-] of the channel's significant excess in its domain
+  double max_snr = 0.0;       // [-] strongest line / noise floor
+  double gain_db = 0.0;       // kBand: mean amplification [dB]; kAverage: kurtosis
+  double resonance_hz = 0.0;  // kBand: the fitted resonance
+  double resonance_damping = 0.0;
+  double fit_share = 0.0;  // kBand: share of the gains' squared deviation the resonance explains
+  double strength = 0.0;   // kBand: Σ ln of the amplification over its lines
 };
 
 struct LineMeasure {
@@ -95,8 +104,16 @@ struct LineMeasure {
 };
 
 /// Reads the line at `order` (± tolerance relative) of a recorded and a simulated spectrum.
-LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& simulated, double order,
-                         double tolerance, const LocateConfig& config);
+/// Positions within 2 lines of an order in `exclude` are not taken when searching within
+/// the tolerance (envelope spectra: a gearbox's mesh modulation is synchronous, a bearing's
+/// is not).
+LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& simulated,
+                         double order, double tolerance, const LocateConfig& config,
+                         const std::vector<double>* exclude = nullptr);
+
+/// The synchronous orders of the envelope: harmonics 1..8 of every mesh. No bearing line is
+/// read there (a defect line that falls exactly on one cannot be told from mesh modulation).
+std::vector<double> envelope_exclusions(const Catalogue& catalogue);
 
 struct HypothesisScore {
   std::size_t hypothesis = 0;  // index into Catalogue::hypotheses
@@ -104,14 +121,15 @@ struct HypothesisScore {
   double presence = 0.0;
   double score = 0.0;
   double evidence = 0.0;  // [-] Σ w·(m/n)² over its significant lines
+  double strength = 0.0;  // [-] Σ w·ln(m²/(s² + n²)) over its significant lines
   std::size_t best_channel = 0;
 };
 
 struct LocateResult {
-  std::vector<ResidualFeature> features;    // descending share within each domain
-  std::vector<HypothesisScore> ranking;     // descending score (only score > 0)
-  std::vector<double> spectrum_total;       // per channel: significant spectrum excess
-  std::vector<double> envelope_total;       // per channel: significant envelope excess
+  std::vector<ResidualFeature> features;  // descending share within each domain
+  std::vector<HypothesisScore> ranking;   // descending score (only score > 0)
+  std::vector<double> spectrum_total;     // per channel: significant spectrum excess
+  std::vector<double> envelope_total;     // per channel: significant envelope excess
 };
 
 LocateResult locate(const Catalogue& catalogue, const std::vector<ChannelPair>& channels,

@@ -61,6 +61,13 @@ struct TurbineCorrections {
   double nacelle_wind_gain = 1.0;        // [-] a in v_free = a·v_nacelle + b (IEC 61400-12-2 NTF)
   double nacelle_wind_offset_mps = 0.0;  // [m/s] b
   double yaw_loss_exponent = 0.0;        // [-] x in P ∝ cos^x(yaw error); 0: no yaw correction
+  // Rotor-effective wind and its spread (model/wind/wind_load.hpp, "With a measured rotor speed").
+  double tracking_tip_speed_ratio = 0.0;  // [-] λ_c the controller holds between its speed
+                                          // limits; 0: the surface's λ_opt
+  double tracking_band_margin = 0.0;      // [-] m: the measured speed gives the wind ωR/λ_c
+                                          // between (1 + m)·ω_min and (1 − m)·ω_rated; 0: off
+  double turbulence_intensity = 0.0;      // [-] I: the 10-min mean torque is the mean over the
+                                          // wind v·(1 + I·ξ), ξ standard normal; 0: at v
 };
 
 struct Turbine {

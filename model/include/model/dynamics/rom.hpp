@@ -286,8 +286,8 @@ class Rom {
   void reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
                 std::int64_t steps) noexcept;
 
-  double t0_ = 0.0;            // [s] time at the last reset
-  std::int64_t steps_ = 0;     // [-] steps since
+  double t0_ = 0.0;              // [s] time at the last reset
+  std::int64_t steps_ = 0;       // [-] steps since
   std::int64_t whole_revs_ = 0;  // [rev] whole rotor revolutions
   double frac_revs_ = 0.0;       // [rev] in [0, 1)
   // frac(order·whole_revs_ + phase) per term [cycles] (RomData's term layout).

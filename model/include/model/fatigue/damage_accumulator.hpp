@@ -16,6 +16,14 @@
 // Bad steps (non-finite load, non-finite or negative speed, dt = 0) are counted in the
 // state and change nothing else.
 //
+// Per-step cost (tools/accumulator_bench, docs/fatigue.md): each mesh's four stresses come
+// from one face-load and one K_α evaluation (MeshRating::stresses), each bearing's P from
+// its precomputed e and cot α, and each source's n/N(σ) from the S-N curve's constants
+// hoisted to construction: ln N = a + k·ln σ on either side of the knee, one log and one
+// exp per source (SnCurve::damage_per_cycle evaluates the knee's pow and logs every call).
+// The same formulas reordered: each step's increment agrees with SnCurve's to ~1e-14
+// relative (tested to 1e-12).
+//
 // Thread context: construct, configure and restore() at start-up (allocates once);
 // step() is O(channels × sources), allocation-free, lock-free and never blocks: real-time
 // safe. state() may be copied by the loop thread at a cycle boundary for persistence.
@@ -95,6 +103,22 @@ class DamageAccumulator {
   std::array<double, kMaxChannels> inv_width_{};
   std::unique_ptr<AccumulatorState> state_;
   std::uint64_t config_hash_ = 0;
+
+  // n/N(σ) = exp(−ln N(σ)), ln N = ln_n1 − k1·ln σ above the knee stress, else
+  // ln_n2 − k2·ln σ (knee: where ln N passes ln_knee; none: ln_knee = +inf).
+  struct CurveConstants {
+    double ln_n1 = 0.0, k1 = 0.0;
+    double ln_n2 = 0.0, k2 = 0.0;
+    double ln_knee = 0.0;
+  };
+  std::array<CurveConstants, kMaxChannels> curve_{};
+  // ISO 281 equivalent-load constants per bearing slot (equivalent_load_n's e and cot α).
+  struct BearingConstants {
+    bool radial_only = true;
+    bool single_row = true;
+    double e = 0.0, cot = 0.0;
+  };
+  std::array<BearingConstants, kMaxBearings> bearing_{};
 };
 
 }  // namespace model::fatigue

@@ -159,6 +159,13 @@ struct FaceLoad {
   double k_f_beta = 1.0;        // [-] K_Hβ^N_F
 };
 
+/// The four stresses of one mesh at one F_t [MPa]: what contact_stress_mpa() and
+/// bending_stress_mpa() return for gears 0 and 1, with the load factors computed once.
+struct MeshStresses {
+  double contact_mpa[2] = {0.0, 0.0};
+  double bending_mpa[2] = {0.0, 0.0};
+};
+
 /// Every factor of one mesh, and the stresses as functions of F_t.
 struct MeshRating {
   PairGeometry geometry;
@@ -196,6 +203,11 @@ struct MeshRating {
   double contact_stress_mpa(double ft_n, int gear) const;
   /// Tooth-root stress σ_F [MPa] of gear 0/1 (ISO 6336-3:2006 eq. 3–4); 0 when not rated.
   double bending_stress_mpa(double ft_n, int gear) const;
+  /// All four at once, the same numbers to the last bit (one face-load and one K_α
+  /// evaluation instead of one per stress): the online accumulator's per-step path.
+  MeshStresses stresses(double ft_n) const;
+  /// K_α at F_t [N] with K_Hβ already known (k_alpha() evaluates it).
+  double k_alpha_at(double ft_n, double k_h_beta) const;
 };
 
 /// Rates a pair of materials and geometry. `k_a` is the application factor (1 for

@@ -44,6 +44,21 @@ class DamageRateHistory {
   std::size_t size() const { return count_; }
   RulEstimate estimate(double damage_now) const;
 
+  // Persistence (the app writes these with its state record): the intervals held, oldest
+  // first, and the long-term sums (which also count intervals dropped from the ring).
+  double interval_s() const { return interval_s_; }
+  std::size_t short_window() const { return short_window_; }
+  /// Interval i of size(), oldest first [-].
+  double increment(std::size_t i) const;
+  double total_increment() const { return total_increment_; }
+  std::uint64_t total_intervals() const { return total_intervals_; }
+  /// Replaces the history by `n` increments (oldest first; only the newest
+  /// kMaxRateIntervals kept) and the long-term sums. False (history unchanged) when the
+  /// sums cannot hold them (total_intervals < n) or a value is not finite.
+  /// Allocation-free.
+  bool restore(const double* increments, std::size_t n, double total_increment,
+               std::uint64_t total_intervals);
+
  private:
   double interval_s_;
   std::size_t short_window_;

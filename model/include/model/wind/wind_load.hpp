@@ -46,6 +46,24 @@
 // error reduces the power by cos^x(γ). The defaults (a = 1, b = 0, x = 0, the
 // description's ρ) leave the estimate exactly as without them.
 //
+// The rotor-effective wind (TurbineCorrections, all off by default). The nacelle anemometer
+// sits behind the rotor and its 10-minute mean misses the rotor's wind by several per cent,
+// which the steep v³ turns into tens of per cent of power at low wind. Between its speed
+// limits a variable-speed controller holds one tip-speed ratio λ_c (the equilibrium of its
+// k·ω² torque law; `tracking_tip_speed_ratio`, default the surface's λ_opt), so there the
+// measured speed is the better anemometer: v_rotor = ω·R/λ_c. At a limit (ω_min, ω_rated) the
+// speed is held and says nothing about the wind, and only the anemometer is left. A
+// 10-minute mean near a limit mixes both, so the wind used is
+//   v = w·ωR/λ_c + (1 − w)·(a·v_nacelle + b),  w = clamp((ω − ω_min)/(m·ω_min), 0, 1)
+//                                                · clamp((ω_rated − ω)/(m·ω_rated), 0, 1)
+// with m = `tracking_band_margin` (0: w = 0, the anemometer everywhere). The torque is then
+// the mean over the wind within the row, v·(1 + I·ξ) with ξ standard normal and
+// I = `turbulence_intensity`, of min(T_aero, T_rated), by 5-point Gauss–Hermite quadrature
+// (exact for polynomials in ξ up to degree 9): P ∝ v³ gains (1 + 3I²), and the rated cap
+// makes region 2½ concave. The measured speed is held within the row (the rotor's inertia
+// filters the fast part of the wind).
+// The steady state (no measured speed) tracks λ_c too.
+//
 // Thread context: construct at start-up (no allocation either); every query is
 // a pure, allocation-free, exception-free function safe on the real-time thread.
 
@@ -135,6 +153,7 @@ class WindLoad {
   double rated_speed_rad_s_ = 0.0;         // [rad/s]
   double min_speed_rad_s_ = 0.0;           // [rad/s]
   double rated_torque_nm_ = 0.0;           // [N·m]
+  double tracking_lambda_ = 0.0;           // [-] λ the controller tracks in region 2
   double speed_limit_wind_mps_ = 0.0;      // [m/s] v_sl
   double torque_at_speed_limit_nm_ = 0.0;  // [N·m] T(v_sl)
   double half_rho_area_ = 0.0;             // [kg/m] ½ρπR²

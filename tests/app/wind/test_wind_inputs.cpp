@@ -1,0 +1,128 @@
+// Wind-side inputs and results that must not be taken at face value (issue 15): `fit-cp`
+// refuses a fitted Cp surface above the Betz limit (printed or written with --update) and
+// keeps the description file untouched; `torque` does not class a row without a wind
+// speed as "below cut-in" with a torque of 0 when its rotor turns at 10 rpm.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli/run.hpp"
+#include "config/drivetrain_file.hpp"
+#include "model/drivetrain/description.hpp"
+#include "model/wind/wind_load.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int exit_code = 0;
+  std::string error;
+  std::string out;
+};
+
+CliResult run_cli(const std::vector<std::string>& args) {
+  CliResult result;
+  testing::internal::CaptureStdout();
+  const app::cli::RunResult r = app::cli::run(args);
+  result.out = testing::internal::GetCapturedStdout();
+  result.exit_code = r.exit_code;
+  result.error = r.error;
+  return result;
+}
+
+class WindInputs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           (std::string("drivetwin_wind_inputs_") +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string write(const std::string& name, const std::string& text) const {
+    std::ofstream(dir_ / name, std::ios::binary) << text;
+    return (dir_ / name).string();
+  }
+  static std::string slurp(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  fs::path dir_;
+};
+
+// SCADA rows of the paper turbine in maximum power tracking (4.5–7.5 m/s, below the
+// 7.9 m/s where tracking reaches rated speed): the steady-state rotor speed, and the
+// electrical power the wind model gives, times `power_factor`.
+std::string tracking_rows(double power_factor) {
+  const model::Drivetrain d = model::paper_2mw();
+  const model::wind::WindLoad wind(d.turbine);
+  std::string csv = "t_s,wind_speed_mps,rotor_speed_rpm,power_kw\n";
+  for (int i = 0; i < 120; ++i) {
+    const double v = 4.5 + 3.0 * static_cast<double>(i) / 119.0;
+    const model::wind::WindLoadOutput o = wind.steady_state(v);
+    const double p_kw = wind.electrical_power_w(o.torque_nm, o.rotor_speed_rad_s) / 1e3;
+    char row[128];
+    std::snprintf(row, sizeof row, "%d,%.6f,%.6f,%.6f\n", 600 * i, v,
+                  o.rotor_speed_rad_s * 60.0 / (2.0 * std::numbers::pi), power_factor * p_kw);
+    csv += row;
+  }
+  return csv;
+}
+
+TEST_F(WindInputs, FitCpRecoversThePaperSurfaceFromItsOwnPower) {
+  // The paper gives Cp_max = 0.48 (drivetrain-2mw.md); fitting c1 and the λ scale to rows
+  // generated from that surface gives it back.
+  const CliResult r = run_cli({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
+  ASSERT_EQ(r.exit_code, 0) << r.error;
+  const auto at = r.out.find("Cp_max ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NEAR(std::stod(r.out.substr(at + 7)), 0.48, 0.01) << r.out;
+}
+
+TEST_F(WindInputs, FitCpRefusesASurfaceAboveTheBetzLimitAndWritesNothing) {
+  // Arrange: the same rows with 1.6 × the power (a power column that is not this rotor's):
+  // the fit would need Cp_max ≈ 0.48 · 1.6 = 0.77 > 16/27.
+  const std::string csv = write("inflated.csv", tracking_rows(1.6));
+  const std::string desc = write("paper.toml", app::config::to_toml(model::paper_2mw()));
+  const std::string before = slurp(desc);
+  // Act
+  const CliResult r = run_cli({"fit-cp", csv, "--free", "none", "--update", desc});
+  // Assert
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.error.find("is above the Betz limit 16/27 = 0.5926"), std::string::npos) << r.error;
+  EXPECT_EQ(r.out.find("[turbine.cp]"), std::string::npos) << r.out;  // no table printed
+  EXPECT_EQ(slurp(desc), before);
+}
+
+TEST_F(WindInputs, ARowWithoutWindButATurningRotorIsNotBelowCutIn) {
+  // Arrange: an empty wind cell with the rotor at 10 rpm, then a row at the paper's point.
+  const std::string csv =
+      write("nowind.csv", "t_s,wind_speed_mps,rotor_speed_rpm\n0,,10\n600,6.75,8.33\n");
+  // Act
+  const CliResult text = run_cli({"torque", csv});
+  const CliResult json = run_cli({"torque", csv, "--json"});
+  // Assert: no region, no torque for row 1; row 2 estimated.
+  ASSERT_EQ(text.exit_code, 0) << text.error;
+  std::istringstream lines(text.out);
+  std::string line, row1;
+  while (std::getline(lines, line)) {
+    if (line.rfind("       1 ", 0) == 0) row1 = line;
+  }
+  EXPECT_EQ(row1.find("below_cut_in"), std::string::npos) << row1;
+  EXPECT_NE(row1.find("no_wind_speed"), std::string::npos) << row1;
+  EXPECT_NE(row1.find(" -"), std::string::npos) << row1;
+  EXPECT_NE(json.out.find("\"region\":\"no_wind_speed\""), std::string::npos) << json.out;
+  EXPECT_NE(json.out.find("\"torque_nm\":null"), std::string::npos) << json.out;
+}
+
+}  // namespace
