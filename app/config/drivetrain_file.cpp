@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -330,11 +331,35 @@ class Reader {
       for (auto& item : items) {
         if (item.*id_member == *id) target = &item;
       }
-      if (target == nullptr) {
+      const bool added = target == nullptr;
+      if (added) {
         items.emplace_back();
         target = &items.back();
       }
       read(*table, *target, keys, item_path);
+      if (added) require_in_range(*table, *target, keys, item_path);
+    }
+  }
+
+  /// A new entry starts from the struct's defaults: a key it does not give must have a
+  /// default in its range, else the entry is refused as missing that key (it would be
+  /// written back by to_toml() as a value the reader refuses).
+  template <class T>
+  void require_in_range(const toml::table& table, const T& object, const std::vector<Key<T>>& keys,
+                        const std::string& path) const {
+    for (const auto& k : keys) {
+      if (table.contains(k.name)) continue;
+      bool ok = true;
+      std::visit(
+          [&](auto member) {
+            using Field = std::remove_cv_t<std::remove_reference_t<decltype(object.*member)>>;
+            if constexpr (std::is_same_v<Field, double> || std::is_same_v<Field, int>) {
+              ok = in_range(static_cast<double>(object.*member) / k.scale, k.range);
+            }
+          },
+          k.member);
+      if (!ok)
+        fail(&table, path + "." + k.name, "missing: a new entry needs it" + range_text(k.range));
     }
   }
 
@@ -566,11 +591,22 @@ std::string format_double(double v) {
   return s;
 }
 
+/// A TOML basic string: quotes, backslashes and control characters escaped (TOML 1.0
+/// allows none of them raw), so every string read back is the string written.
 std::string quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(u));
+      out += buf;
+    } else {
+      out += c;
+    }
   }
   return out + "\"";
 }

@@ -230,6 +230,25 @@ TEST(DrivetrainFile, BadListEntryNamesItsIndexAndKey) {
       << e;
 }
 
+TEST(DrivetrainFile, ANewEntryMissingARequiredKeyIsRefusedNotWrittenBackAsAnError) {
+  // A new gear starts from Gear{}'s defaults: face_width_m = 0 is outside its range, and
+  // to_toml() would have written a file the reader refuses (found by fuzz_drivetrain_toml).
+  const std::string e =
+      error_of("base = \"paper-2mw\"\n[[gears]]\nid = \"g9\"\nteeth = 21\nprofile_shift = 0.2\n");
+  EXPECT_NE(e.find("key 'gears[0].face_width_m': missing: a new entry needs it > 0"),
+            std::string::npos)
+      << e;
+}
+
+TEST(DrivetrainFile, ControlCharactersInAStringSurviveTheRoundTrip) {
+  // TOML forbids raw control characters in a basic string; to_toml() must escape them.
+  const model::Drivetrain d =
+      parse_drivetrain("base = \"paper-2mw\"\nname = \"a\\nb\\u0001\"\n", "ctl.toml");
+  ASSERT_EQ(d.name, std::string("a\nb\x01"));
+  const model::Drivetrain again = parse_drivetrain(app::config::to_toml(d), "written.toml");
+  EXPECT_EQ(again.name, d.name);
+}
+
 TEST(DrivetrainFile, EntryWithoutIdIsRejected) {
   const std::string e = error_of("base = \"paper-2mw\"\n[[bearings]]\nelements = 12\n");
   EXPECT_NE(e.find("key 'bearings[0].id'"), std::string::npos) << e;
