@@ -1,10 +1,13 @@
 #include "model/dynamics/full_model.hpp"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <utility>
 
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/mesh_stiffness.hpp"
@@ -59,6 +62,11 @@ class Assembler {
   };
   void spring(std::initializer_list<Term> terms, double k) {
     springs_.push_back({std::vector<Term>(terms), k});
+  }
+  void spring(const std::vector<std::pair<int, double>>& terms, double k) {
+    std::vector<Term> t;
+    for (const auto& [dof, c] : terms) t.push_back({dof, c});
+    springs_.push_back({std::move(t), k});
   }
 
   FullModel finish() {
@@ -134,10 +142,96 @@ Eigen::VectorXd mesh_direction(int dofs, const Node& a, const Node& b, const Mes
 // ---- effects (model/drivetrain/effects.hpp) as terms of the equations of motion
 // ------------------
 
+// A measured bearing's seat: its displacement in the housing frame is Σ dir·x[dof] over
+// `dofs` (a seat mass in x and y, or the housing modes along the sensor and one seat DOF
+// across it); the sensor reads Σ sensor·ẍ[dof], or the housing resonance's DOF.
+struct SeatDof {
+  int dof = -1;
+  Eigen::Vector2d dir{0.0, 0.0};
+  double sensor = 0.0;          // [-] weight in the sensor's reading
+  double stiffness = 0.0;       // [N/m] spring to ground (housing modes: m_k ω_k²)
+  double damping_ratio = -1.0;  // [-] a housing mode's own ξ_k; < 0: the gearbox's damping
+};
 struct SeatRef {
   std::string bearing;
-  int x = -1, y = -1, sensor_dof = -1;
+  std::vector<SeatDof> dofs;
+  int sensor_dof = -1;  // a housing resonance's DOF, or −1: the sensor reads the seat
+  /// Terms (dof, coefficient) of the seat's displacement along `d`, times `sign`.
+  std::vector<std::pair<int, double>> along(const Eigen::Vector2d& d, double sign = 1.0) const {
+    std::vector<std::pair<int, double>> out;
+    for (const SeatDof& sd : dofs) {
+      const double c = sd.dir.dot(d);
+      if (c != 0.0) out.push_back({sd.dof, sign * c});
+    }
+    return out;
+  }
+  /// The seat's displacement in the housing frame at x.
+  Eigen::Vector2d displacement(const Eigen::VectorXd& x) const {
+    Eigen::Vector2d u(0.0, 0.0);
+    for (const SeatDof& sd : dofs) u += sd.dir * x[sd.dof];
+    return u;
+  }
 };
+
+// An element with its own damping ratio (a housing mode's spring, an effect's housing
+// resonance): stiffness k along the terms `dir`, ratio ξ (assign_modal_damping()).
+struct OwnDamper {
+  std::vector<std::pair<int, double>> dir;
+  double stiffness = 0.0;
+  double damping_ratio = 0.0;
+};
+
+// Gearbox damping-ratio factor at f: damping_band_factor at the knots kDampingKnotsHz,
+// linear in log f between them, constant outside.
+double band_factor(const DynamicsParameters& dp, double f_hz) {
+  const auto& knots = kDampingKnotsHz;
+  const auto& factor = dp.damping_band_factor;
+  if (!(f_hz > knots.front())) return factor.front();
+  if (f_hz >= knots.back()) return factor.back();
+  std::size_t k = 0;
+  while (k + 2 < knots.size() && f_hz >= knots[k + 1]) ++k;
+  const double u = std::log(f_hz / knots[k]) / std::log(knots[k + 1] / knots[k]);
+  return factor[k] + u * (factor[k + 1] - factor[k]);
+}
+
+// C = MΦ diag(2ξ_iω_i) ΦᵀM over every mode (header comment): ξ_i mixes the gearbox's
+// ratio and the own ratios of the elements with their own damper by the share of mode i's
+// strain energy (ω_i²/2 for a mass-normalised mode) stored in each, k (dᵀφ_i)² / ω_i².
+bool assign_modal_damping(FullModel& model, const DynamicsParameters& dp,
+                          const std::vector<OwnDamper>& own, std::string* error) {
+  const Eigen::VectorXd inv_sqrt_m = model.mass.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd k_sym = inv_sqrt_m.asDiagonal() * model.stiffness * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] > 0.0)) {
+    return fail(error, "dynamics: the model's stiffness is not positive definite");
+  }
+  const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * eig.eigenvectors();  // ΦᵀMΦ = I
+  const Eigen::Index n = phi.cols();
+  Eigen::VectorXd c_modal(n);
+  model.modal_damping_ratio.assign(static_cast<std::size_t>(n), 0.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w2 = eig.eigenvalues()[i];
+    const double w = std::sqrt(w2);
+    const double gearbox = (model.rayleigh_eta / (2.0 * w) + 0.5 * model.rayleigh_zeta * w) *
+                           band_factor(dp, w / (2.0 * std::numbers::pi));
+    double share_total = 0.0;
+    double xi = 0.0;
+    for (const OwnDamper& o : own) {
+      double strain = 0.0;
+      for (const auto& [dof, c] : o.dir) strain += c * phi(dof, i);
+      const double share = o.stiffness * strain * strain / w2;
+      share_total += share;
+      xi += share * o.damping_ratio;
+    }
+    xi += std::max(0.0, 1.0 - share_total) * gearbox;
+    model.modal_damping_ratio[static_cast<std::size_t>(i)] = xi;
+    c_modal[i] = 2.0 * xi * w;
+  }
+  const Eigen::MatrixXd mphi = model.mass.asDiagonal() * phi;
+  model.damping_matrix = mphi * c_modal.asDiagonal() * mphi.transpose();
+  model.damping_matrix = 0.5 * (model.damping_matrix + model.damping_matrix.transpose());
+  return true;
+}
 
 // What the effects need of the assembled gearbox.
 struct EffectSites {
@@ -246,7 +340,9 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
   struct BearingBodies {
     int in_x = -1, in_y = -1, in_t = -1;  // inner ring (shaft node, or the planet pin)
     double pin_x = 0.0, pin_y = 0.0;      // the pin's position (planet bearings) [m]
-    int out_x = -1, out_y = -1;           // outer ring (seat, or the planet), −1: the casing
+    // Outer ring: (dof, direction in the native frame) terms of its displacement (the
+    // planet's x, y, or a seat's DOFs); none: the casing.
+    std::vector<std::pair<int, Eigen::Vector2d>> out;
     bool nodes_in_carrier_frame = false;
     bool native_carrier_frame = false;  // the stationary race is fixed in the carrier
   };
@@ -255,10 +351,7 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
     p[b.in_x] -= dx;
     p[b.in_y] -= dy;
     if (b.in_t >= 0) p[b.in_t] -= b.pin_x * dy - b.pin_y * dx;  // moment of −F at the pin
-    if (b.out_x >= 0) {
-      p[b.out_x] += dx;
-      p[b.out_y] += dy;
-    }
+    for (const auto& [dof, dir] : b.out) p[dof] += dir.x() * dx + dir.y() * dy;
     return p;
   };
   // Adds F(t)·(T_x(θ), T_y(θ)) given in the bearing's native frame: tables tx, ty over one
@@ -378,8 +471,7 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           bodies.in_t = es.carrier.t;
           bodies.pin_x = es.r_carrier * std::cos(psi_k);
           bodies.pin_y = es.r_carrier * std::sin(psi_k);
-          bodies.out_x = p.x;
-          bodies.out_y = p.y;
+          bodies.out = {{p.x, Eigen::Vector2d(1.0, 0.0)}, {p.y, Eigen::Vector2d(0.0, 1.0)}};
           bodies.nodes_in_carrier_frame = bodies.native_carrier_frame = true;
           o_r = o_planet;
           outer_turns = true;
@@ -402,16 +494,15 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           const Node& nd = *es.bearing_nodes[static_cast<std::size_t>(i)];
           bodies.in_x = nd.x;
           bodies.in_y = nd.y;
+          Eigen::Vector2d seat_x1(0.0, 0.0);
           for (const SeatRef& seat : es.seats) {
-            if (seat.bearing == e.location) {
-              bodies.out_x = seat.x;
-              bodies.out_y = seat.y;
-            }
+            if (seat.bearing != e.location) continue;
+            for (const SeatDof& sd : seat.dofs) bodies.out.push_back({sd.dof, sd.dir});
+            seat_x1 = seat.displacement(x1);
           }
           bodies.nodes_in_carrier_frame = (b->shaft == ps.output_shaft);
           o_r = shaft_order(b->shaft);
-          load = Eigen::Vector2d(x1[nd.x] - (bodies.out_x >= 0 ? x1[bodies.out_x] : 0.0),
-                                 x1[nd.y] - (bodies.out_y >= 0 ? x1[bodies.out_y] : 0.0));
+          load = Eigen::Vector2d(x1[nd.x], x1[nd.y]) - seat_x1;
         }
         const double theta_l = load.squaredNorm() > 0.0 ? std::atan2(load.y(), load.x()) : 0.0;
         const double gamma =
@@ -574,8 +665,8 @@ bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& 
           v.id = "planet_pass." + seat.bearing;
           v.directions = Eigen::MatrixXd::Zero(n_dof, 1);
           v.directions(es.ring.t, 0) = es.r_ring;
-          v.directions(seat.x, 0) = -es.sensor_dir.x();
-          v.directions(seat.y, 0) = -es.sensor_dir.y();
+          for (const auto& [dof, coef] : seat.along(es.sensor_dir, -1.0))
+            v.directions(dof, 0) += coef;
           v.mean_n_m = kp * mean;
           v.shape = h;
           for (double& s : v.shape.values) s /= mean;
@@ -641,13 +732,6 @@ double ForceTerm::mean_scale(double input_torque_nm, double rotor_hz) const {
   a *= order == 0.0 ? shape.value(phase_cycles) : shape.mean();
   for (const Modulation& m : modulations) a *= m.order == 0.0 ? m.value(0.0) : m.table.mean();
   return a;
-}
-
-Eigen::MatrixXd FullModel::damping() const {
-  if (modal_damping.size() > 0) return modal_damping;
-  Eigen::MatrixXd c = rayleigh_zeta * stiffness;
-  c.diagonal() += rayleigh_eta * mass;
-  return c;
 }
 
 double FullModel::carrier_angle_rad(double rotor_revolutions) const {
@@ -787,6 +871,42 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     if (!(dp.mesh_stiffness_scale[i] > 0.0) || !(dp.bearing_stiffness_scale[i] > 0.0)) {
       fail(error, "drivetrain '" + d.name + "': dynamics: stiffness scales must be > 0 (index " +
                       std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.bearing_stiffness_factor.size(); ++i) {
+    if (!(dp.bearing_stiffness_factor[i] > 0.0) || !std::isfinite(dp.bearing_stiffness_factor[i])) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: bearing_stiffness_factor must be finite and > 0 (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.damping_band_factor.size(); ++i) {
+    if (!(dp.damping_band_factor[i] > 0.0) || !std::isfinite(dp.damping_band_factor[i])) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: damping_band_factor must be finite and > 0 (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.transmission_error_m.size(); ++i) {
+    if (!std::isfinite(dp.transmission_error_m[i]) || std::abs(dp.transmission_error_m[i]) > 1e-3) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: transmission_error_m must be finite and within ±1 mm (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.housing_frequency_hz.size(); ++i) {
+    const double f = dp.housing_frequency_hz[i];
+    if (f == 0.0) continue;  // no mode in this slot
+    if (!(f > 0.0) || !std::isfinite(f) || !(dp.housing_modal_mass_kg[i] > 0.0) ||
+        !std::isfinite(dp.housing_modal_mass_kg[i]) || !(dp.housing_damping_ratio[i] >= 0.0) ||
+        !(dp.housing_damping_ratio[i] < 1.0) || !std::isfinite(dp.housing_participation[i])) {
+      fail(error, "drivetrain '" + d.name + "': dynamics: housing mode " + std::to_string(i) +
+                      ": frequency and modal mass must be finite and > 0, damping ratio in "
+                      "[0, 1), participation finite");
       return std::nullopt;
     }
   }
@@ -951,15 +1071,16 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   // ---- housing seats under the measured bearings -----------------------------------------------
   // The sun shaft turns in the carrier frame; a seat under b1/b2 would join the two frames
   // through the bearing's full stiffness, so seats sit under the parallel-stage bearings.
-  struct Seat {
-    std::string bearing;
-    int x = -1, y = -1;
-    int sensor_dof = -1;  // a housing resonance's DOF, or −1: the sensor reads the seat
-  };
+  // A seat's displacement in the housing frame is Σ_d dir_d · x[dof_d] (SeatRef): the plain
+  // seat has seat.x along x and seat.y along y; a modal housing has each mode's DOF along the
+  // sensor direction s and one seat DOF across it (t).
+  using Seat = SeatRef;
   const Eigen::Vector2d sensor_dir(std::cos(s.sensor_angle_rad), std::sin(s.sensor_angle_rad));
+  const Eigen::Vector2d across_dir(-sensor_dir.y(), sensor_dir.x());
   std::vector<Seat> seats;
-  std::vector<const Effect*> housing_effects;  // parallel to seats
-  for (const MeasurementPoint& mp : d.measurement_points) {
+  std::vector<OwnDamper> own_dampers;  // housing modes and housing resonances
+  for (std::size_t p = 0; p < d.measurement_points.size(); ++p) {
+    const MeasurementPoint& mp = d.measurement_points[p];
     bool known = false;
     for (int i = 2; i < 6; ++i) known = known || mp.location == bearing_ids[i];
     if (!known) {
@@ -971,12 +1092,52 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
     Seat seat;
     seat.bearing = mp.location;
-    seat.x = as.add_dof("seat." + mp.location + ".x", s.housing_seat_mass_kg);
-    seat.y = as.add_dof("seat." + mp.location + ".y", s.housing_seat_mass_kg);
-    as.spring({{seat.x, 1.0}}, s.housing_seat_stiffness_n_m);
-    as.spring({{seat.y, 1.0}}, s.housing_seat_stiffness_n_m);
+    const std::string base = "seat." + mp.location;
+    bool modal = false;
+    if (p < kHousingPoints) {
+      for (std::size_t k = 0; k < kHousingModesPerPoint; ++k) {
+        const std::size_t i = p * kHousingModesPerPoint + k;
+        const double f = dp.housing_frequency_hz[i];
+        if (f <= 0.0) continue;
+        modal = true;
+        const double m = dp.housing_modal_mass_kg[i];
+        const double w = 2.0 * std::numbers::pi * f;
+        SeatDof h;
+        h.dof = as.add_dof(base + ".mode" + std::to_string(k + 1), m);
+        h.dir = sensor_dir;
+        h.sensor = dp.housing_participation[i];
+        h.stiffness = m * w * w;
+        h.damping_ratio = dp.housing_damping_ratio[i];
+        as.spring({{h.dof, 1.0}}, h.stiffness);
+        own_dampers.push_back({{{h.dof, 1.0}}, h.stiffness, h.damping_ratio});
+        seat.dofs.push_back(h);
+      }
+    }
+    if (modal) {
+      SeatDof t;
+      t.dof = as.add_dof(base + ".across", s.housing_seat_mass_kg);
+      t.dir = across_dir;
+      t.stiffness = s.housing_seat_stiffness_n_m;
+      as.spring({{t.dof, 1.0}}, t.stiffness);
+      seat.dofs.push_back(t);
+    } else {
+      SeatDof x;
+      x.dof = as.add_dof(base + ".x", s.housing_seat_mass_kg);
+      x.dir = Eigen::Vector2d(1.0, 0.0);
+      x.sensor = sensor_dir.x();
+      x.stiffness = s.housing_seat_stiffness_n_m;
+      SeatDof y;
+      y.dof = as.add_dof(base + ".y", s.housing_seat_mass_kg);
+      y.dir = Eigen::Vector2d(0.0, 1.0);
+      y.sensor = sensor_dir.y();
+      y.stiffness = s.housing_seat_stiffness_n_m;
+      as.spring({{x.dof, 1.0}}, x.stiffness);
+      as.spring({{y.dof, 1.0}}, y.stiffness);
+      seat.dofs.push_back(x);
+      seat.dofs.push_back(y);
+    }
     // housing_resonance: the sensor sits on a housing mass m on a spring k = m(2πf)² to the
-    // seat, along the sensor's direction; its damper (below) replaces Rayleigh's.
+    // seat, along the sensor's direction, with its own damper (assign_modal_damping()).
     const Effect* resonance = nullptr;
     for (const Effect& e : d.effects) {
       if (e.kind == EffectKind::kHousingResonance && e.location == mp.location) resonance = &e;
@@ -985,10 +1146,12 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       const double f = *resonance->parameter("frequency_hz");
       const double m = *resonance->parameter("mass_kg");
       seat.sensor_dof = as.add_dof("housing." + mp.location, m);
-      as.spring({{seat.sensor_dof, 1.0}, {seat.x, -sensor_dir.x()}, {seat.y, -sensor_dir.y()}},
-                m * std::pow(2.0 * std::numbers::pi * f, 2));
+      std::vector<std::pair<int, double>> dir = seat.along(sensor_dir, -1.0);
+      dir.insert(dir.begin(), {seat.sensor_dof, 1.0});
+      const double k = m * std::pow(2.0 * std::numbers::pi * f, 2);
+      as.spring(dir, k);
+      own_dampers.push_back({dir, k, *resonance->parameter("damping_ratio")});
     }
-    housing_effects.push_back(resonance);
     seats.push_back(seat);
   }
 
@@ -1008,7 +1171,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       BearingSite{&(*hss)[kB5Node], 2},       BearingSite{&(*hss)[kB6Node], 2}};
   for (int i = 0; i < 6; ++i) {
     const double ka = br[i]->radial_stiffness_n_m * br[i]->rows *
-                      dp.bearing_stiffness_scale[sites[i].shaft_group];
+                      dp.bearing_stiffness_scale[sites[i].shaft_group] *
+                      dp.bearing_stiffness_factor[i];
     as.spring({{sites[i].node->z, 1.0}}, s.bearing_axial_ratio * ka);
   }
 
@@ -1041,6 +1205,16 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const MeshStiffness k_sp = mesh_stiffness(sp_pair, dp.mesh_stiffness_scale[0]);
   const MeshStiffness k_rp = mesh_stiffness(rp_pair, dp.mesh_stiffness_scale[0]);
   const double gamma_rs = ring_sun_phase(planet.teeth);
+  // Static transmission error of stage `stage` (DynamicsParameters::transmission_error_m):
+  // e(t) = Σ_h a_h cos(2π h (order·N_rotor + phase)), the mesh's own cycle; none when 0.
+  const auto add_transmission_error = [&](VaryingStiffness& v, std::size_t stage) {
+    const double* a = &dp.transmission_error_m[stage * kTransmissionErrorHarmonics];
+    if (std::all_of(a, a + kTransmissionErrorHarmonics, [](double x) { return x == 0.0; })) return;
+    MeshExcitation x;
+    x.amplitude_m = 1.0;
+    x.pattern = {transmission_error_table(a, kTransmissionErrorHarmonics), v.order, v.phase_cycles};
+    v.excitations.push_back(x);
+  };
   for (int n = 0; n < ps.planets; ++n) {
     const Eigen::Vector2d u(std::cos(psi[n]), std::sin(psi[n]));
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -1055,6 +1229,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       v.shape = k_sp.shape;
       v.order = planetary_order;
       v.phase_cycles = sun_planet_phase(sun.teeth, psi[n]);
+      add_transmission_error(v, 0);
       model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n,
                                  sp_geo.base_radius1_m, sun_torque_ratio, 0.0, ps.planets});
       add_varying(model.meshes, std::move(v));
@@ -1074,6 +1249,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.order = planetary_order;
     const double gamma = ring_planet_phase(ring.teeth, psi[n]) + gamma_rs;
     v.phase_cycles = gamma - std::floor(gamma);
+    add_transmission_error(v, 0);
     // Ring reaction torque = T_in − T_sun.
     model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n,
                                rp_geo.base_radius2_m, 1.0 - sun_torque_ratio, 0.0, ps.planets});
@@ -1110,7 +1286,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   // carrier's axes turns backwards, R(−ψ)n, so its g1 part is n cos ψ + Jᵀn sin ψ.
   auto parallel_mesh = [&](const char* id, const Node& a, const Node& b, const MeshGeometry& geo,
                            double spin, double order, double scale, const GearPair& pair,
-                           double torque_ratio, bool a_turns) {
+                           double torque_ratio, bool a_turns, std::size_t stage) {
     const Eigen::Vector2d ab = b.centre - a.centre;
     const Eigen::Vector2d u = ab.normalized();
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -1126,6 +1302,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = k.shape;
     v.order = order;
     v.phase_cycles = 0.0;
+    add_transmission_error(v, stage);
     if (a_turns) {
       v.rotation_cos = Eigen::MatrixXd::Zero(n_dof, 1);
       v.rotation_sin = Eigen::MatrixXd::Zero(n_dof, 1);
@@ -1143,9 +1320,9 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const double hss_torque_ratio = ims_torque_ratio / kin.stage_ratio(2);
   parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0,
                 kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio,
-                s.carrier_turns);
+                s.carrier_turns, 1);
   parallel_mesh("high_speed", (*ims)[kG3Node], (*hss)[kG4Node], hs_geo, -1.0, kin.mesh_hz(2, 60.0),
-                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, false);
+                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, false, 2);
 
   // ---- bearings b1..b6
   // ---------------------------------------------------------------------------
@@ -1158,12 +1335,14 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.directions(node.x, 0) = 1.0;
     v.directions(node.y, 1) = 1.0;
     for (const Seat& seat : seats) {
-      if (seat.bearing == b.id) {
-        v.directions(seat.x, 0) = -1.0;
-        v.directions(seat.y, 1) = -1.0;
+      if (seat.bearing != b.id) continue;
+      for (const SeatDof& sd : seat.dofs) {
+        v.directions(sd.dof, 0) -= sd.dir.x();
+        v.directions(sd.dof, 1) -= sd.dir.y();
       }
     }
-    v.mean_n_m = b.radial_stiffness_n_m * b.rows * dp.bearing_stiffness_scale[sites[i].shaft_group];
+    v.mean_n_m = b.radial_stiffness_n_m * b.rows *
+                 dp.bearing_stiffness_scale[sites[i].shaft_group] * dp.bearing_stiffness_factor[i];
     v.shape = PeriodicTable::cosine(dp.bearing_stiffness_fluctuation);
     const std::optional<BearingFrequencies> f = kin.bearing_hz(b.id, 60.0);
     if (!f) {
@@ -1195,66 +1374,35 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     if (seats[i].sensor_dof >= 0) {
       sensor.row[seats[i].sensor_dof] = 1.0;
     } else {
-      sensor.row[seats[i].x] = sensor_dir.x();
-      sensor.row[seats[i].y] = sensor_dir.y();
+      for (const SeatDof& sd : seats[i].dofs) sensor.row[sd.dof] = sd.sensor;
     }
     model.sensors.push_back(sensor);
   }
 
   // ---- effects (effects.hpp)
   // ---------------------------------------------------------------------
-  if (d.effects.empty()) return model;
-  EffectSites es;
-  es.sun_shaft = &*sun_shaft;
-  es.ims = &*ims;
-  es.hss = &*hss;
-  es.planets = &planets;
-  es.psi = &psi;
-  es.carrier = carrier;
-  es.ring = ringn;
-  es.r_carrier = r_carrier;
-  es.r_ring = r_ring;
-  es.pairs = {sp_pair, rp_pair, int_pair, hs_pair};
-  es.geos = {sp_geo, rp_geo, int_geo, hs_geo};
-  es.sensor_dir = sensor_dir;
-  es.torque_ratio = {1.0, sun_torque_ratio, ims_torque_ratio, hss_torque_ratio};
-  for (int i = 0; i < 6; ++i) es.bearing_nodes[i] = sites[i].node;
-  for (const Seat& seat : seats)
-    es.seats.push_back({seat.bearing, seat.x, seat.y, seat.sensor_dof});
-  for (std::size_t i = 0; i < seats.size(); ++i) {
-    const Effect* e = housing_effects[i];
-    if (e == nullptr) continue;
-    // The housing resonance's own damper c = 2ξ√(km) replaces the Rayleigh terms that
-    // ηM + ζK̄ would give its mass and spring.
-    const double f = *e->parameter("frequency_hz");
-    const double m = *e->parameter("mass_kg");
-    const double xi = *e->parameter("damping_ratio");
-    const double k = m * std::pow(2.0 * std::numbers::pi * f, 2);
-    Eigen::VectorXd dir = Eigen::VectorXd::Zero(n_dof);
-    dir[seats[i].sensor_dof] = 1.0;
-    dir[seats[i].x] = -sensor_dir.x();
-    dir[seats[i].y] = -sensor_dir.y();
-    if (model.damping_correction.size() == 0)
-      model.damping_correction = Eigen::MatrixXd::Zero(n_dof, n_dof);
-    model.damping_correction.noalias() +=
-        (2.0 * xi * std::sqrt(k * m) - dp.rayleigh_zeta * k) * dir * dir.transpose();
-    model.damping_correction(seats[i].sensor_dof, seats[i].sensor_dof) -= dp.rayleigh_eta * m;
+  if (!d.effects.empty()) {
+    EffectSites es;
+    es.sun_shaft = &*sun_shaft;
+    es.ims = &*ims;
+    es.hss = &*hss;
+    es.planets = &planets;
+    es.psi = &psi;
+    es.carrier = carrier;
+    es.ring = ringn;
+    es.r_carrier = r_carrier;
+    es.r_ring = r_ring;
+    es.pairs = {sp_pair, rp_pair, int_pair, hs_pair};
+    es.geos = {sp_geo, rp_geo, int_geo, hs_geo};
+    es.sensor_dir = sensor_dir;
+    es.torque_ratio = {1.0, sun_torque_ratio, ims_torque_ratio, hss_torque_ratio};
+    for (int i = 0; i < 6; ++i) es.bearing_nodes[i] = sites[i].node;
+    for (const Seat& seat : seats) es.seats.push_back(seat);
+    if (!add_effects(d, kin, es, model, error)) return std::nullopt;
   }
-  if (!add_effects(d, kin, es, model, error)) return std::nullopt;
-  if (model.damping_correction.size() > 0) {
-    // Classical damping over the modes of (K̄, M) (full_model.hpp: modal_damping).
-    const Eigen::VectorXd inv_sqrt_m = model.mass.cwiseSqrt().cwiseInverse();
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es_modes(
-        inv_sqrt_m.asDiagonal() * model.stiffness * inv_sqrt_m.asDiagonal());
-    const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * es_modes.eigenvectors();
-    Eigen::VectorXd c(phi.cols());
-    for (Eigen::Index i = 0; i < phi.cols(); ++i) {
-      c[i] = model.rayleigh_eta + model.rayleigh_zeta * es_modes.eigenvalues()[i] +
-             phi.col(i).dot(model.damping_correction * phi.col(i));
-    }
-    const Eigen::MatrixXd m_phi = model.mass.asDiagonal() * phi;
-    model.modal_damping = m_phi * c.asDiagonal() * m_phi.transpose();
-  }
+
+  // ---- damping: modal, strain-energy mix of the gearbox's and the own dampers' ratios -------
+  if (!assign_modal_damping(model, dp, own_dampers, error)) return std::nullopt;
   return model;
 }
 

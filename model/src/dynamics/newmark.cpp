@@ -77,14 +77,9 @@ void NewmarkIntegrator::add_forces(double revs, const Eigen::VectorXd& x,
 
 void NewmarkIntegrator::subtract_mean_stiffness_and_damping(const Eigen::VectorXd& x,
                                                             const Eigen::VectorXd& v) {
-  if (m_.modal_damping.size() == 0) {
-    // C v = ηM v + ζK̄ v: one product with K̄.
-    rhs_.noalias() = -(m_.stiffness * (x + m_.rayleigh_zeta * v));
-    rhs_.array() -= m_.rayleigh_eta * m_.mass.array() * v.array();
-  } else {
-    rhs_.noalias() = -(m_.stiffness * x);
-    rhs_.noalias() -= c_ * v;
-  }
+  // C is modal (full_model.hpp): a dense product like K̄'s.
+  rhs_.noalias() = -(m_.stiffness * x);
+  rhs_.noalias() -= c_ * v;
 }
 
 void NewmarkIntegrator::subtract_low_rank(const Eigen::VectorXd& x) {

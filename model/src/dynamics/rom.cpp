@@ -245,10 +245,10 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (int i = 0; i < total; ++i) {
     const double om2 = w2[i];
     const double om = std::sqrt(om2);
-    // Rayleigh's modal damping, or the model's modal damping (full_model.hpp) projected:
-    // exact for the retained modes, the diagonal for the correction vectors.
-    double c = m.rayleigh_eta + m.rayleigh_zeta * om2;
-    if (m.modal_damping.size() > 0) c = phi_r.col(i).dot(m.modal_damping * phi_r.col(i));
+    // The model's modal damping (full_model.hpp) projected, φ_iᵀCφ_i: exact for the
+    // retained modes (C is modal in the full model's modes), the diagonal of the
+    // projection for the correction vectors' Ritz modes.
+    const double c = std::max(0.0, phi_r.col(i).dot(m.damping() * phi_r.col(i)));
     d.omega_rad_s[i] = om;
     d.omega2[i] = om2;
     d.damping_1_s[i] = c;
@@ -385,8 +385,16 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     d.mesh_modulation[j] = mi;
     d.mesh_mean_n_m[j] *= scale;
     // Transmission errors: one look-up per order, amplitude in the table, at most two orders.
+    // A constant one (order 0: a planet pin's position error) joins the first order's table.
     std::vector<std::pair<double, std::vector<const MeshExcitation*>>> by_order;
+    double constant_m = 0.0;
+    bool has_constant = false;
     for (const MeshExcitation& x : v.excitations) {
+      if (x.pattern.order == 0.0) {
+        constant_m += x.amplitude_m * x.pattern.table.value(x.pattern.phase_cycles);
+        has_constant = true;
+        continue;
+      }
       auto it = std::find_if(by_order.begin(), by_order.end(),
                              [&](const auto& g) { return g.first == x.pattern.order; });
       if (it == by_order.end()) {
@@ -395,12 +403,13 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
         it->second.push_back(&x);
       }
     }
+    if (has_constant && by_order.empty()) by_order.push_back({0.0, {}});
     if (by_order.size() > 2) {
       fail(error, "rom: mesh '" + v.id + "': transmission errors of more than two orders");
       return nullptr;
     }
     for (std::size_t g = 0; g < by_order.size(); ++g) {
-      PeriodicTable t = PeriodicTable::constant(0.0);
+      PeriodicTable t = PeriodicTable::constant(g == 0 ? constant_m : 0.0);
       for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
         const double x = static_cast<double>(i) / PeriodicTable::kSize;
         for (const MeshExcitation* e : by_order[g].second)

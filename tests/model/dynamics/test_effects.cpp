@@ -233,12 +233,15 @@ TEST(EffectKinematics, EccentricG1ModulatesTheIntermediateMeshOncePerSunShaftTur
       model_with({effect(EffectKind::kGearEccentricity, "g1", {{"eccentricity_um", 50}})});
   const VaryingStiffness& im = m.meshes[6];
   ASSERT_EQ(im.id, "intermediate");
-  ASSERT_EQ(im.excitations.size(), 1u);
-  EXPECT_NEAR(std::abs(im.excitations[0].pattern.order) * kRotorHz, 0.7933, 1e-4);
+  // The stage's static transmission error (DynamicsParameters) first, then the run-out.
+  ASSERT_EQ(im.excitations.size(), 2u);
+  EXPECT_NEAR(im.excitations[0].pattern.order, im.order, 1e-12);
+  const MeshExcitation& runout = im.excitations[1];
+  EXPECT_NEAR(std::abs(runout.pattern.order) * kRotorHz, 0.7933, 1e-4);
   // The run-out along the line of action: 50 µm times the normal's transverse part cos β_b.
   const double alpha_t = std::atan(std::tan(20 * kPi / 180) / std::cos(10 * kPi / 180));
   const double beta_b = std::atan(std::tan(10 * kPi / 180) * std::cos(alpha_t));
-  EXPECT_NEAR(std::abs(im.excitations[0].amplitude_m), 50e-6 * std::cos(beta_b), 1e-12);
+  EXPECT_NEAR(std::abs(runout.amplitude_m), 50e-6 * std::cos(beta_b), 1e-12);
   ASSERT_EQ(im.modulations.size(), 1u);  // the centre-distance change
   EXPECT_NEAR(std::abs(im.modulations[0].order) * kRotorHz, 0.7933, 1e-4);
 }

@@ -179,10 +179,15 @@ TEST(RomEffectFidelity, EccentricG3) {
 }
 
 TEST(RomEffectFidelity, OuterRaceDefectOfB5) {
-  expect_signature_agrees(EffectKind::kBearingOuterRaceDefect, "b5", {{"impact_force_n", 200.0}},
-                          kPaper, 2.0, 0, [](const model::Kinematics& k, double rpm) {
-                            return comb(k.bearing_hz("b5", rpm)->bpfo_hz * 0.99, 1.0, 21, 0);
-                          });
+  expect_signature_agrees(
+      EffectKind::kBearingOuterRaceDefect, "b5", {{"impact_force_n", 200.0}}, kPaper, 2.0, 0,
+      [](const model::Kinematics& k, double rpm) {
+        return comb(k.bearing_hz("b5", rpm)->bpfo_hz * 0.99, 1.0, 21, 0);
+      },
+      // Its strongest lines sit beside the 1.8 kHz housing mode, where
+      // Newmark's period error at 2 steps a sample moves the reference's
+      // response by ~9 %; 4 steps a sample, as in test_fidelity.cpp.
+      4);
 }
 
 TEST(RomEffectFidelity, InnerRaceDefectOfB6) {
@@ -202,10 +207,21 @@ TEST(RomEffectFidelity, BallDefectOfB3) {
 }
 
 TEST(RomEffectFidelity, UnbalanceOfTheHss) {
-  expect_signature_agrees(EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", 0.5}}, kRated,
-                          2.0, 0, [](const model::Kinematics& k, double rpm) {
-                            return mesh_family(k.mesh_hz(2, rpm), shaft(k, "hss", rpm), 3, 3);
-                          });
+  // The unbalance's 1× force acts through b5 and b6, whose stiffness fluctuates at their
+  // BPFO (k_θ/k_a = 0.1): the response has 1× ± BPFO_b5 ± BPFO_b6 beside the mesh family;
+  // at rated 1× + BPFO_b5 + BPFO_b6 = 336.4 Hz is the strongest line of the signature
+  // (both models, within 1.2 %).
+  expect_signature_agrees(
+      EffectKind::kShaftUnbalance, "hss", {{"unbalance_kg_m", 0.5}}, kRated, 2.0, 0,
+      [](const model::Kinematics& k, double rpm) {
+        std::vector<double> out = mesh_family(k.mesh_hz(2, rpm), shaft(k, "hss", rpm), 3, 3);
+        const double f1 = shaft(k, "hss", rpm);
+        const double b5 = k.bearing_hz("b5", rpm)->bpfo_hz, b6 = k.bearing_hz("b6", rpm)->bpfo_hz;
+        for (int i = -1; i <= 1; ++i)
+          for (int j = -1; j <= 1; ++j)
+            if (f1 + i * b5 + j * b6 > 0.0) out.push_back(f1 + i * b5 + j * b6);
+        return out;
+      });
 }
 
 TEST(RomEffectFidelity, MisalignedHss) {

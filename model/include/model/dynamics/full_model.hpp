@@ -15,16 +15,33 @@
 //  * six bearings b1..b6 with k(t) = k_a·(1 + (k_θ/k_a)·cos(2π f_b t + φ_b)) in x and y,
 //    f_b the ball-pass frequency of the outer race (model/drivetrain/kinematics.hpp);
 //    axial stiffness to the casing (takes the helical axial forces);
-//  * a housing seat (x, y mass on a support stiffness, its own mode) under every
-//    bearing named by a measurement point (b5 → point1, b3 → point2): the sensor
-//    reads the seat's radial acceleration;
+//  * the housing under every bearing named by a measurement point (b5 → point1,
+//    b3 → point2): in the sensor's direction, the seat moves as the sum of a few
+//    housing modes seen from the seat, each a DOF h_k with the mode's effective mass
+//    m_k at the seat and stiffness m_k·ω_k² to ground (a modal truncation of the
+//    housing: seat displacement Σ h_k, a force F at the seat drives every h_k with F),
+//    and the sensor reads Σ p_k·ḧ_k, p_k the mode's sensor-to-seat participation;
+//    across it, one seat mass on a support stiffness. A point without housing modes
+//    in DynamicsParameters keeps one seat mass on a spring in x and y (its own mode);
+//  * static transmission error (the geometric mesh excitation: profile and lead
+//    deviations, tip relief): each mesh element's force is k(t)·(δ − e(t)), e a
+//    Fourier series in mesh orders per stage (DynamicsParameters::transmission_error_m)
+//    at the mesh's own phase (a MeshExcitation of every mesh), so the meshes are excited
+//    by the force k(t)·e(t) along their lines of action as well as parametrically by k(t);
+//  * damping: modal, C = MΦ·diag(2ξ_iω_i)·ΦᵀM over every mode of the full model, with
+//    ξ_i the strain-energy-weighted mix (modal strain energy method, Johnson & Kienholz,
+//    AIAA J. 20 (1982)) of the gearbox's ratio — Rayleigh's η/2ω + ζω/2 times a
+//    factor piecewise linear in log f (DynamicsParameters::damping_band_factor) — and
+//    each housing mode's own ratio, by the share of the mode's strain energy in that
+//    housing mode's spring, and of an effect's housing resonance (its own damper) alike. Without
+//    housing modes, effects and with unit factors this is exactly C = ηM + ζK̄;
 //  * the generator: a rotor inertia on a torsionally flexible coupling at the hss
 //    end, held about its nominal speed by the converter (a weak torsional spring).
 //
 // Coordinates are the vibratory motion about the nominal rotation (the rigid spin
-// is removed): Rayleigh damping C = ηM + ζK̄ therefore damps vibration and does not
-// brake the drivetrain. Gravity is not modelled. The input torque acts on the carrier,
-// the reaction on the generator's spring and the ring.
+// is removed): the damping therefore damps vibration and does not brake the drivetrain. Gravity is
+// not modelled. The input torque acts on the carrier, the reaction on the generator's spring and
+// the ring.
 //
 // The carrier carries the planets round (Lin & Parker 1999 describe the stage in the
 // carrier's axes): the carrier, ring, planets and the whole sun shaft (x, y of every node)
@@ -215,9 +232,11 @@ struct MeshInfo {
 struct FullModel {
   std::vector<std::string> dof_names;  // "carrier.x", "sun_shaft.3.theta", "seat.b5.y", ...
   Eigen::VectorXd mass;                // [kg or kg·m²] lumped (diagonal) mass matrix
-  Eigen::MatrixXd stiffness;   // [N/m ...] K̄: constant part incl. the varying elements' means
-  double rayleigh_eta = 0.0;   // [1/s]
-  double rayleigh_zeta = 0.0;  // [s]
+  Eigen::MatrixXd stiffness;       // [N/m ...] K̄: constant part incl. the varying elements' means
+  double rayleigh_eta = 0.0;       // [1/s] (the gearbox's damping before its band factors)
+  double rayleigh_zeta = 0.0;      // [s]
+  Eigen::MatrixXd damping_matrix;  // [N·s/m ...] C, modal (see the header comment)
+  std::vector<double> modal_damping_ratio;  // [-] ξ_i of every mode, ascending frequency
   std::vector<VaryingStiffness> meshes;  // 3 sun–planet, 3 ring–planet, intermediate, high_speed
   std::vector<MeshInfo> mesh_info;       // parallel to `meshes`
   std::vector<VaryingStiffness> bearings;  // b1..b6
@@ -232,20 +251,12 @@ struct FullModel {
   // sun shaft's nodes. They carry the Coriolis and centripetal terms of the turning frame.
   std::vector<std::array<int, 2>> carrier_frame_xy;
   bool frame_inertia = true;  // StructuralParameters::frame_inertia
-  // Elements with their own damping instead of Rayleigh's (a housing resonance): what they
-  // change in ηM + ζK̄. Empty: none. With one, the model's damping is modal (below).
-  Eigen::MatrixXd damping_correction;
-  // C when damping_correction is not empty: classical (modal) damping, C = MΦ·diag(c_i)·ΦᵀM
-  // over every mode of (K̄, M), c_i = η + ζω_i² + φ_iᵀ·damping_correction·φ_i — each mode
-  // keeps Rayleigh's damping plus the share of the elements' own dampers it strains (the
-  // modal strain energy method), and the reduced model's diagonal damping is then this one.
-  Eigen::MatrixXd modal_damping;
 
   int dofs() const { return static_cast<int>(mass.size()); }
   /// Index of a named DOF, −1 if absent.
   int dof(std::string_view name) const;
-  /// C = ηM + ζK̄, or modal_damping when elements bring their own damping.
-  Eigen::MatrixXd damping() const;
+  /// C (damping_matrix).
+  const Eigen::MatrixXd& damping() const { return damping_matrix; }
   /// Sum of the external forces at (rotor revolutions, torque, rotor frequency) [N, N·m],
   /// without the meshes' transmission error (mesh_excitation_force()).
   Eigen::VectorXd force(double rotor_revolutions, double input_torque_nm,

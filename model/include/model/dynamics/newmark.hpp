@@ -10,8 +10,8 @@
 // total rank of the meshes, bearings and paths, + 2 for each element that turns with the
 // carrier: its direction u(ψ) spans three fixed vectors c + cos ψ·a + sin ψ·b, and what
 // it adds to K̄ is the 3×3 block k(t)·vvᵀ − k̄·v₀v₀ᵀ in them, v = (1, cos ψ, sin ψ),
-// v₀ = (1, 1, 0)). The damping C = ηM + ζK̄ (+ the model's damping_correction) uses the
-// mean stiffness at the reference angle. The meshes' transmission error is a known force
+// v₀ = (1, 1, 0)). The damping C is the model's (modal, built on the mean stiffness at
+// the reference angle; full_model.hpp). The meshes' transmission error is a known force
 // +u·k(t)·e(t) at t_{n+1} (the mesh force is k·(δ − e)); the carrier frame's Coriolis and
 // centripetal forces on its translations (full_model.hpp) are explicit, at the predicted velocity
 // and displacement (2Ω·Δt ≈ 1e-4: far inside the stability limit).
