@@ -43,7 +43,7 @@ enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLea
 template <class T>
 using Member =
     std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
-                 std::array<double, 3> T::*, std::array<double, 6> T::*,
+                 std::array<double, 3> T::*, std::array<double, 6> T::*, std::array<double, 9> T::*,
                  std::array<double, model::kCpTableKnots> T::*, StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
@@ -159,6 +159,13 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
     {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
      Range::kNonNegative},
+    {"bearing_stiffness_factor", &DynamicsParameters::bearing_stiffness_factor, Range::kPositive},
+    {"damping_band_factor", &DynamicsParameters::damping_band_factor, Range::kPositive},
+    {"transmission_error_m", &DynamicsParameters::transmission_error_m},
+    {"housing_frequency_hz", &DynamicsParameters::housing_frequency_hz, Range::kNonNegative},
+    {"housing_damping_ratio", &DynamicsParameters::housing_damping_ratio, Range::kNonNegative},
+    {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
+    {"housing_participation", &DynamicsParameters::housing_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------
@@ -282,6 +289,7 @@ class Reader {
             }
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, 9>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
@@ -624,6 +632,7 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
             out << ']';
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, 9>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             out << '[';
             for (std::size_t i = 0; i < field.size(); ++i) {

@@ -118,6 +118,17 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
   }
   expect_same(a.dynamics.bearing_stiffness_fluctuation, b.dynamics.bearing_stiffness_fluctuation,
               "fluctuation");
+  const auto same_array = [&](const auto& x, const auto& y, const char* what) {
+    for (std::size_t i = 0; i < x.size(); ++i) expect_same(x[i], y[i], what);
+  };
+  same_array(a.dynamics.bearing_stiffness_factor, b.dynamics.bearing_stiffness_factor,
+             "bearing factor");
+  same_array(a.dynamics.damping_band_factor, b.dynamics.damping_band_factor, "band factor");
+  same_array(a.dynamics.transmission_error_m, b.dynamics.transmission_error_m, "TE");
+  same_array(a.dynamics.housing_frequency_hz, b.dynamics.housing_frequency_hz, "housing f");
+  same_array(a.dynamics.housing_damping_ratio, b.dynamics.housing_damping_ratio, "housing xi");
+  same_array(a.dynamics.housing_modal_mass_kg, b.dynamics.housing_modal_mass_kg, "housing m");
+  same_array(a.dynamics.housing_participation, b.dynamics.housing_participation, "housing p");
 }
 
 std::string error_of(const std::string& text, const std::string& source = "bad.toml") {
