@@ -106,7 +106,9 @@ class Reader {
     if (const auto s = str(t, "fault", prefix)) {
       if (!hal::parse_sim_fault(s->c_str(), f)) {
         fail(t.get("fault"), prefix + "fault",
-             "'" + *s + "'; expected none, silent, stuck, noisy, garbage, gaps, bus_off, non_finite or out_of_range");
+             "'" + *s +
+                 "'; expected none, silent, stuck, noisy, garbage, gaps, bus_off, non_finite or "
+                 "out_of_range");
       }
     }
     return f;

@@ -10,6 +10,8 @@
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
+#include <map>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -51,6 +53,8 @@ struct DamageArgs {
   bool bench = false;
   std::string json;
   std::string spectrum = "quasi-static";
+  double rom_rate_hz = app::fatigue::DynamicsSpectrumSettings{}.sample_rate_hz;
+  double rom_cutoff_hz = app::fatigue::DynamicsSpectrumSettings{}.rom_cutoff_hz;
   std::string cache_dir;
   std::string sn = "haibach";
   double period_s = 0.0;
@@ -200,11 +204,16 @@ void run(const DamageArgs& args) {
     throw CommandError("--f-ma must be in [0, 1]");
   if (!(args.pinion_offset >= 0.0 && args.pinion_offset < 0.5))
     throw CommandError("--pinion-offset must be in [0, 0.5)");
-  if (args.spectrum != "quasi-static" && args.spectrum != "dynamics") {
-    throw CommandError("--spectrum: '" + args.spectrum + "' is not one of dynamics, quasi-static");
+  if (args.spectrum != "quasi-static" && args.spectrum != "dynamics" &&
+      args.spectrum != "dynamics-rows") {
+    throw CommandError("--spectrum: '" + args.spectrum +
+                       "' is not one of dynamics, dynamics-rows, quasi-static");
   }
-  const mf::SpectrumSource source = args.spectrum == "dynamics" ? mf::SpectrumSource::kDynamics
-                                                                : mf::SpectrumSource::kQuasiStatic;
+  // dynamics-rows: the dynamics model at every row's own operating point (no grid).
+  const bool rows_mode = args.spectrum == "dynamics-rows";
+  const mf::SpectrumSource source = args.spectrum != "quasi-static"
+                                        ? mf::SpectrumSource::kDynamics
+                                        : mf::SpectrumSource::kQuasiStatic;
 
   const mf::ChannelSet channels(drivetrain, options);
   if (!channels.valid())
@@ -215,21 +224,34 @@ void run(const DamageArgs& args) {
                                     : app::fatigue::quasi_static_grid(drivetrain);
   if (!(grid.torque_max_nm > 0.0))
     throw CommandError("drivetrain '" + drivetrain.name + "': turbine.rated_torque_nm must be > 0");
-  const std::uint64_t key = app::fatigue::spectrum_key(drivetrain, channels, grid, source);
+  app::fatigue::DynamicsSpectrumSettings dynamics_settings;
+  const bool default_rom = args.rom_rate_hz == dynamics_settings.sample_rate_hz &&
+                           args.rom_cutoff_hz == dynamics_settings.rom_cutoff_hz;
+  dynamics_settings.sample_rate_hz = args.rom_rate_hz;
+  dynamics_settings.rom_cutoff_hz = args.rom_cutoff_hz;
+  const std::uint64_t key = app::fatigue::spectrum_key(
+      drivetrain, channels, grid, source, app::fatigue::kSpectrumCodeVersion,
+      default_rom || source != mf::SpectrumSource::kDynamics ? 0.0 : args.rom_rate_hz,
+      default_rom || source != mf::SpectrumSource::kDynamics ? 0.0 : args.rom_cutoff_hz);
   const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir()
                                                     : fs::path(args.cache_dir);
   const fs::path cache_file = app::fatigue::spectrum_cache_file(cache_dir, key);
   mf::LoadSpectrum spectrum;
   spectrum.grid = grid;
   spectrum.source = source;
-  bool cache_hit = !args.no_cache && app::fatigue::load_cached_spectrum(
-                                         cache_file, key, channels.channel_count(), spectrum);
-  if (!cache_hit) {
+  bool cache_hit =
+      !rows_mode && !args.no_cache &&
+      app::fatigue::load_cached_spectrum(cache_file, key, channels.channel_count(), spectrum);
+  std::string rows_sim_error;
+  const mf::LoadSimulator rows_simulator =
+      rows_mode ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings,
+                                                   &rows_sim_error)
+                : mf::LoadSimulator{};
+  if (!cache_hit && !rows_mode) {
     std::string sim_error;
     const mf::LoadSimulator simulator =
         source == mf::SpectrumSource::kDynamics
-            ? app::fatigue::dynamics_simulator(drivetrain, channels,
-                                               app::fatigue::DynamicsSpectrumSettings{}, &sim_error)
+            ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings, &sim_error)
             : mf::quasi_static_simulator(channels);
     if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
       std::fprintf(
@@ -242,7 +264,7 @@ void run(const DamageArgs& args) {
       throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);
   }
-  spectrum.prepare();
+  if (!rows_mode) spectrum.prepare();
   const auto t1 = std::chrono::steady_clock::now();
 
   std::string temp;
@@ -280,6 +302,24 @@ void run(const DamageArgs& args) {
   }
 
   app::fatigue::HistoryOptions hopt;
+  // Rows mode: one simulation per distinct operating point, remembered (a SCADA export
+  // repeats points only when values repeat exactly).
+  std::map<std::pair<double, double>, std::vector<double>> rows_cache;
+  if (rows_mode) {
+    hopt.at_point = [&](double torque_nm, double rotor_rpm, double* out) {
+      auto it = rows_cache.find({torque_nm, rotor_rpm});
+      if (it == rows_cache.end()) {
+        std::vector<double> d(channels.channel_count());
+        std::string why;
+        if (!mf::damage_per_rev_at_point(channels, rows_simulator, torque_nm, rotor_rpm, d.data(),
+                                         &why))
+          throw std::runtime_error(why + (rows_sim_error.empty() ? "" : ": " + rows_sim_error));
+        it = rows_cache.emplace(std::make_pair(torque_nm, rotor_rpm), std::move(d)).first;
+      }
+      std::copy(it->second.begin(), it->second.end(), out);
+      return true;
+    };
+  }
   hopt.period_s = args.period_s;
   hopt.torque_from = torque_from;
   hopt.per_day = args.per_day || !args.per_day_csv.empty();
@@ -318,7 +358,15 @@ void run(const DamageArgs& args) {
   const char* src = mf::spectrum_source_name(spectrum.source);
   std::printf("# drivetwin damage %s (drivetrain %s)\n", args.file.c_str(),
               drivetrain.name.c_str());
-  if (source == mf::SpectrumSource::kDynamics) {
+  if (rows_mode) {
+    std::printf(
+        "# load spectrum: dynamics-rows — the ROM at every row's own (torque, speed), %zu "
+        "simulations at %.0f Hz (cut-off %.0f Hz), no interpolation "
+        "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, "
+        "K_v = 1\n",
+        rows_cache.size(), args.rom_rate_hz, args.rom_cutoff_hz, drivetrain.dynamics.rayleigh_eta,
+        drivetrain.dynamics.rayleigh_zeta, args.k_a);
+  } else if (source == mf::SpectrumSource::kDynamics) {
     std::printf(
         "# load spectrum: %s — ROM mesh forces and bearing reactions per (torque, speed) point "
         "(app/fatigue/dynamics_spectrum.hpp), damping eta = %g 1/s, zeta = %g s; K_A = %.2f, K_v = "
@@ -484,7 +532,11 @@ void run(const DamageArgs& args) {
     j["format"] = "drivetwin-damage/1";
     j["file"] = args.file;
     j["drivetrain"] = drivetrain.name;
-    j["spectrum"] = {{"source", src}, {"k_a", args.k_a}, {"cache", cache_hit ? "hit" : "built"}};
+    j["spectrum"] = {{"source", rows_mode ? "dynamics-rows" : src},
+                     {"k_a", args.k_a},
+                     {"cache", rows_mode ? "none" : (cache_hit ? "hit" : "built")},
+                     {"rom_rate_hz", args.rom_rate_hz},
+                     {"rom_cutoff_hz", args.rom_cutoff_hz}};
     j["rating"] = {{"k_h_beta", args.k_h_beta > 0.0 ? nlohmann::json(args.k_h_beta)
                                                     : nlohmann::json("iso6336-1-method-c")},
                    {"lead_modification", args.lead},
@@ -587,9 +639,20 @@ void setup_damage(CLI::App& sub) {
   sub.add_option("--json", args->json, "Write a JSON summary to this file ('-' = stdout)");
   sub.add_option("--spectrum", args->spectrum,
                  "Load spectrum source: quasi-static (the fallback: mean mesh forces) | dynamics "
-                 "(ROM per grid point)")
+                 "(ROM per grid point, interpolated) | dynamics-rows (ROM at every row's own "
+                 "operating point: no interpolation, one simulation per distinct row; short "
+                 "histories)")
       ->capture_default_str()
-      ->check(app::cli::one_of({"quasi-static", "dynamics"}));
+      ->check(app::cli::one_of({"quasi-static", "dynamics", "dynamics-rows"}));
+  sub.add_option("--rom-rate", args->rom_rate_hz,
+                 "Dynamics spectrum: the ROM's sample (step) rate [Hz]; `drivetwin run` steps its "
+                 "ROM at period / rom_steps_per_cycle")
+      ->capture_default_str()
+      ->check(app::cli::number_in(256.0, 1e6, "Hz"));
+  sub.add_option("--rom-cutoff", args->rom_cutoff_hz,
+                 "Dynamics spectrum: the ROM's mode cut-off [Hz]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(10.0, 2500.0, "Hz"));
   sub.add_option("--cache-dir", args->cache_dir,
                  "Spectrum cache folder (default $XDG_CACHE_HOME/drivetwin)");
   sub.add_flag("--no-cache", args->no_cache, "Always rebuild the spectrum, write no cache");

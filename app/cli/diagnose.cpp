@@ -25,10 +25,10 @@
 #include "cli/command.hpp"
 #include "diagnosis/report.hpp"
 #include "hal/recording_bundle.hpp"
-#include "recording/bundle_check.hpp"
 #include "model/diagnosis/diagnoser.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/order_tracking.hpp"
+#include "recording/bundle_check.hpp"
 
 namespace {
 namespace diagnose_cmd {
@@ -71,7 +71,8 @@ void run(const Args& args) {
     throw CommandError(e.what());
   }
   if (!args.quiet)
-    for (const auto& note : bundle.notes) std::fprintf(stderr, "diagnose: note: %s\n", note.c_str());
+    for (const auto& note : bundle.notes)
+      std::fprintf(stderr, "diagnose: note: %s\n", note.c_str());
   const hal::Recording& rec = bundle.recording;
   const model::Drivetrain& drivetrain = bundle.drivetrain;
   const std::string samples_file = (dir / rec.samples_file).string();
@@ -81,15 +82,16 @@ void run(const Args& args) {
   in.sample_rate_hz = rec.sample_rate_hz;
   in.samples = rec.sample_count();
   if (drivetrain.measurement_points.size() < md::kPoints) {
-    throw CommandError("drivetrain '" + drivetrain.name + "': measurement_points: the diagnosis needs " +
-                       std::to_string(md::kPoints) + ", found " + std::to_string(drivetrain.measurement_points.size()));
+    throw CommandError("drivetrain '" + drivetrain.name +
+                       "': measurement_points: the diagnosis needs " + std::to_string(md::kPoints) +
+                       ", found " + std::to_string(drivetrain.measurement_points.size()));
   }
   for (std::size_t p = 0; p < md::kPoints; ++p) {
     const model::MeasurementPoint& mp = drivetrain.measurement_points[p];
     const auto idx = rec.channel_index(mp.channel);
     if (!idx) {
-      throw CommandError((dir / "recording.json").string() + ": channels: no channel named '" + mp.channel +
-                         "' (measurement point at " + mp.location + ")");
+      throw CommandError((dir / "recording.json").string() + ": channels: no channel named '" +
+                         mp.channel + "' (measurement point at " + mp.location + ")");
     }
     in.points[p] = rec.samples[*idx].data();
   }
@@ -98,11 +100,12 @@ void run(const Args& args) {
     const hal::BundleChannel& ch = rec.channels[c];
     if (ch.kind != "once_per_rev") continue;
     model::dsp::OrderTracker tracker(1, 1, rec.samples[c].size());
-    const std::size_t n = tracker.detect_pulses(rec.samples[c].data(), rec.samples[c].size(), rec.sample_rate_hz);
+    const std::size_t n =
+        tracker.detect_pulses(rec.samples[c].data(), rec.samples[c].size(), rec.sample_rate_hz);
     if (n < 2) {
-      throw CommandError(samples_file + ": channel '" + ch.name + "': tacho (once_per_rev on " + ch.location +
-                         ") has " + std::to_string(n) + " pulse" + (n == 1 ? "" : "s") +
-                         "; expected one rising edge per revolution");
+      throw CommandError(samples_file + ": channel '" + ch.name + "': tacho (once_per_rev on " +
+                         ch.location + ") has " + std::to_string(n) + " pulse" +
+                         (n == 1 ? "" : "s") + "; expected one rising edge per revolution");
     }
     in.tacho_pulses_s.assign(tracker.pulse_times(), tracker.pulse_times() + n);
     in.tacho_shaft = ch.location;
@@ -121,8 +124,9 @@ void run(const Args& args) {
   diagnoser.start(in);
   md::DiagnosisStep st;
   md::DiagnosisStage shown = md::DiagnosisStage::kIdle;
-  static constexpr const char* kStageNames[] = {"idle",   "speed",  "analyse", "calibrate", "simulate",
-                                                "locate", "refit",  "decide",  "final",     "done"};
+  static constexpr const char* kStageNames[] = {"idle",     "speed",  "analyse", "calibrate",
+                                                "simulate", "locate", "refit",   "decide",
+                                                "final",    "done"};
   while ((st = diagnoser.step()) == md::DiagnosisStep::kRunning) {
     if (!args.quiet && diagnoser.stage() != shown) {
       shown = diagnoser.stage();
@@ -130,42 +134,50 @@ void run(const Args& args) {
                    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
   }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const md::DiagnosisReport& r = diagnoser.report();
   if (st != md::DiagnosisStep::kFinished) {
     const std::string where =
-        r.status == md::DiagnosisStatus::kTooShort || r.status == md::DiagnosisStatus::kBadInput ? samples_file : dir.string();
+        r.status == md::DiagnosisStatus::kTooShort || r.status == md::DiagnosisStatus::kBadInput
+            ? samples_file
+            : dir.string();
     throw CommandError(where + ": " + md::to_string(r.status) + ": " + r.message);
   }
 
-  const std::string name =
-      dir.filename().string().empty() ? dir.parent_path().filename().string() : dir.filename().string();
+  const std::string name = dir.filename().string().empty() ? dir.parent_path().filename().string()
+                                                           : dir.filename().string();
   if (!args.quiet) {
-    std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m, %zu revolutions\n", name.c_str(),
-                drivetrain.name.c_str(), r.rotor_speed_rpm, r.speed_source.c_str(), r.input_torque_nm, r.revolutions);
-    std::printf("residual before %.3f, calibrated %.3f, after %.3f\n", r.residual_before, r.residual_calibrated,
-                r.residual_after);
+    std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m, %zu revolutions\n",
+                name.c_str(), drivetrain.name.c_str(), r.rotor_speed_rpm, r.speed_source.c_str(),
+                r.input_torque_nm, r.revolutions);
+    std::printf("residual before %.3f, calibrated %.3f, after %.3f\n", r.residual_before,
+                r.residual_calibrated, r.residual_after);
     for (std::size_t p = 0; p < md::kPoints; ++p) {
-      std::printf("  %s f1/f2/f3 before %.3f/%.3f/%.3f  calibrated %.3f/%.3f/%.3f  after %.3f/%.3f/%.3f\n",
-                  drivetrain.measurement_points[p].channel.c_str(), r.fit_before[p].f1, r.fit_before[p].f2,
-                  r.fit_before[p].f3, r.fit_calibrated[p].f1, r.fit_calibrated[p].f2, r.fit_calibrated[p].f3,
-                  r.fit_after[p].f1, r.fit_after[p].f2, r.fit_after[p].f3);
+      std::printf(
+          "  %s f1/f2/f3 before %.3f/%.3f/%.3f  calibrated %.3f/%.3f/%.3f  after %.3f/%.3f/%.3f\n",
+          drivetrain.measurement_points[p].channel.c_str(), r.fit_before[p].f1, r.fit_before[p].f2,
+          r.fit_before[p].f3, r.fit_calibrated[p].f1, r.fit_calibrated[p].f2,
+          r.fit_calibrated[p].f3, r.fit_after[p].f1, r.fit_after[p].f2, r.fit_after[p].f3);
     }
     for (const md::MismatchEntry& m : r.mismatch)
-      std::printf("mismatch %s %.1f-%.1f Hz: %s (share %.2f)\n", m.channel.c_str(), m.band_lo_hz, m.band_hi_hz,
-                  m.signature.c_str(), m.share);
+      std::printf("mismatch %s %.1f-%.1f Hz: %s (share %.2f)\n", m.channel.c_str(), m.band_lo_hz,
+                  m.band_hi_hz, m.signature.c_str(), m.share);
     for (const md::CandidateResult& c : r.candidates)
-      std::printf("candidate %s @ %s: score %.3f, confidence %.2f%s — %s\n", md::effect_id(c.effect),
-                  c.location.c_str(), c.prior_score, c.confidence, c.accepted ? " REPORTED" : "", c.verdict.c_str());
+      std::printf("candidate %s @ %s: score %.3f, confidence %.2f%s — %s\n",
+                  md::effect_id(c.effect), c.location.c_str(), c.prior_score, c.confidence,
+                  c.accepted ? " REPORTED" : "", c.verdict.c_str());
     if (r.missing.empty()) std::printf("missing physics: none\n");
     for (std::size_t i : r.missing)
-      std::printf("missing physics: %s at %s (confidence %.2f)\n", md::effect_id(r.candidates[i].effect),
-                  r.candidates[i].location.c_str(), r.candidates[i].confidence);
+      std::printf("missing physics: %s at %s (confidence %.2f)\n",
+                  md::effect_id(r.candidates[i].effect), r.candidates[i].location.c_str(),
+                  r.candidates[i].confidence);
     std::printf("diagnosed in %.1f s (%zu model evaluations)\n", seconds, diagnoser.simulations());
   }
   // Both reports are built before either is written: nothing is left half-written.
   std::string json_text, html_text;
-  if (!args.json.empty()) json_text = app::diagnosis::report_json(r, diagnoser.catalogue(), name).dump(2) + "\n";
+  if (!args.json.empty())
+    json_text = app::diagnosis::report_json(r, diagnoser.catalogue(), name).dump(2) + "\n";
   if (!args.html.empty()) html_text = app::diagnosis::report_html(r, diagnoser.catalogue(), name);
   if (!args.json.empty()) write_file(args.json, json_text);
   if (!args.html.empty()) write_file(args.html, html_text);
@@ -173,13 +185,17 @@ void run(const Args& args) {
 
 void setup(CLI::App& sub) {
   auto args = std::make_shared<Args>();
-  sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")->required();
-  sub.add_option("--json", args->json, "Write the diagnosis report (drivetwin-diagnosis/1) to this file");
+  sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")
+      ->required();
+  sub.add_option("--json", args->json,
+                 "Write the diagnosis report (drivetwin-diagnosis/1) to this file");
   sub.add_option("--html", args->html, "Write the offline HTML report to this file");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
-  sub.add_option("--evaluations", args->evaluations, "Calibration: model evaluations at most (default 40)");
+  sub.add_option("--evaluations", args->evaluations,
+                 "Calibration: model evaluations at most (default 40)");
   sub.add_option("--candidates", args->candidates, "Hypotheses modelled and refitted (default 3)");
-  sub.add_option("--fit-evaluations", args->fit_evaluations, "Model evaluations per refitted hypothesis (default 10)");
+  sub.add_option("--fit-evaluations", args->fit_evaluations,
+                 "Model evaluations per refitted hypothesis (default 10)");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");
   sub.callback([args] { run(*args); });
 }
@@ -187,7 +203,8 @@ void setup(CLI::App& sub) {
 }  // namespace diagnose_cmd
 
 const bool kDiagnoseRegistered = app::cli::register_command(
-    {"diagnose", "Locate the mismatch calibration cannot remove, name the missing physics, model it and refit",
+    {"diagnose",
+     "Locate the mismatch calibration cannot remove, name the missing physics, model it and refit",
      &diagnose_cmd::setup});
 
 }  // namespace

@@ -266,13 +266,14 @@ void setup_fit_cp(CLI::App& sub) {
                  "Also fit on all but one season (seasons: DJF, MAM, JJA, SON) or month "
                  "(months) of the --from/--to window and test on it, for each in turn")
       ->check(CLI::IsMember({"seasons", "months"}));
-  sub.add_option("--free", args->free,
-                 "What the fit frees besides the Cp surface: a list of table (a Cp(lambda) table "
-                 "instead of Heier's c1 and lambda_scale), loss (no-load loss), offset and gain "
-                 "(nacelle transfer function), yaw (yaw loss exponent), tracking-tsr and "
-                 "tracking-band (the tip-speed ratio the controller tracks and the speed band where "
-                 "the rotor speed gives the wind), turbulence (the wind's spread within a row), or "
-                 "none")
+  sub.add_option(
+         "--free", args->free,
+         "What the fit frees besides the Cp surface: a list of table (a Cp(lambda) table "
+         "instead of Heier's c1 and lambda_scale), loss (no-load loss), offset and gain "
+         "(nacelle transfer function), yaw (yaw loss exponent), tracking-tsr and "
+         "tracking-band (the tip-speed ratio the controller tracks and the speed band where "
+         "the rotor speed gives the wind), turbulence (the wind's spread within a row), or "
+         "none")
       ->default_val("table,loss,offset,gain,tracking-tsr,tracking-band,turbulence");
   sub.add_flag("--constant-density", args->constant_density,
                "Ignore an ambient temperature column: constant air_density_kg_m3");

@@ -23,6 +23,7 @@ nlohmann::ordered_json report_json(const model::diagnosis::DiagnosisReport& repo
 
 /// The HTML report.
 std::string report_html(const model::diagnosis::DiagnosisReport& report,
-                        const model::diagnosis::Catalogue& catalogue, const std::string& bundle_name);
+                        const model::diagnosis::Catalogue& catalogue,
+                        const std::string& bundle_name);
 
 }  // namespace app::diagnosis

@@ -147,6 +147,15 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
                 std::to_string(row.line) + "): " + what);
       return;
     }
+    // Damage per rotor revolution at this operating point.
+    if (options.at_point) {
+      if (!options.at_point(torque, rpm, d.data())) {
+        ++r.rows_no_data;
+        return;
+      }
+    } else {
+      spectrum.damage_per_rev_at(torque, rpm, d.data());
+    }
     // Gap before this row?
     if (!std::isnan(prev_t) && t - prev_t > kGapFactor * r.period_s) {
       ++r.gaps;
@@ -172,7 +181,6 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       ++day_record.wind_rows;
     }
     const double revs = rpm / 60.0 * r.period_s;
-    spectrum.damage_per_rev_at(torque, rpm, d.data());
     const auto bin =
         std::min(kTorqueBins - 1, static_cast<std::size_t>(torque / (0.1 * rated_torque)));
     r.bin_time_s[bin] += r.period_s;

@@ -64,6 +64,10 @@ struct HistoryOptions {
   std::size_t max_rows = 0;  // stop after this many data rows (0: all)
   bool per_day = false;      // also record the damage of every UTC day (HistoryResult::days)
   std::function<void(std::size_t rows)> progress;  // called every few thousand rows (may be empty)
+  /// When set, a row's damage per rotor revolution comes from this evaluation at the row's
+  /// exact (torque [N·m], speed [rpm]) instead of the spectrum's interpolation (`damage
+  /// --spectrum dynamics-rows`); a false return skips the row as one without data.
+  std::function<bool(double torque_nm, double rotor_rpm, double* damage_per_rev)> at_point;
 };
 
 /// One UTC day of the history (rows with t_s in [day·86 400, (day+1)·86 400)).

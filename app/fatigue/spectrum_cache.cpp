@@ -27,7 +27,7 @@ std::uint64_t fnv1a(std::uint64_t h, const void* data, std::size_t n) {
 
 std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
                            const mf::SpectrumGrid& g, mf::SpectrumSource source,
-                           std::uint32_t code_version) {
+                           std::uint32_t code_version, double rom_rate_hz, double rom_cutoff_hz) {
   const mf::ChannelOptions& o = cs.options();
   std::uint64_t h = kFnvOffset;
   const std::string tag = "drivetwin-spectrum";
@@ -73,7 +73,12 @@ std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
                       static_cast<int>(o.rating.face_load.lead),
                       o.rating.face_load.case_hardened ? 1 : 0,
                       o.rating.face_load.contact_pattern_verified ? 1 : 0};
-  return fnv1a(h, ints, sizeof ints);
+  h = fnv1a(h, ints, sizeof ints);
+  if (rom_rate_hz > 0.0 || rom_cutoff_hz > 0.0) {
+    const double rom[] = {rom_rate_hz, rom_cutoff_hz};
+    h = fnv1a(h, rom, sizeof rom);
+  }
+  return h;
 }
 
 fs::path spectrum_cache_file(const fs::path& dir, std::uint64_t key) {

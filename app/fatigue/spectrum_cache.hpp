@@ -35,12 +35,15 @@ namespace app::fatigue {
 inline constexpr std::uint32_t kSpectrumCodeVersion = 9;
 
 /// The cache key of a spectrum (see the file comment). `code_version` is a parameter only so
-/// that tests can show a changed version misses.
+/// that tests can show a changed version misses. `rom_rate_hz` / `rom_cutoff_hz`: the dynamics
+/// spectrum's ROM when it is not DynamicsSpectrumSettings' default (0: the default, hashed
+/// as before, so existing caches stay valid).
 std::uint64_t spectrum_key(const model::Drivetrain& drivetrain,
                            const model::fatigue::ChannelSet& channels,
                            const model::fatigue::SpectrumGrid& grid,
                            model::fatigue::SpectrumSource source,
-                           std::uint32_t code_version = kSpectrumCodeVersion);
+                           std::uint32_t code_version = kSpectrumCodeVersion,
+                           double rom_rate_hz = 0.0, double rom_cutoff_hz = 0.0);
 
 /// The cache file of `key` in `dir`: spectrum-<16 hex digits>.bin.
 std::filesystem::path spectrum_cache_file(const std::filesystem::path& dir, std::uint64_t key);

@@ -15,8 +15,10 @@
 #include <fstream>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include "model/drivetrain/kinematics.hpp"
+#include "signal/speed_reference.hpp"
 
 namespace app::loop {
 namespace mc = model::calibration;
@@ -35,7 +37,11 @@ CalibrationWorker::CalibrationWorker(const model::Drivetrain& drivetrain,
                                      const model::DynamicsParameters& parameters,
                                      const CalibrationWorkerSettings& settings,
                                      Mailboxes& mailboxes, std::uint32_t generation)
-    : drivetrain_(drivetrain), parameters_(parameters), settings_(settings), mail_(mailboxes) {
+    : drivetrain_(drivetrain),
+      kinematics_(drivetrain_),
+      parameters_(parameters),
+      settings_(settings),
+      mail_(mailboxes) {
   // The model's waveforms at ≥ 6 × the highest compared mesh harmonic at rated speed
   // (dynamics_simulator.hpp), settled for 0.5 s from the static deflection.
   const model::Kinematics k(drivetrain_);
@@ -85,7 +91,20 @@ void CalibrationWorker::run() {
 
 void CalibrationWorker::process(CmsWindow& w) {
   std::array<model::dsp::PointFeatures, kSnapshotPoints> measured{};
-  const model::dsp::SpeedReference ref{nullptr, 0, w.hss_hz};
+  // The one choice of speed reference (app/signal/speed_reference.hpp): the keyphasor's
+  // pulses in the window's time base when there are enough, else SCADA speed × ratio, ...
+  signal::SpeedEvidence e;
+  e.hss_pulses_s.assign(w.pulses_s.begin(),
+                        w.pulses_s.begin() + static_cast<std::ptrdiff_t>(w.pulse_count));
+  e.min_pulses = features_->config().revolutions + 1;
+  e.scada_rotor_rpm = w.rotor_speed_rpm;
+  e.point1 = w.samples[0].data();
+  e.samples = w.count;
+  e.sample_rate_hz = w.sample_rate_hz;
+  e.nominal_rotor_rpm = w.rotor_speed_rpm;
+  const signal::SpeedReference speed = signal::choose_speed_reference(e, kinematics_);
+  const model::dsp::SpeedReference ref{speed.pulses.empty() ? nullptr : speed.pulses.data(),
+                                       speed.pulses.size(), speed.hss_hz};
   for (std::size_t p = 0; p < kSnapshotPoints; ++p) {
     const model::dsp::DspStatus s =
         features_->extract(w.samples[p].data(), w.count, w.sample_rate_hz, ref, measured[p]);
@@ -108,11 +127,12 @@ void CalibrationWorker::process(CmsWindow& w) {
     status_.f[p] = {ind[p].f1, ind[p].f2, ind[p].f3};
   mail_.calibration.write(status_);
   emit(w, EventCode::kCalibrationCheck, status_.fits ? 0 : 1, status_.worst_ratio);
-  if (!status_.fits) (void)calibrate(w, measured);
+  if (!status_.fits) (void)calibrate(w, measured, speed.pulses);
 }
 
 bool CalibrationWorker::calibrate(
-    const CmsWindow& w, const std::array<model::dsp::PointFeatures, kSnapshotPoints>& measured) {
+    const CmsWindow& w, const std::array<model::dsp::PointFeatures, kSnapshotPoints>& measured,
+    const std::vector<double>& pulses_s) {
   if (!calibrator_->start(parameters_, previous_)) {
     emit(w, EventCode::kCalibrationFailed, 3);
     return false;
@@ -156,9 +176,68 @@ bool CalibrationWorker::calibrate(
   if (!r.fits) {
     // The parameters cannot explain the mismatch: the missing-physics diagnosis's place.
     emit(w, EventCode::kUnexplainedMismatch, static_cast<int>(status_.generation), after);
-    if (hook_) (void)hook_(Mismatch{w, measured, r, status_.generation});
+    if (hook_) {
+      (void)hook_(Mismatch{w, measured, r, status_.generation});
+    } else if (settings_.diagnosis &&
+               (!diagnosed_ || static_cast<double>(w.start_ns - last_diagnosis_ns_) * 1e-9 >=
+                                   settings_.diagnosis_interval_s)) {
+      diagnose(w, pulses_s);
+    }
   }
   return improved;
+}
+
+void CalibrationWorker::diagnose(const CmsWindow& w, const std::vector<double>& pulses_s) {
+  namespace md = model::diagnosis;
+  diagnosed_ = true;
+  last_diagnosis_ns_ = w.start_ns;
+  if (!diagnoser_) {
+    effects_ = std::make_unique<md::RomEffectSimulator>(drivetrain_, 0.5);
+    diagnoser_ = std::make_unique<md::Diagnoser>(drivetrain_, *effects_);
+  }
+  md::DiagnosisInput in;
+  in.sample_rate_hz = w.sample_rate_hz;
+  for (std::size_t p = 0; p < kSnapshotPoints; ++p) in.points[p] = w.samples[p].data();
+  in.samples = w.count;
+  in.tacho_pulses_s = pulses_s;
+  in.tacho_shaft = pulses_s.empty() ? "" : "hss";
+  in.rotor_speed_rpm = w.rotor_speed_rpm;
+  in.input_torque_nm = w.input_torque_nm;
+  diagnoser_->start(in);
+  md::DiagnosisStep s = md::DiagnosisStep::kRunning;
+  md::DiagnosisSummary summary;
+  while (s == md::DiagnosisStep::kRunning) {
+    if (stop_.load(std::memory_order_relaxed)) diagnoser_->cancel();
+    s = diagnoser_->step();
+    if (diagnoser_->read_result(summary)) mail_.diagnosis.write(summary);
+  }
+  emit(w, EventCode::kDiagnosis, static_cast<int>(summary.reported),
+       summary.reported > 0 ? summary.effects[0].confidence : 0.0);
+  if (!note_) return;
+  const md::DiagnosisReport& rep = diagnoser_->report();
+  char line[256];
+  if (s != md::DiagnosisStep::kFinished) {
+    std::snprintf(line, sizeof line, "diagnosis of the window at %.3f s: %s (%s)",
+                  static_cast<double>(w.start_ns) * 1e-9, md::to_string(rep.status),
+                  rep.message.c_str());
+    note_(line);
+    return;
+  }
+  std::string found;
+  for (std::size_t i = 0; i < summary.reported && i < summary.effects.size(); ++i) {
+    const auto& e = summary.effects[i];
+    char one[96];
+    std::snprintf(one, sizeof one, "%s%s at %s (confidence %.2f)", found.empty() ? "" : ", ",
+                  md::effect_id(e.effect), e.location.data(), e.confidence);
+    found += one;
+  }
+  std::snprintf(line, sizeof line,
+                "diagnosis of the window at %.3f s: residual %.3f before, %.3f calibrated, %.3f "
+                "after; ",
+                static_cast<double>(w.start_ns) * 1e-9, summary.residual_before,
+                summary.residual_calibrated, summary.residual_after);
+  note_(std::string(line) + (found.empty() ? "no effect of the contract explains the mismatch"
+                                           : "missing physics: " + found));
 }
 
 // ---- calibrated parameters on disk --------------------------------------------------------

@@ -16,9 +16,10 @@
 //     to be freed. The parameters are saved (calibration_store.hpp) so that a restart runs
 //     the calibrated model;
 //  4. when the calibration cannot reach the thresholds, the mismatch is one the parameters
-//     cannot explain: the hook for the missing-physics diagnosis (MismatchHook) gets the
-//     window, the features and the result. Until the online diagnosis API exists, the
-//     default hook only reports it (an event and the status's unfit flag).
+//     cannot explain: the missing-physics diagnosis runs on the window (model::diagnosis::
+//     Diagnoser, stepped here like the calibrator, at most once per `diagnosis_interval_s`),
+//     its summary is published (Mailboxes::diagnosis) and logged; a MismatchHook set by the
+//     application replaces it.
 // Then the window goes back to the RT thread (windows_free).
 //
 // Thread context: construct on the control thread (allocates the simulator, calibrator and
@@ -37,7 +38,10 @@
 #include "loop/twin.hpp"
 #include "model/calibration/calibrator.hpp"
 #include "model/calibration/dynamics_simulator.hpp"
+#include "model/diagnosis/diagnoser.hpp"
+#include "model/diagnosis/effect_model.hpp"
 #include "model/drivetrain/description.hpp"
+#include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
 #include "model/dynamics/rom.hpp"
 
@@ -49,6 +53,8 @@ struct CalibrationWorkerSettings {
   std::size_t max_evaluations = 40;        // [-] trust-region budget
   model::dynamics::RomSettings rom{};      // the loop's ROM step and cut-off
   std::string state_file;                  // calibrated parameters ("" = not saved)
+  bool diagnosis = true;                   // diagnose a mismatch calibration cannot remove
+  double diagnosis_interval_s = 3600.0;    // [s] of loop time between two diagnoses
   std::int64_t idle_poll_ns = 20'000'000;  // [ns] how often an idle thread looks for work
 };
 
@@ -76,6 +82,8 @@ class CalibrationWorker {
   void run();
   void request_stop() { stop_.store(true, std::memory_order_relaxed); }
   void set_mismatch_hook(MismatchHook hook) { hook_ = std::move(hook); }
+  /// Where this thread's formatted lines go (the diagnosis's findings); not the RT path.
+  void set_note(std::function<void(const std::string&)> note) { note_ = std::move(note); }
   /// Events from this thread (its own queue; the log thread reads it).
   Queue<Event, 64>& events() { return events_; }
   const model::DynamicsParameters& parameters() const { return parameters_; }
@@ -84,10 +92,13 @@ class CalibrationWorker {
   void process(CmsWindow& window);
   void emit(const CmsWindow& w, EventCode code, std::int32_t a = 0, double b = 0.0);
   bool calibrate(const CmsWindow& window,
-                 const std::array<model::dsp::PointFeatures, kSnapshotPoints>& measured);
+                 const std::array<model::dsp::PointFeatures, kSnapshotPoints>& measured,
+                 const std::vector<double>& pulses_s);
+  void diagnose(const CmsWindow& window, const std::vector<double>& pulses_s);
   void reclaim_roms();
 
   model::Drivetrain drivetrain_;
+  model::Kinematics kinematics_;
   model::DynamicsParameters parameters_;
   std::optional<model::DynamicsParameters> previous_;
   CalibrationWorkerSettings settings_;
@@ -97,6 +108,11 @@ class CalibrationWorker {
   std::unique_ptr<model::dsp::FeatureExtractor> features_;
   CalibrationStatus status_{};
   MismatchHook hook_;
+  std::function<void(const std::string&)> note_;
+  std::unique_ptr<model::diagnosis::RomEffectSimulator> effects_;
+  std::unique_ptr<model::diagnosis::Diagnoser> diagnoser_;
+  std::int64_t last_diagnosis_ns_ = 0;
+  bool diagnosed_ = false;
   Queue<Event, 64> events_;
   std::atomic<bool> stop_{false};
 };

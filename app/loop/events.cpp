@@ -54,6 +54,7 @@ const char* name_of(EventCode code) {
                                                                    "calibration-skipped",
                                                                    "calibration-failed",
                                                                    "unexplained-mismatch",
+                                                                   "diagnosis",
                                                                    "queue-full",
                                                                    "stopped"};
   const auto i = static_cast<std::size_t>(code);
@@ -162,9 +163,15 @@ std::string message(const Event& e) {
       break;
     case EventCode::kUnexplainedMismatch:
       std::snprintf(buf, sizeof buf,
-                    "calibration cannot reach the thresholds: mismatch left for the "
-                    "missing-physics diagnosis (model %d)",
-                    e.a);
+                    "calibration cannot reach the thresholds (worst indicator %.2f × its "
+                    "threshold, model %d): the missing-physics diagnosis runs",
+                    e.b, e.a);
+      break;
+    case EventCode::kDiagnosis:
+      std::snprintf(buf, sizeof buf,
+                    "missing-physics diagnosis done: %d effect(s) reported (first at confidence "
+                    "%.2f)",
+                    e.a, e.b);
       break;
     case EventCode::kQueueFull:
       std::snprintf(buf, sizeof buf, "%s queue full: dropped", e.a == 0 ? "snapshot" : "window");

@@ -40,7 +40,8 @@ enum class EventCode : std::uint16_t {
   kCalibrationDone,      // a = fits (0/1), b = worst indicator / threshold after
   kCalibrationSkipped,   // a = reason (1: CMS gap, 2: not steady, 3: no operating point)
   kCalibrationFailed,    // a = reason code
-  kUnexplainedMismatch,  // a = generation; the missing-physics diagnosis hook ran
+  kUnexplainedMismatch,  // a = generation, b = worst indicator / threshold left
+  kDiagnosis,            // a = effects reported, b = the first one's confidence
   kQueueFull,            // a = which (0: snapshots, 1: windows)
   kStopped,              // a = cycles
   kCount

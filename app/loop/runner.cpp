@@ -318,12 +318,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   ts.zones = {cfg.accel_hf_bc_mps2, cfg.accel_hf_cd_mps2, cfg.velocity_bc_mmps,
               cfg.velocity_cd_mmps, cfg.accel_lf_bc_mps2, cfg.accel_lf_cd_mps2,
               cfg.hf_interval_s,    cfg.lf_interval_s};
-  ts.supervisor.torque = static_cast<supervisor::TorquePreference>(cfg.torque_source);
+  ts.supervisor.torque = static_cast<wind::TorquePreference>(cfg.torque_source);
   ts.supervisor.hold_s = cfg.scada_hold_s;
-  ts.supervisor.max_wind_mps = cfg.max_wind_mps;
-  ts.supervisor.max_speed_factor = cfg.max_speed_factor;
-  ts.supervisor.max_torque_factor = cfg.max_torque_factor;
-  ts.supervisor.max_power_factor = cfg.max_power_factor;
   ts.supervisor.alarm_zone = cfg.alarm_zone == 0 ? VibrationZone::kD : VibrationZone::kC;
   ts.calibration_enabled = cfg.calibration_enabled;
   ts.window_s = cfg.window_s;
@@ -349,16 +345,21 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   switch (bc.scada) {
     case Backend::kLinux:
       scada = std::make_unique<hal::ModbusScadaSource>(bc.modbus_client, clock);
+      ts.scada_period_s = std::chrono::duration<double>(bc.modbus_client.poll_period).count();
       break;
     case Backend::kReplay:
       if (!replay_csv.empty()) {
         scada = std::make_unique<hal::ReplayScadaSource>(replay_csv, replay_columns);
         const double period = scada_period_s(replay_csv, replay_columns);
+        if (period > 0.0) ts.scada_period_s = period;
         auto* r = static_cast<hal::ReplayScadaSource*>(scada.get());
         check(r->configure(), "--replay " + opt.replay + ": " + r->error());
         replay_end_s = std::chrono::duration<double>(r->duration()).count() + period;
       } else if (rec) {
         scada = std::make_unique<hal::ReplayScadaSource>(rec->scada);
+        if (rec->scada.size() >= 2)
+          ts.scada_period_s = (rec->scada.back().t_s - rec->scada.front().t_s) /
+                              static_cast<double>(rec->scada.size() - 1);
       } else if (!bc.scada_csv.empty()) {
         std::string err;
         const auto cols = hal::parse_scada_columns(bc.scada_columns, &err);
@@ -369,7 +370,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       }
       break;
     case Backend::kSim: {
-      auto s = std::make_unique<hal::SimScadaSource>(hal::sim_scada_paper_point(), clock);
+      const hal::SimScadaConfig sim = hal::sim_scada_paper_point();
+      ts.scada_period_s = std::chrono::duration<double>(sim.period).count();
+      auto s = std::make_unique<hal::SimScadaSource>(sim, clock);
       s->inject(bc.scada_fault);
       scada = std::move(s);
       break;
@@ -473,6 +476,9 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   for (std::size_t i = 0; i < Mailboxes::kWindows; ++i) {
     windows.push_back(std::make_unique<CmsWindow>());
     for (auto& s : windows.back()->samples) s.assign(window_samples, 0.0);
+    // Keyphasor edges in a window: up to the tracker's fastest plausible shaft (200 Hz).
+    windows.back()->pulses_s.assign(static_cast<std::size_t>(std::ceil(cfg.window_s * 200.0)) + 8,
+                                    0.0);
     (void)mail->windows_free.push(windows.back().get());
   }
   std::vector<std::unique_ptr<model::fatigue::AccumulatorState>> checkpoints;
@@ -501,11 +507,14 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   cws.max_evaluations = static_cast<std::size_t>(cfg.max_evaluations);
   cws.rom = rs;
   cws.state_file = state_ok ? calibration_file : "";
+  cws.diagnosis = cfg.diagnosis_enabled;
+  cws.diagnosis_interval_s = cfg.diagnosis_interval_s;
   std::unique_ptr<CalibrationWorker> calibration;
   if (cfg.calibration_enabled && cms) {
     calibration =
         std::make_unique<CalibrationWorker>(drivetrain, parameters, cws, *mail, generation);
   }
+  if (calibration) calibration->set_note([&log](const std::string& s) { log.line(s); });
   for (std::size_t c = 0; c < channels.channel_count(); ++c)
     summary.channel_names.push_back(channel_name(channels.channel(c)));
 

@@ -28,8 +28,8 @@
 #include <string>
 #include <vector>
 
-#include "loop/snapshot.hpp"
 #include "hal/clock.hpp"
+#include "loop/snapshot.hpp"
 #include "run/run_config.hpp"
 
 namespace app::loop {

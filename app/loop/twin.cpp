@@ -39,6 +39,7 @@ Twin::Twin(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet
       rom_(rom),
       shadow_(rom),
       converter_(drivetrain, channels, rom),
+      shaper_(rom, static_cast<double>(settings.period_ns) * 1e-9, settings.scada_period_s),
       accumulator_(std::make_unique<model::fatigue::DamageAccumulator>(
           channels, accumulator_config(rom.dt_s, settings.accumulator_bins))),
       supervisor_(drivetrain, settings.supervisor),
@@ -89,6 +90,9 @@ void Twin::drain_keyphasor(hal::Timestamp now) {
     if (s != hal::Status::kOk && s != hal::Status::kOverflow) break;
     keyphasor_.on_edge(edge);
     ++counters_.keyphasor_edges;
+    // Edge stamps while a window is open (converted to the window's base when it completes).
+    if (window_ != nullptr && window_edges_ < window_->pulses_s.size())
+      window_->pulses_s[window_edges_++] = static_cast<double>(edge.stamp.count());
   }
   keyphasor_state_ = keyphasor_.state(now);
 }
@@ -106,6 +110,7 @@ void Twin::drain_cms(hal::Timestamp now) {
     if (s == hal::Status::kBusOff) bus_off = true;
     if (s != hal::Status::kOk) break;
     ++counters_.cms_blocks;
+    clock_map_.add(block.stamp.count(), block.received.count());
     const std::size_t ch = block.channel;
     if (ch >= hal::kCmsMaxChannels) continue;
     std::size_t lost = 0;
@@ -122,16 +127,19 @@ void Twin::drain_cms(hal::Timestamp now) {
     const auto point = static_cast<std::size_t>(p);
     zones_[point].add(block.samples.data(), block.count, lost * block.count);
     if (lost > 0) abort_window(1);
-    window_samples(point, block.samples.data(), block.count);
+    window_samples(point, block);
   }
   counters_.cms_gaps += lost_blocks_cycle_ > 0 ? 1 : 0;
   const hal::Status h = dev_.cms->health(now);
   cms_fault_ = bus_off || (h != hal::Status::kOk && h != hal::Status::kNoData);
 }
 
-void Twin::window_samples(std::size_t point, const float* x, std::size_t n) {
+void Twin::window_samples(std::size_t point, const hal::CmsBlock& block) {
   if (window_ == nullptr) return;
+  const float* x = block.samples.data();
+  const std::size_t n = block.count;
   std::size_t& fill = window_fill_[point];
+  if (point == 0 && fill == 0) window_device_start_ns_ = block.stamp.count();
   const std::size_t take = std::min(n, window_capacity_ - fill);
   double* out = window_->samples[point].data() + fill;
   for (std::size_t i = 0; i < take; ++i) out[i] = x[i];
@@ -143,6 +151,7 @@ void Twin::abort_window(int reason) {
   // Keep the buffer and start over at once (the next gap-free stretch).
   window_fill_.fill(0);
   window_cycles_ = window_hss_cycles_ = 0;
+  window_edges_ = 0;
   window_rpm_sum_ = window_torque_sum_ = window_hss_sum_ = 0.0;
   emit(hal::Timestamp{snapshot_.stamp_ns}, EventCode::kCalibrationSkipped, reason);
 }
@@ -157,6 +166,7 @@ void Twin::collect_window(hal::Timestamp now, const supervisor::SupervisorDecisi
     window_->start_ns = now.count();
     window_fill_.fill(0);
     window_cycles_ = window_hss_cycles_ = 0;
+    window_edges_ = 0;
     window_rpm_sum_ = window_torque_sum_ = window_hss_sum_ = 0.0;
     return;  // samples from the next cycle's blocks on
   }
@@ -201,6 +211,7 @@ void Twin::collect_window(hal::Timestamp now, const supervisor::SupervisorDecisi
   window_->sample_rate_hz = settings_.cms_sample_rate_hz;
   window_->rotor_speed_rpm = rpm_mean;
   window_->input_torque_nm = nm_mean;
+  window_pulses();
   window_->hss_hz = window_hss_cycles_ * 2 > window_cycles_
                         ? window_hss_sum_ / static_cast<double>(window_hss_cycles_)
                         : rpm_mean / 60.0 * hss_ratio_;
@@ -210,6 +221,21 @@ void Twin::collect_window(hal::Timestamp now, const supervisor::SupervisorDecisi
   } else {
     abort_window(4);  // cannot happen with kWindows buffers; counted all the same
   }
+}
+
+void Twin::window_pulses() {
+  // Edge stamps (host clock) → seconds from the window's first sample, keeping those inside
+  // it; none until the clock mapping has two buckets (a live box's first seconds).
+  window_->pulse_count = 0;
+  if (!clock_map_.valid()) return;
+  const std::int64_t start = clock_map_.to_host(window_device_start_ns_);
+  const double span_s = static_cast<double>(window_->count) / settings_.cms_sample_rate_hz;
+  std::size_t n = 0;
+  for (std::size_t i = 0; i < window_edges_; ++i) {
+    const double t = (window_->pulses_s[i] - static_cast<double>(start)) * 1e-9;
+    if (t >= 0.0 && t <= span_s) window_->pulses_s[n++] = t;
+  }
+  window_->pulse_count = n;
 }
 
 void Twin::adopt_calibrated(const supervisor::SupervisorDecision& d) {
@@ -247,20 +273,29 @@ void Twin::adopt_calibrated(const supervisor::SupervisorDecision& d) {
   }
 }
 
-void Twin::step_model(const supervisor::SupervisorDecision& d) {
+void Twin::step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d) {
   if (!d.rom_valid) return;
+  // The inputs per step between SCADA samples (signal/rom_input_shaper.hpp): a held value
+  // that steps would ring the drivetrain's first mode and be counted as damage.
+  const bool new_sample =
+      scada_.update_count != last_scada_update_ || d.source != last_decision_.source;
+  last_scada_update_ = scada_.update_count;
   if (!rom_started_) {
     rom_.reset(d.rom);
+    shaper_.reset(now, d.rom);
     rom_started_ = true;
+  } else {
+    shaper_.cycle(now, d.rom, new_sample);
   }
   const int steps = settings_.rom_steps_per_cycle;
   for (int i = 0; i < steps; ++i) {
-    rom_.step(d.rom, rom_out_);
+    const model::dynamics::RomInputs u = shaper_.at_step(i, steps);
+    rom_.step(u, rom_out_);
     converter_.convert(rom_out_.mesh_force_n.data(), rom_out_.bearing_force_x_n.data(),
-                       rom_out_.bearing_force_y_n.data(), d.rom.input_torque_nm, loads_);
-    accumulator_->step(loads_, d.rom.rotor_speed_rpm, 1);
+                       rom_out_.bearing_force_y_n.data(), u.input_torque_nm, loads_);
+    accumulator_->step(loads_, u.rotor_speed_rpm, 1);
     if (shadow_data_ != nullptr) {
-      shadow_.step(d.rom, shadow_out_);  // settling: its loads are not counted
+      shadow_.step(u, shadow_out_);  // settling: its loads are not counted
       --shadow_steps_left_;
     }
   }
@@ -344,7 +379,7 @@ void Twin::cycle(hal::Timestamp now) {
 
   // 3 step (a calibrated model is adopted at this cycle boundary)
   if (d.rom_valid) adopt_calibrated(d);
-  step_model(d);
+  step_model(now, d);
   collect_window(now, d);
   for (std::size_t c = 0; c < channels_.channel_count(); ++c) {
     // The channel's highest source stress of the cycle's last step (what the register shows).

@@ -37,11 +37,14 @@
 #include "loop/mailbox.hpp"
 #include "loop/snapshot.hpp"
 #include "model/calibration/indicators.hpp"
+#include "model/diagnosis/diagnoser.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "results/register_map.hpp"
+#include "signal/clock_mapping.hpp"
+#include "signal/rom_input_shaper.hpp"
 #include "supervisor/supervisor.hpp"
 #include "supervisor/vibration_zones.hpp"
 
@@ -53,7 +56,12 @@ namespace app::loop {
 struct CmsWindow {
   std::array<std::vector<double>, kSnapshotPoints> samples;  // [m/s²] capacity = window
   std::size_t count = 0;                                     // [-] samples per point in use
-  double sample_rate_hz = 0.0;                               // [Hz]
+  /// [s] keyphasor edges inside the window, in the window's time base (sample 0 at 0: the
+  /// CMS front end's clock mapped onto the keyphasor's, app/signal/clock_mapping.hpp);
+  /// capacity fixed at start-up.
+  std::vector<double> pulses_s;
+  std::size_t pulse_count = 0;   // [-] in use (0: no keyphasor, or no clock mapping yet)
+  double sample_rate_hz = 0.0;   // [Hz]
   std::int64_t start_ns = 0;     // [ns] loop time of the first cycle of the window
   double rotor_speed_rpm = 0.0;  // [rpm] mean over the window
   double input_torque_nm = 0.0;  // [N·m] mean over the window
@@ -92,15 +100,16 @@ struct Mailboxes {
   static constexpr std::size_t kEvents = 256;     // log events the log thread may lag behind
   static constexpr std::size_t kCheckpoints = 2;  // accumulator state copies in circulation
 
-  Handover<model::dynamics::RomData> rom;    // calibration → RT; old ones back
-  Queue<CmsWindow*, kWindows> windows_full;  // RT → calibration
-  Queue<CmsWindow*, kWindows> windows_free;  // calibration → RT
-  Latest<CalibrationStatus> calibration;     // calibration → RT, anyone
-  Queue<Snapshot, kSnapshots> snapshots;     // RT → recorder (trends, persistence)
-  Latest<Snapshot> latest;                   // RT → anyone (servers, dashboard)
-  Queue<Event, kEvents> events;              // RT → log thread
-  Queue<IntervalRecord, 8> intervals;        // RT → service (RUL history)
-  Latest<RulTable> rul;                      // service → RT
+  Handover<model::dynamics::RomData> rom;                // calibration → RT; old ones back
+  Queue<CmsWindow*, kWindows> windows_full;              // RT → calibration
+  Queue<CmsWindow*, kWindows> windows_free;              // calibration → RT
+  Latest<CalibrationStatus> calibration;                 // calibration → RT, anyone
+  Latest<model::diagnosis::DiagnosisSummary> diagnosis;  // calibration thread → anyone
+  Queue<Snapshot, kSnapshots> snapshots;                 // RT → recorder (trends, persistence)
+  Latest<Snapshot> latest;                               // RT → anyone (servers, dashboard)
+  Queue<Event, kEvents> events;                          // RT → log thread
+  Queue<IntervalRecord, 8> intervals;                    // RT → service (RUL history)
+  Latest<RulTable> rul;                                  // service → RT
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_full;  // RT → persistence
   Queue<model::fatigue::AccumulatorState*, kCheckpoints> checkpoints_free;  // persistence → RT
   std::atomic<bool> persistence_failed{false};  // persistence → RT: the last save failed
@@ -131,6 +140,9 @@ struct TwinSettings {
   double rul_interval_s = 86400.0;        // [s]
   double checkpoint_interval_s = 60.0;    // [s]
   std::uint32_t accumulator_bins = 200;   // [-]
+  /// [s] the SCADA's sample period (Modbus poll period, a replay's row spacing): how the
+  /// ROM's inputs are shaped between samples (app/signal/rom_input_shaper.hpp).
+  double scada_period_s = 1.0;
 };
 
 class Twin {
@@ -186,10 +198,11 @@ class Twin {
  private:
   void drain_keyphasor(hal::Timestamp now);
   void drain_cms(hal::Timestamp now);
-  void step_model(const supervisor::SupervisorDecision& d);
+  void step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d);
   void adopt_calibrated(const supervisor::SupervisorDecision& d);
   void collect_window(hal::Timestamp now, const supervisor::SupervisorDecision& d);
-  void window_samples(std::size_t point, const float* x, std::size_t n);
+  void window_samples(std::size_t point, const hal::CmsBlock& block);
+  void window_pulses();
   void abort_window(int reason);
   void emit(hal::Timestamp now, EventCode code, std::int32_t a = 0, double b = 0.0);
   void events_on_change(hal::Timestamp now, const supervisor::SupervisorDecision& d);
@@ -213,6 +226,8 @@ class Twin {
   bool rom_started_ = false;
   std::uint16_t calibration_generation_ = 0;
   fatigue::RomLoadConverter converter_;
+  signal::RomInputShaper shaper_;        // the ROM's inputs per step
+  std::uint32_t last_scada_update_ = 0;  // SCADA update count of the last sample shaped
   std::unique_ptr<model::fatigue::DamageAccumulator> accumulator_;
   model::dynamics::RomOutputs rom_out_{}, shadow_out_{};
   model::fatigue::LoadSample loads_{};
@@ -242,6 +257,9 @@ class Twin {
   double window_rpm_min_ = 0.0, window_rpm_max_ = 0.0;
   double window_torque_min_ = 0.0, window_torque_max_ = 0.0;
   std::size_t window_cycles_ = 0, window_hss_cycles_ = 0;
+  std::int64_t window_device_start_ns_ = 0;  // [ns] CMS clock of the window's first sample
+  std::size_t window_edges_ = 0;             // keyphasor edges [ns, host] in window_->pulses_s
+  signal::ClockMapping clock_map_;           // CMS front-end clock → keyphasor (host) clock
   hal::Timestamp next_window_{0};
   CalibrationStatus calibration_{};
 

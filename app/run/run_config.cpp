@@ -136,19 +136,6 @@ std::vector<Param> build_table() {
                    "SCADA stale or missing: the last valid values are held this long, then the "
                    "controller's steady-state torque at the last valid wind is used (flagged)",
                    [](RunConfig& c) { return &c.scada_hold_s; }));
-  t.push_back(real("inputs.max_wind_mps", 75.0, 1.0, 200.0, "m/s",
-                   "Wind speeds above this are rejected as implausible (counted)",
-                   [](RunConfig& c) { return &c.max_wind_mps; }));
-  t.push_back(real("inputs.max_speed_factor", 1.5, 1.0, 10.0, "",
-                   "Rotor speeds above this × rated are rejected",
-                   [](RunConfig& c) { return &c.max_speed_factor; }));
-  t.push_back(real("inputs.max_torque_factor", 2.0, 1.0, 10.0, "",
-                   "Rotor torques above this × rated are rejected",
-                   [](RunConfig& c) { return &c.max_torque_factor; }));
-  t.push_back(real("inputs.max_power_factor", 1.5, 1.0, 10.0, "",
-                   "Electrical powers above this × rated are rejected",
-                   [](RunConfig& c) { return &c.max_power_factor; }));
-  // [vibration]
   t.push_back(real("vibration.cms_sample_rate_hz", 25600.0, 1000.0, 200000.0, "Hz",
                    "Sample rate of the CMS accelerometer channels (a replayed recording bundle "
                    "brings its own)",
@@ -211,6 +198,14 @@ std::vector<Param> build_table() {
   t.push_back(integer("calibration.max_evaluations", 40, 9, 10000, "",
                       "Model evaluations a trust-region calibration may use",
                       [](RunConfig& c) { return &c.max_evaluations; }));
+  t.push_back(boolean("calibration.diagnosis", true,
+                      "When a calibration cannot reach the thresholds, run the missing-physics "
+                      "diagnosis (docs/diagnosis.md) on that window, on the calibration thread",
+                      [](RunConfig& c) { return &c.diagnosis_enabled; }));
+  t.push_back(real("calibration.diagnosis_interval_s", 86400.0, 0.0, 365.0 * 86400.0, "s",
+                   "Loop time between two diagnoses (a diagnosis costs minutes of low-priority "
+                   "CPU)",
+                   [](RunConfig& c) { return &c.diagnosis_interval_s; }));
   // [fatigue]
   t.push_back(integer("fatigue.bins", 200, 16, 256, "",
                       "Stress bins per damage channel (ISO 6336-6 load-duration histogram)",

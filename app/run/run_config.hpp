@@ -53,12 +53,8 @@ struct RunConfig {
   double overrun_warn_interval_s = 0.0;  // [s] at most one overrun warning per interval
 
   // [inputs]
-  int torque_source = 0;           // index into kTorqueSourceChoices
-  double scada_hold_s = 0.0;       // [s] stale SCADA: last valid values for this long
-  double max_wind_mps = 0.0;       // [m/s] plausibility
-  double max_speed_factor = 0.0;   // [-] × rated rotor speed
-  double max_torque_factor = 0.0;  // [-] × rated torque
-  double max_power_factor = 0.0;   // [-] × rated power
+  int torque_source = 0;      // index into kTorqueSourceChoices
+  double scada_hold_s = 0.0;  // [s] stale SCADA: last valid values for this long
 
   // [vibration] ISO 10816-21 Annex A (gearbox)
   double cms_sample_rate_hz = 0.0;  // [Hz] CMS front end (a replayed recording brings its own)
@@ -77,6 +73,8 @@ struct RunConfig {
   double steady_speed_tolerance = 0.0;   // [-] max relative speed change inside a window
   double steady_torque_tolerance = 0.0;  // [-] max relative torque change inside a window
   std::int64_t max_evaluations = 0;      // [-] trust-region budget
+  bool diagnosis_enabled = false;        // the missing-physics diagnosis after an unfit calibration
+  double diagnosis_interval_s = 0.0;     // [s] between two diagnoses
 
   // [fatigue]
   std::int64_t bins = 0;              // [-] stress bins per channel

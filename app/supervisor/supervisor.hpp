@@ -6,12 +6,11 @@
 //
 // Decisions, in order:
 //  1. SCADA values: a value is used only when the source delivered it (valid), it is finite
-//     and inside its plausibility range (wind ≤ max, 0 ≤ speed ≤ factor × rated, |torque| ≤
-//     factor × rated, power ≤ factor × rated); otherwise it is rejected and counted, and the
-//     cycle continues with the next source.
-//  2. ROM inputs (rotor speed, input torque), in order of preference: measured torque, else
-//     electrical power and rotor speed (T = P / (η ω), the drivetrain efficiency of the
-//     description; the same source `drivetwin damage` uses), else wind speed through the
+//     and inside its plausibility range (the one set of limits, app/wind/scada_limits.hpp);
+//     otherwise it is rejected and counted, and the cycle continues without it.
+//  2. ROM inputs (rotor speed, input torque) from the one torque source
+//     (app/wind/torque_source.hpp, the same `drivetwin damage` uses): measured torque, else
+//     electrical power and rotor speed (T = (P_el + P_0)/(η ω)), else wind speed through the
 //     wind load model at the measured rotor speed (or the controller's steady state without
 //     one). `inputs.torque_source` may force one.
 //  3. Degraded modes when step 2 finds nothing (SCADA silent, stale, disconnected, every
@@ -39,6 +38,8 @@
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/wind/wind_load.hpp"
+#include "wind/scada_limits.hpp"
+#include "wind/torque_source.hpp"
 
 namespace app::supervisor {
 
@@ -60,16 +61,9 @@ enum FaultBit : std::uint16_t {
   kFaultPersistence = 1u << 13,       // the last checkpoint failed (persistence thread)
 };
 
-/// The forced or preferred torque source (inputs.torque_source).
-enum class TorquePreference : std::uint8_t { kAuto, kTorque, kPower, kWind };
-
 struct SupervisorConfig {
-  TorquePreference torque = TorquePreference::kAuto;
-  double hold_s = 60.0;            // [s]
-  double max_wind_mps = 75.0;      // [m/s]
-  double max_speed_factor = 1.5;   // [-] × rated rotor speed
-  double max_torque_factor = 2.0;  // [-] × rated torque
-  double max_power_factor = 1.5;   // [-] × rated power
+  wind::TorquePreference torque = wind::TorquePreference::kAuto;  // inputs.torque_source
+  double hold_s = 60.0;                                           // [s]
   loop::VibrationZone alarm_zone = loop::VibrationZone::kD;
 };
 
@@ -112,22 +106,14 @@ class Supervisor {
   const SupervisorConfig& config() const { return config_; }
 
  private:
-  // A SCADA value if usable (delivered, finite, plausible), else NaN; counts a rejection.
-  double usable(const hal::ScadaData& scada, hal::ScadaQuantity q, double lo, double hi,
-                std::uint32_t& rejected) const;
-
   SupervisorConfig config_;
+  model::Turbine turbine_;
   model::wind::WindLoad wind_;
-  double eta_ = 1.0;                  // [-] drivetrain efficiency
-  double rated_speed_rpm_ = 0.0;      // [rpm]
-  double rated_torque_nm_ = 0.0;      // [N·m]
-  double rated_power_kw_ = 0.0;       // [kW]
-  double min_power_speed_rpm_ = 0.1;  // [rpm] below this, P/ω is not a torque
+  wind::ScadaLimits limits_;
   // Last valid inputs.
   bool have_last_ = false;
   hal::Timestamp last_valid_{0};
   model::dynamics::RomInputs last_rom_{};
-  loop::TorqueSource last_source_ = loop::TorqueSource::kNone;
   double last_wind_mps_ = -1.0;  // < 0: never had a valid wind
   std::uint64_t rejected_total_ = 0;
 };

@@ -164,7 +164,9 @@ std::vector<NamedMonthSet> single_months() {
 double ErrorCell::mape_pct() const {
   return rows ? sum_abs_pct / static_cast<double>(rows) : std::nan("");
 }
-double ErrorCell::bias_pct() const { return rows ? sum_pct / static_cast<double>(rows) : std::nan(""); }
+double ErrorCell::bias_pct() const {
+  return rows ? sum_pct / static_cast<double>(rows) : std::nan("");
+}
 
 namespace {
 void merge(ErrorCell& into, const ErrorCell& c) {
@@ -223,9 +225,9 @@ std::string ErrorBreakdown::month_table() const {
       "|---|---|---|---|---|---|---|---|\n";
   auto line = [&](const std::string& label, const ErrorCell& r2, const ErrorCell& r25,
                   const ErrorCell& r3, const ErrorCell& all, const ErrorCell& low) {
-    out += "| " + label + " | " + mape_cell(r2) + " | " + mape_cell(r25) + " | " +
-           mape_cell(r3) + " | " + mape_cell(all) + " | " + fmt2(all.bias_pct(), true) +
-           " | " + mape_cell(low) + " | " + fmt2(low.bias_pct(), true) + " |\n";
+    out += "| " + label + " | " + mape_cell(r2) + " | " + mape_cell(r25) + " | " + mape_cell(r3) +
+           " | " + mape_cell(all) + " | " + fmt2(all.bias_pct(), true) + " | " + mape_cell(low) +
+           " | " + fmt2(low.bias_pct(), true) + " |\n";
   };
   for (int m = 1; m <= 12; ++m) {
     const ErrorCell all = month_total(m);
@@ -234,8 +236,9 @@ std::string ErrorBreakdown::month_table() const {
          low_wind(m));
   }
   line("**all**", region_total(0), region_total(1), region_total(2), total(), low_wind_total());
-  return out + "(MAPE % (rows); bias = mean signed error %, negative: estimate below the "
-               "measurement)\n";
+  return out +
+         "(MAPE % (rows); bias = mean signed error %, negative: estimate below the "
+         "measurement)\n";
 }
 
 std::string ErrorBreakdown::wind_table() const {
@@ -243,9 +246,8 @@ std::string ErrorBreakdown::wind_table() const {
   for (std::size_t b = 0; b < kWindBins; ++b) {
     const ErrorCell& c = by_wind_[b];
     if (c.rows == 0) continue;
-    out += "| " + std::to_string(b) + "–" + std::to_string(b + 1) + " | " +
-           std::to_string(c.rows) + " | " + fmt2(c.mape_pct()) + " | " +
-           fmt2(c.bias_pct(), true) + " |\n";
+    out += "| " + std::to_string(b) + "–" + std::to_string(b + 1) + " | " + std::to_string(c.rows) +
+           " | " + fmt2(c.mape_pct()) + " | " + fmt2(c.bias_pct(), true) + " |\n";
   }
   return out;
 }
@@ -257,14 +259,12 @@ TorqueSummary evaluate_scada(const std::string& path, const hal::ScadaColumns& c
   hal::ScadaCsvReader reader;
   if (!reader.open(path, columns)) throw std::runtime_error(reader.error());
   const TorqueEstimator estimator(drivetrain, options);
-  return run_torque(reader, estimator, window,
-                    [&](const hal::ScadaRow& row, const RowEstimate& e) {
-                      if (breakdown) {
-                        breakdown->add(row.time_s(),
-                                       row.get(hal::ScadaQuantity::kWindSpeed), e);
-                      }
-                      if (fit_rows && e.in_operation) fit_rows->push_back(fit_row_of(row, e));
-                    });
+  return run_torque(reader, estimator, window, [&](const hal::ScadaRow& row, const RowEstimate& e) {
+    if (breakdown) {
+      breakdown->add(row.time_s(), row.get(hal::ScadaQuantity::kWindSpeed), e);
+    }
+    if (fit_rows && e.in_operation) fit_rows->push_back(fit_row_of(row, e));
+  });
 }
 
 std::vector<FoldResult> leave_one_out(const std::string& path, const hal::ScadaColumns& columns,
@@ -288,8 +288,8 @@ std::vector<FoldResult> leave_one_out(const std::string& path, const hal::ScadaC
     fitted.turbine.cp = r.fit.surface;
     fitted.turbine.corrections = r.fit.corrections;
     r.fit_rows = r.fit.rows;
-    r.fit_mape_pct =
-        evaluate_scada(path, columns, fitted, options, fit_window, nullptr, nullptr).mape.mape_pct();
+    r.fit_mape_pct = evaluate_scada(path, columns, fitted, options, fit_window, nullptr, nullptr)
+                         .mape.mape_pct();
     r.test = evaluate_scada(path, columns, fitted, options, test_window, &r.breakdown, nullptr);
     out.push_back(std::move(r));
   }
@@ -298,7 +298,8 @@ std::vector<FoldResult> leave_one_out(const std::string& path, const hal::ScadaC
 
 std::string leave_one_out_table(const std::vector<FoldResult>& folds) {
   std::string out =
-      "| test fold | fit rows | fit MAPE | region 2 | region 2½ | region 3 | all | bias | 3–5 m/s |\n"
+      "| test fold | fit rows | fit MAPE | region 2 | region 2½ | region 3 | all | bias | 3–5 m/s "
+      "|\n"
       "|---|---|---|---|---|---|---|---|---|\n";
   std::array<ErrorCell, ErrorBreakdown::kRegions> regions{};
   ErrorCell all, low;

@@ -88,7 +88,7 @@ struct ErrorCell {
 class ErrorBreakdown {
  public:
   static constexpr std::size_t kRegions = MapeAccumulator::kRegions;  // 2, 2½, 3
-  static constexpr std::size_t kWindBins = 25;                          // 1 m/s bins, 0..25 m/s
+  static constexpr std::size_t kWindBins = 25;                        // 1 m/s bins, 0..25 m/s
   static constexpr double kLowWindFromMps = 3.0;
   static constexpr double kLowWindToMps = 5.0;
 

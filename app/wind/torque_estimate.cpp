@@ -195,10 +195,10 @@ int utc_month(double t_s) {
   const auto days = static_cast<long long>(std::floor(t_s / 86400.0));
   const long long z = days + 719468;
   const long long era = (z >= 0 ? z : z - 146096) / 146097;
-  const long long doe = z - era * 146097;                                  // [0, 146096]
+  const long long doe = z - era * 146097;                                       // [0, 146096]
   const long long yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;  // [0, 399]
-  const long long doy = doe - (365 * yoe + yoe / 4 - yoe / 100);          // [0, 365]
-  const long long mp = (5 * doy + 2) / 153;                                // [0, 11], March = 0
+  const long long doy = doe - (365 * yoe + yoe / 4 - yoe / 100);                // [0, 365]
+  const long long mp = (5 * doy + 2) / 153;  // [0, 11], March = 0
   return static_cast<int>(mp < 10 ? mp + 3 : mp - 9);
 }
 

@@ -21,7 +21,8 @@ std::vector<double> spectrum(const std::vector<double>& x) {
 }
 }  // namespace
 
-Concealment concealment(const std::vector<std::vector<double>>& with, const std::vector<std::vector<double>>& without,
+Concealment concealment(const std::vector<std::vector<double>>& with,
+                        const std::vector<std::vector<double>>& without,
                         const std::vector<std::vector<double>>& recorded) {
   Concealment c;
   c.line_margin_db = 1e300;
@@ -39,7 +40,8 @@ Concealment concealment(const std::vector<std::vector<double>>& with, const std:
       if (r[k] > r[k - 1] && r[k] >= r[k + 1]) peaks.push_back(r[k]);
     std::sort(peaks.begin(), peaks.end(), std::greater<>());
     const double tenth = peaks.size() >= 10 ? peaks[9] : (peaks.empty() ? 0.0 : peaks.back());
-    if (strongest > 0.0 && tenth > 0.0) c.line_margin_db = std::min(c.line_margin_db, 20.0 * std::log10(tenth / strongest));
+    if (strongest > 0.0 && tenth > 0.0)
+      c.line_margin_db = std::min(c.line_margin_db, 20.0 * std::log10(tenth / strongest));
   }
   return c;
 }

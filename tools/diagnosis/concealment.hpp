@@ -12,13 +12,14 @@
 namespace tools::diagnosis {
 
 struct Concealment {
-  double rms_change = 0.0;       // [-] largest over the channels
-  double line_margin_db = 0.0;   // [dB] smallest over the channels
+  double rms_change = 0.0;      // [-] largest over the channels
+  double line_margin_db = 0.0;  // [dB] smallest over the channels
   bool concealed() const { return rms_change < 0.10 && line_margin_db >= 6.0; }
 };
 
 /// with[c], without[c]: noise-free channel c; recorded[c]: what the bundle holds.
-Concealment concealment(const std::vector<std::vector<double>>& with, const std::vector<std::vector<double>>& without,
+Concealment concealment(const std::vector<std::vector<double>>& with,
+                        const std::vector<std::vector<double>>& without,
                         const std::vector<std::vector<double>>& recorded);
 
 }  // namespace tools::diagnosis

@@ -16,11 +16,11 @@
 // controls, recordings with and without a tacho; severities are scaled until concealed
 // (strongest effect line 8–20 dB below the tenth peak).
 // Host tool: allocates and throws (caught in main).
-#include <CLI/CLI.hpp>
-#include <nlohmann/json.hpp>
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -43,8 +43,8 @@ constexpr double kPaperRpm = 8.33, kPaperTorque = 361747.0, kRatedRpm = 14.8, kR
 
 std::vector<LumpedCaseSpec> case_list(bool short_form) {
   std::vector<LumpedCaseSpec> v;
-  auto add = [&](std::string id, std::string effect, std::string location, double severity, bool rated, bool tacho,
-                 double stiffness, double damping, unsigned seed) {
+  auto add = [&](std::string id, std::string effect, std::string location, double severity,
+                 bool rated, bool tacho, double stiffness, double damping, unsigned seed) {
     LumpedCaseSpec s;
     s.id = std::move(id);
     s.effect.effect = std::move(effect);
@@ -76,10 +76,13 @@ std::vector<LumpedCaseSpec> case_list(bool short_form) {
   add("lumped-outer-b5-paper", "bearing_outer_race_defect", "b5", 400.0, false, false, 0.9, 1.0, 9);
   add("lumped-inner-b3-rated", "bearing_inner_race_defect", "b3", 400.0, true, true, 1.1, 1.1, 10);
   add("lumped-ball-b6-paper", "bearing_ball_defect", "b6", 400.0, false, true, 1.0, 0.9, 11);
-  add("lumped-outer-pb-rated", "bearing_outer_race_defect", "pb", 2000.0, true, true, 0.95, 1.0, 12);
+  add("lumped-outer-pb-rated", "bearing_outer_race_defect", "pb", 2000.0, true, true, 0.95, 1.0,
+      12);
   add("lumped-unbalance-hss-rated", "shaft_unbalance", "hss", 0.05, true, false, 1.05, 1.0, 13);
-  add("lumped-misalignment-ims-paper", "shaft_misalignment", "ims", 4000.0, false, true, 0.9, 1.1, 14);
-  add("lumped-planet-pass-ring-rated", "planet_pass_modulation", "ring", 0.8, true, true, 1.0, 1.2, 15);
+  add("lumped-misalignment-ims-paper", "shaft_misalignment", "ims", 4000.0, false, true, 0.9, 1.1,
+      14);
+  add("lumped-planet-pass-ring-rated", "planet_pass_modulation", "ring", 0.8, true, true, 1.0, 1.2,
+      15);
   add("lumped-resonance-b5-paper", "housing_resonance", "b5", 4600.0, false, false, 1.0, 1.0, 16);
   return v;
 }
@@ -89,11 +92,14 @@ void generate(const std::string& dir, bool short_form) {
   for (const LumpedCaseSpec& s : case_list(short_form)) {
     const tools::diagnosis::LumpedCase c = tools::diagnosis::make_lumped_case(d, s);
     const fs::path out = fs::path(dir) / s.id;
-    if (const auto err = hal::write_bundle(out, c.recording)) throw std::runtime_error(err->to_string());
+    if (const auto err = hal::write_bundle(out, c.recording))
+      throw std::runtime_error(err->to_string());
     std::ofstream(out / "truth.json") << tools::diagnosis::lumped_truth_json(c);
-    std::printf("%-32s %-26s %-9s severity %-10.4g RMS change %5.1f %%, line margin %5.1f dB: %s\n", s.id.c_str(),
-                c.spec.effect.effect.empty() ? "control" : c.spec.effect.effect.c_str(), c.spec.effect.location.c_str(),
-                c.spec.effect.severity, 100.0 * c.concealment.rms_change, c.concealment.line_margin_db,
+    std::printf("%-32s %-26s %-9s severity %-10.4g RMS change %5.1f %%, line margin %5.1f dB: %s\n",
+                s.id.c_str(),
+                c.spec.effect.effect.empty() ? "control" : c.spec.effect.effect.c_str(),
+                c.spec.effect.location.c_str(), c.spec.effect.severity,
+                100.0 * c.concealment.rms_change, c.concealment.line_margin_db,
                 c.spec.effect.effect.empty() ? "-" : (c.concealed ? "concealed" : "NOT concealed"));
   }
 }
@@ -110,7 +116,8 @@ struct Row {
 };
 
 // Runs `drivetwin diagnose` and returns its CPU seconds (user + system of the child).
-double run_child(const std::string& exe, const std::vector<std::string>& args, int& status, std::string& out) {
+double run_child(const std::string& exe, const std::vector<std::string>& args, int& status,
+                 std::string& out) {
   int pipe_fd[2];
   if (pipe(pipe_fd) != 0) throw std::runtime_error("pipe failed");
   const pid_t pid = fork();
@@ -138,7 +145,8 @@ double run_child(const std::string& exe, const std::vector<std::string>& args, i
 
 bool fit_within(const nlohmann::json& fit) {
   for (const auto& [point, f] : fit.items())
-    if (f["f1"].get<double>() > 0.5 || f["f2"].get<double>() > 0.2 || f["f3"].get<double>() > 0.2) return false;
+    if (f["f1"].get<double>() > 0.5 || f["f2"].get<double>() > 0.2 || f["f3"].get<double>() > 0.2)
+      return false;
   return true;
 }
 
@@ -151,7 +159,8 @@ int run(const std::vector<std::string>& dirs, const std::string& exe, const std:
   for (const std::string& dir : dirs) {
     std::vector<fs::path> cases;
     for (const auto& e : fs::directory_iterator(dir))
-      if (fs::exists(e.path() / "recording.json") && fs::exists(e.path() / "truth.json")) cases.push_back(e.path());
+      if (fs::exists(e.path() / "recording.json") && fs::exists(e.path() / "truth.json"))
+        cases.push_back(e.path());
     std::sort(cases.begin(), cases.end());
     for (const fs::path& c : cases) {
       Row r;
@@ -166,7 +175,9 @@ int run(const std::vector<std::string>& dirs, const std::string& exe, const std:
       fs::remove(report);
       int status = 0;
       std::string out;
-      r.cpu_s = run_child(exe, {"diagnose", c.string(), "--json", report.string(), "--html", (c / "diagnosis.html").string()},
+      r.cpu_s = run_child(exe,
+                          {"diagnose", c.string(), "--json", report.string(), "--html",
+                           (c / "diagnosis.html").string()},
                           status, out);
       r.ran = WIFEXITED(status) && WEXITSTATUS(status) == 0 && fs::exists(report);
       if (!r.ran) {
@@ -191,13 +202,17 @@ int run(const std::vector<std::string>& dirs, const std::string& exe, const std:
       const auto at = out.find("candidate ");
       if (at != std::string::npos) r.top_ranked = out.substr(at + 10, out.find(':', at) - at - 10);
       r.false_alarm = r.control && !j["missing_physics"].empty();
-      r.ok = r.control ? !r.false_alarm : (r.named_effect == r.truth_effect && r.named_location == r.truth_location);
-      std::printf("%-34s truth %-26s %-7s named %-26s %-7s conf %.2f  residual %.3f → %.3f → %.3f  fit_after %s  "
-                  "%.1f s CPU  top-ranked: %s%s\n",
-                  r.id.c_str(), r.control ? "control" : r.truth_effect.c_str(), r.truth_location.c_str(),
-                  r.named_effect.empty() ? "-" : r.named_effect.c_str(), r.named_location.c_str(), r.confidence,
-                  r.r_before, r.r_cal, r.r_after, r.fit_after_ok ? "ok" : "NOT within", r.cpu_s,
-                  r.top_ranked.c_str(), r.ok ? "" : (r.false_alarm ? "  FALSE ALARM" : "  MISSED"));
+      r.ok = r.control ? !r.false_alarm
+                       : (r.named_effect == r.truth_effect && r.named_location == r.truth_location);
+      std::printf(
+          "%-34s truth %-26s %-7s named %-26s %-7s conf %.2f  residual %.3f → %.3f → %.3f  "
+          "fit_after %s  "
+          "%.1f s CPU  top-ranked: %s%s\n",
+          r.id.c_str(), r.control ? "control" : r.truth_effect.c_str(), r.truth_location.c_str(),
+          r.named_effect.empty() ? "-" : r.named_effect.c_str(), r.named_location.c_str(),
+          r.confidence, r.r_before, r.r_cal, r.r_after, r.fit_after_ok ? "ok" : "NOT within",
+          r.cpu_s, r.top_ranked.c_str(),
+          r.ok ? "" : (r.false_alarm ? "  FALSE ALARM" : "  MISSED"));
       std::fflush(stdout);
       rows.push_back(r);
     }
@@ -219,27 +234,43 @@ int run(const std::vector<std::string>& dirs, const std::string& exe, const std:
       fits += r.fit_after_ok ? 1 : 0;
     }
   }
-  std::printf("\n%zu cases run of %zu: effects named with their location %zu/%zu; false alarms on controls %zu/%zu; "
-              "residual at least halved from calibrated %zu/%zu; fit_after within the thresholds %zu/%zu (effects); "
-              "CPU per case mean %.1f s, max %.1f s\n",
-              ran, rows.size(), named, effects, alarms, controls, halved, effects, fits, effects,
-              ran ? cpu_sum / static_cast<double>(ran) : 0.0, cpu_max);
-  std::printf("\n| case | truth | named (confidence) | residual before / calibrated / after | fit_after | CPU s |\n|---|---|---|---|---|---|\n");
+  std::printf(
+      "\n%zu cases run of %zu: effects named with their location %zu/%zu; false alarms on controls "
+      "%zu/%zu; "
+      "residual at least halved from calibrated %zu/%zu; fit_after within the thresholds %zu/%zu "
+      "(effects); "
+      "CPU per case mean %.1f s, max %.1f s\n",
+      ran, rows.size(), named, effects, alarms, controls, halved, effects, fits, effects,
+      ran ? cpu_sum / static_cast<double>(ran) : 0.0, cpu_max);
+  std::printf(
+      "\n| case | truth | named (confidence) | residual before / calibrated / after | fit_after | "
+      "CPU s |\n|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
     std::printf("| %s | %s | %s | %.3f / %.3f / %.3f | %s | %.1f |\n", r.id.c_str(),
                 r.control ? "control" : (r.truth_effect + " @ " + r.truth_location).c_str(),
-                r.named_effect.empty() ? "none" : (r.named_effect + " @ " + r.named_location + " (" +
-                                                   std::to_string(r.confidence).substr(0, 4) + ")").c_str(),
+                r.named_effect.empty() ? "none"
+                                       : (r.named_effect + " @ " + r.named_location + " (" +
+                                          std::to_string(r.confidence).substr(0, 4) + ")")
+                                             .c_str(),
                 r.r_before, r.r_cal, r.r_after, r.fit_after_ok ? "within" : "not within", r.cpu_s);
   }
   if (!json_out.empty()) {
     nlohmann::json j = nlohmann::json::array();
     for (const Row& r : rows)
-      j.push_back({{"case", r.id}, {"truth_effect", r.truth_effect}, {"truth_location", r.truth_location},
-                   {"named_effect", r.named_effect}, {"named_location", r.named_location}, {"confidence", r.confidence},
-                   {"ok", r.ok}, {"false_alarm", r.false_alarm}, {"residual_before", r.r_before},
-                   {"residual_calibrated", r.r_cal}, {"residual_after", r.r_after}, {"fit_after", r.fit_after},
-                   {"cpu_s", r.cpu_s}, {"ran", r.ran}});
+      j.push_back({{"case", r.id},
+                   {"truth_effect", r.truth_effect},
+                   {"truth_location", r.truth_location},
+                   {"named_effect", r.named_effect},
+                   {"named_location", r.named_location},
+                   {"confidence", r.confidence},
+                   {"ok", r.ok},
+                   {"false_alarm", r.false_alarm},
+                   {"residual_before", r.r_before},
+                   {"residual_calibrated", r.r_cal},
+                   {"residual_after", r.r_after},
+                   {"fit_after", r.fit_after},
+                   {"cpu_s", r.cpu_s},
+                   {"ran", r.ran}});
     std::ofstream(json_out) << j.dump(2) << "\n";
   }
   return named == effects && alarms == 0 && ran == rows.size() ? 0 : 2;
@@ -253,10 +284,13 @@ int main(int argc, char** argv) {
     std::string generate_dir, json_out;
     std::vector<std::string> run_dirs;
     bool short_form = false;
-    std::string exe = (fs::path(argv[0]).parent_path() / ".." / ".." / "app" / "drivetwin").string();
-    cli.add_option("--generate", generate_dir, "Write the lumped generator's case list into this directory");
+    std::string exe =
+        (fs::path(argv[0]).parent_path() / ".." / ".." / "app" / "drivetwin").string();
+    cli.add_option("--generate", generate_dir,
+                   "Write the lumped generator's case list into this directory");
     cli.add_flag("--short", short_form, "The short case list (the test suite's)");
-    cli.add_option("--run", run_dirs, "Diagnose every case (bundle + truth.json) under these directories");
+    cli.add_option("--run", run_dirs,
+                   "Diagnose every case (bundle + truth.json) under these directories");
     cli.add_option("--drivetwin", exe, "The drivetwin executable");
     cli.add_option("--json", json_out, "Write the per-case results as JSON");
     CLI11_PARSE(cli, argc, argv);

@@ -16,15 +16,19 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
   std::mt19937_64 rng(spec.seed);
   std::uniform_real_distribution<double> uni(-1.0, 1.0);
   const double phase = std::numbers::pi * uni(rng);
-  const std::array<double, 2> gains{1.0 + spec.gain_error * uni(rng), 1.0 + spec.gain_error * uni(rng)};
+  const std::array<double, 2> gains{1.0 + spec.gain_error * uni(rng),
+                                    1.0 + spec.gain_error * uni(rng)};
   const double f0 = spec.rpm / 60.0, drift = spec.drift;
   const double w = 2.0 * std::numbers::pi / spec.drift_period_s;
-  auto revs = [=](double t) { return f0 * (t - drift / w * (std::cos(w * t + phase) - std::cos(phase))); };
+  auto revs = [=](double t) {
+    return f0 * (t - drift / w * (std::cos(w * t + phase) - std::cos(phase)));
+  };
   const double settle = 0.5;
   const bool control = spec.effect.effect.empty();
   std::vector<LumpedEffect> none;
-  const LumpedOutput without = simulate_lumped(d, revs, spec.torque_nm, spec.fs_hz, spec.seconds, settle, none,
-                                               spec.stiffness_scale, spec.damping_scale, spec.seed);
+  const LumpedOutput without =
+      simulate_lumped(d, revs, spec.torque_nm, spec.fs_hz, spec.seconds, settle, none,
+                      spec.stiffness_scale, spec.damping_scale, spec.seed);
   LumpedOutput with = without;
   // Noise: a fixed realisation per case (the same with and without the effect).
   std::array<std::vector<double>, 2> noise;
@@ -34,7 +38,8 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
     for (double v : x) mean += v;
     mean /= static_cast<double>(x.size());
     for (double v : x) ss += (v - mean) * (v - mean);
-    std::normal_distribution<double> g(0.0, spec.noise * std::sqrt(ss / static_cast<double>(x.size())));
+    std::normal_distribution<double> g(0.0,
+                                       spec.noise * std::sqrt(ss / static_cast<double>(x.size())));
     noise[c].resize(x.size());
     for (double& v : noise[c]) v = g(rng);
   }
@@ -56,10 +61,11 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
     const double knob_min = resonance ? 0.005 : 0.0;
     double too_hidden = 0.0, too_visible = 0.0;  // 0: not known yet
     for (int attempt = 0; attempt < 10; ++attempt) {
-      with = simulate_lumped(d, revs, spec.torque_nm, spec.fs_hz, spec.seconds, settle, {spec.effect},
-                             spec.stiffness_scale, spec.damping_scale, spec.seed);
+      with = simulate_lumped(d, revs, spec.torque_nm, spec.fs_hz, spec.seconds, settle,
+                             {spec.effect}, spec.stiffness_scale, spec.damping_scale, spec.seed);
       recorded = record(with);
-      out.concealment = concealment({with.point1, with.point2}, {without.point1, without.point2}, recorded);
+      out.concealment =
+          concealment({with.point1, with.point2}, {without.point1, without.point2}, recorded);
       out.concealed = out.concealment.concealed();
       if (!spec.conceal) break;
       const double margin = out.concealment.line_margin_db;
@@ -67,7 +73,10 @@ LumpedCase make_lumped_case(const model::Drivetrain& d, const LumpedCaseSpec& sp
       if (!visible && margin <= 20.0) break;
       // "stronger" means a larger severity, or a smaller damping of a resonance.
       const bool stronger_needed = !visible;
-      if (visible) too_visible = knob; else too_hidden = knob;
+      if (visible)
+        too_visible = knob;
+      else
+        too_hidden = knob;
       double next;
       if (too_hidden > 0.0 && too_visible > 0.0) {
         next = std::sqrt(too_hidden * too_visible);
@@ -105,8 +114,10 @@ std::string lumped_truth_json(const LumpedCase& c) {
   nlohmann::ordered_json j;
   j["generator"] = "lumped";
   j["case"] = c.spec.id;
-  j["effect"] = c.spec.effect.effect.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.spec.effect.effect);
-  j["location"] = c.spec.effect.location.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(c.spec.effect.location);
+  j["effect"] = c.spec.effect.effect.empty() ? nlohmann::ordered_json(nullptr)
+                                             : nlohmann::ordered_json(c.spec.effect.effect);
+  j["location"] = c.spec.effect.location.empty() ? nlohmann::ordered_json(nullptr)
+                                                 : nlohmann::ordered_json(c.spec.effect.location);
   j["severity"] = c.spec.effect.severity;
   if (c.spec.effect.effect == "housing_resonance") j["damping_ratio"] = c.spec.effect.damping;
   j["rotor_speed_rpm"] = c.spec.rpm;

@@ -16,21 +16,21 @@ namespace tools::diagnosis {
 
 struct LumpedCaseSpec {
   std::string id;
-  LumpedEffect effect;            // effect.effect empty: a control (parameter drift only)
+  LumpedEffect effect;  // effect.effect empty: a control (parameter drift only)
   double rpm = 8.33, torque_nm = 361747.0;
   double seconds = 30.0, fs_hz = 25600.0;
   double drift = 0.02, drift_period_s = 23.0;
   double noise = 0.05, gain_error = 0.1;
   bool tacho = false;
   double stiffness_scale = 1.0, damping_scale = 1.0;
-  bool conceal = false;           // scale the severity (≤ 8 tries) to a concealed 8–20 dB margin
+  bool conceal = false;  // scale the severity (≤ 8 tries) to a concealed 8–20 dB margin
   unsigned seed = 1;
 };
 
 struct LumpedCase {
-  LumpedCaseSpec spec;            // as run (severity after concealment)
+  LumpedCaseSpec spec;  // as run (severity after concealment)
   hal::Recording recording;
-  Concealment concealment;        // zero for a control
+  Concealment concealment;  // zero for a control
   bool concealed = false;
 };
 

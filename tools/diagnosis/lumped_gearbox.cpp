@@ -35,10 +35,10 @@ double window(double x, double h) {
 }
 
 struct Mesh {
-  Vec g = Vec::Zero();  // deflection gradient
-  double k = 0.0;       // [N/m] mean
-  double fluct[3] = {0, 0, 0};  // stiffness harmonics (relative)
-  double te = 0.0;      // [m] static transmission error amplitude
+  Vec g = Vec::Zero();               // deflection gradient
+  double k = 0.0;                    // [N/m] mean
+  double fluct[3] = {0, 0, 0};       // stiffness harmonics (relative)
+  double te = 0.0;                   // [m] static transmission error amplitude
   double teeth_per_rotor_rev = 0.0;  // mesh cycles per rotor revolution
   double crack_loss = 0.0, crack_half = 0.0;
   double crack_rate = 0.0;  // cracked-gear revolutions per rotor revolution
@@ -49,15 +49,16 @@ struct Mesh {
 };
 
 struct Impacts {
-  std::vector<double> times;  // [s]
-  std::vector<double> amplitude;  // [N]
+  std::vector<double> times;       // [s]
+  std::vector<double> amplitude;   // [N]
   int dof = -1, counter_dof = -1;  // force on dof, reaction on counter_dof (−1: ground)
 };
 
 }  // namespace
 
-LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<double(double)>& rotor_revs,
-                             double torque_nm, double fs_hz, double seconds, double settle_s,
+LumpedOutput simulate_lumped(const model::Drivetrain& d,
+                             const std::function<double(double)>& rotor_revs, double torque_nm,
+                             double fs_hz, double seconds, double settle_s,
                              const std::vector<LumpedEffect>& effects, double stiffness_scale,
                              double damping_scale, unsigned seed) {
   const model::Kinematics kin(d);
@@ -75,8 +76,8 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
   const model::Gear& g4 = *d.gear(hs.gears[1]);
   const double ratio_p = 1.0 + static_cast<double>(ring.teeth) / sun.teeth;
   const double ratio_total = kin.overall_ratio();
-  const double rate_sun = ratio_p;                       // sun shaft per rotor rev
-  const double rate_ims = *kin.shaft_hz("ims", 60.0);    // per rotor rev
+  const double rate_sun = ratio_p;                     // sun shaft per rotor rev
+  const double rate_ims = *kin.shaft_hz("ims", 60.0);  // per rotor rev
   const double rate_hss = *kin.shaft_hz("hss", 60.0);
   const double rate_planet = *kin.shaft_hz("planet", 60.0);
   const double sin_a = std::sin(is.pressure_angle_rad);
@@ -87,7 +88,8 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
     return 0.5 * g.mass_kg * r * r;
   };
   Vec m = Vec::Zero();
-  m[kThC] = 900.0 + ps.planets * planet.mass_kg * std::pow(0.5 * ps.normal_module_m * (sun.teeth + planet.teeth), 2);
+  m[kThC] = 900.0 + ps.planets * planet.mass_kg *
+                        std::pow(0.5 * ps.normal_module_m * (sun.teeth + planet.teeth), 2);
   m[kThS] = disc(ps, sun) + disc(is, g1) + 5.0;
   m[kThI] = disc(is, g2) + disc(hs, g3) + 3.0;
   m[kThH] = disc(hs, g4) + 0.8;
@@ -111,18 +113,18 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
     }
   };
   const double s = stiffness_scale;
-  spring(kYs, -1, 2 * 2.0e9 * s);      // b1, b2
-  spring(kYi, kSeat3, 1.5e9 * s);      // b3
-  spring(kYi, -1, 1.5e9 * s);          // b4
-  spring(kYh, kSeat5, 1.0e9 * s);      // b5
-  spring(kYh, -1, 1.0e9 * s);          // b6
+  spring(kYs, -1, 2 * 2.0e9 * s);  // b1, b2
+  spring(kYi, kSeat3, 1.5e9 * s);  // b3
+  spring(kYi, -1, 1.5e9 * s);      // b4
+  spring(kYh, kSeat5, 1.0e9 * s);  // b5
+  spring(kYh, -1, 1.0e9 * s);      // b6
   spring(kSeat3, -1, 1.5e10);
   spring(kSeat5, -1, 1.5e10);
   spring(kYr, -1, 5.0e9);
-  spring(kYr, kSeat3, 2.0e8);          // housing path ring → intermediate seat
-  spring(kThH, kThG, 5.0e6);           // generator coupling
-  spring(kThG, -1, 2.0e4);             // converter speed loop
-  spring(kRes, -1, 1.0);               // the resonator, decoupled unless switched on
+  spring(kYr, kSeat3, 2.0e8);  // housing path ring → intermediate seat
+  spring(kThH, kThG, 5.0e6);   // generator coupling
+  spring(kThG, -1, 2.0e4);     // converter speed loop
+  spring(kRes, -1, 1.0);       // the resonator, decoupled unless switched on
 
   // Meshes.
   std::vector<Mesh> meshes(3);
@@ -180,13 +182,37 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       double rate = 0.0, eps = 2.5;
       int windows = 1;
       int teeth = 0;
-      if (e.location == "sun") { mi = 0; rate = ratio_p - 1.0; windows = ps.planets; eps = 1.6; teeth = sun.teeth; }
-      else if (e.location == "planet") { mi = 0; rate = rate_planet; windows = 2; eps = 1.6; teeth = planet.teeth; }
-      else if (e.location == "g1") { mi = 1; rate = rate_sun; teeth = g1.teeth; }
-      else if (e.location == "g2") { mi = 1; rate = rate_ims; teeth = g2.teeth; }
-      else if (e.location == "g3") { mi = 2; rate = rate_ims; teeth = g3.teeth; }
-      else if (e.location == "g4") { mi = 2; rate = rate_hss; teeth = g4.teeth; }
-      else throw std::runtime_error("lumped gearbox: tooth_crack at unknown gear '" + e.location + "'");
+      if (e.location == "sun") {
+        mi = 0;
+        rate = ratio_p - 1.0;
+        windows = ps.planets;
+        eps = 1.6;
+        teeth = sun.teeth;
+      } else if (e.location == "planet") {
+        mi = 0;
+        rate = rate_planet;
+        windows = 2;
+        eps = 1.6;
+        teeth = planet.teeth;
+      } else if (e.location == "g1") {
+        mi = 1;
+        rate = rate_sun;
+        teeth = g1.teeth;
+      } else if (e.location == "g2") {
+        mi = 1;
+        rate = rate_ims;
+        teeth = g2.teeth;
+      } else if (e.location == "g3") {
+        mi = 2;
+        rate = rate_ims;
+        teeth = g3.teeth;
+      } else if (e.location == "g4") {
+        mi = 2;
+        rate = rate_hss;
+        teeth = g4.teeth;
+      } else
+        throw std::runtime_error("lumped gearbox: tooth_crack at unknown gear '" + e.location +
+                                 "'");
       meshes[mi].crack_loss = e.severity;
       meshes[mi].crack_half = 0.5 * eps / teeth;
       meshes[mi].crack_rate = rate;
@@ -194,12 +220,24 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
     } else if (e.effect == "gear_eccentricity") {
       int mi = -1;
       double rate = 0.0;
-      if (e.location == "sun") { mi = 0; rate = ratio_p - 1.0; }
-      else if (e.location == "g1") { mi = 1; rate = rate_sun; }
-      else if (e.location == "g2") { mi = 1; rate = rate_ims; }
-      else if (e.location == "g3") { mi = 2; rate = rate_ims; }
-      else if (e.location == "g4") { mi = 2; rate = rate_hss; }
-      else throw std::runtime_error("lumped gearbox: gear_eccentricity at unknown gear '" + e.location + "'");
+      if (e.location == "sun") {
+        mi = 0;
+        rate = ratio_p - 1.0;
+      } else if (e.location == "g1") {
+        mi = 1;
+        rate = rate_sun;
+      } else if (e.location == "g2") {
+        mi = 1;
+        rate = rate_ims;
+      } else if (e.location == "g3") {
+        mi = 2;
+        rate = rate_ims;
+      } else if (e.location == "g4") {
+        mi = 2;
+        rate = rate_hss;
+      } else
+        throw std::runtime_error("lumped gearbox: gear_eccentricity at unknown gear '" +
+                                 e.location + "'");
       meshes[mi].ecc = e.severity;
       meshes[mi].ecc_rate = rate;
       const model::GearStage& st = d.stages[static_cast<std::size_t>(mi)];
@@ -208,23 +246,38 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       meshes[mi].tan_alpha = std::tan(st.pressure_angle_rad);
     } else if (e.effect.rfind("bearing_", 0) == 0) {
       const model::Bearing* b = d.bearing(e.location);
-      if (b == nullptr) throw std::runtime_error("lumped gearbox: unknown bearing '" + e.location + "'");
+      if (b == nullptr)
+        throw std::runtime_error("lumped gearbox: unknown bearing '" + e.location + "'");
       const model::BearingFrequencies o = model::bearing_orders(*b);
       const double fr = shaft_rate(b->shaft);  // shaft revs per rotor rev
       double defect = 0.0;
       int kind = 0;
-      if (e.effect == "bearing_outer_race_defect") defect = o.bpfo_hz;
-      else if (e.effect == "bearing_inner_race_defect") { defect = o.bpfi_hz; kind = 1; }
-      else if (e.effect == "bearing_ball_defect") { defect = 2.0 * o.bsf_hz; kind = 2; }
-      else throw std::runtime_error("lumped gearbox: unknown effect '" + e.effect + "'");
+      if (e.effect == "bearing_outer_race_defect")
+        defect = o.bpfo_hz;
+      else if (e.effect == "bearing_inner_race_defect") {
+        defect = o.bpfi_hz;
+        kind = 1;
+      } else if (e.effect == "bearing_ball_defect") {
+        defect = 2.0 * o.bsf_hz;
+        kind = 2;
+      } else
+        throw std::runtime_error("lumped gearbox: unknown effect '" + e.effect + "'");
       Impacts im;
       const std::string& id = b->id;
-      if (id == "b1" || id == "b2") im.dof = kYs;
-      else if (id == "b3") { im.dof = kYi; im.counter_dof = kSeat3; }
-      else if (id == "b4") im.dof = kYi;
-      else if (id == "b5") { im.dof = kYh; im.counter_dof = kSeat5; }
-      else if (id == "b6") im.dof = kYh;
-      else im.dof = kYr;  // planet bearings: through the ring
+      if (id == "b1" || id == "b2")
+        im.dof = kYs;
+      else if (id == "b3") {
+        im.dof = kYi;
+        im.counter_dof = kSeat3;
+      } else if (id == "b4")
+        im.dof = kYi;
+      else if (id == "b5") {
+        im.dof = kYh;
+        im.counter_dof = kSeat5;
+      } else if (id == "b6")
+        im.dof = kYh;
+      else
+        im.dof = kYr;  // planet bearings: through the ring
       // Impact instants: the defect angle advances at defect·(1 − slip)·shaft speed.
       double t = 0.0;
       const double h = 1e-4;
@@ -249,19 +302,31 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
       impacts.push_back(std::move(im));
     } else if (e.effect == "shaft_unbalance" || e.effect == "shaft_misalignment") {
       ShaftForce f{};
-      if (e.location == "sun_shaft") { f.dof = kYs; f.tdof = kThS; }
-      else if (e.location == "ims") { f.dof = kYi; f.tdof = kThI; }
-      else if (e.location == "hss") { f.dof = kYh; f.tdof = kThH; }
-      else throw std::runtime_error("lumped gearbox: " + e.effect + " at unknown shaft '" + e.location + "'");
+      if (e.location == "sun_shaft") {
+        f.dof = kYs;
+        f.tdof = kThS;
+      } else if (e.location == "ims") {
+        f.dof = kYi;
+        f.tdof = kThI;
+      } else if (e.location == "hss") {
+        f.dof = kYh;
+        f.tdof = kThH;
+      } else
+        throw std::runtime_error("lumped gearbox: " + e.effect + " at unknown shaft '" +
+                                 e.location + "'");
       f.rate = shaft_rate(e.location);
       (e.effect == "shaft_unbalance" ? f.unbalance : f.misalignment) = e.severity;
       shaft_forces.push_back(f);
     } else if (e.effect == "planet_pass_modulation") {
       ppm_depth = e.severity;
     } else if (e.effect == "housing_resonance") {
-      if (e.location == "b5") resonance_seat = kSeat5;
-      else if (e.location == "b3") resonance_seat = kSeat3;
-      else throw std::runtime_error("lumped gearbox: housing_resonance needs a measured bearing (b5, b3)");
+      if (e.location == "b5")
+        resonance_seat = kSeat5;
+      else if (e.location == "b3")
+        resonance_seat = kSeat3;
+      else
+        throw std::runtime_error(
+            "lumped gearbox: housing_resonance needs a measured bearing (b5, b3)");
       // the resonator's spring and damper are added below
     } else {
       throw std::runtime_error("lumped gearbox: unknown effect '" + e.effect + "'");
@@ -313,13 +378,15 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
     // mesh cycle's phase is modulated by that over the base pitch.
     const double runout = me.ecc > 0.0 ? me.ecc * std::sin(2 * kPi * me.ecc_rate * rotor) : 0.0;
     if (me.ecc > 0.0) phi += runout * me.tan_alpha / me.base_pitch;
-    k = me.k * (1.0 + me.fluct[0] * std::cos(2 * kPi * phi) + me.fluct[1] * std::cos(4 * kPi * phi + 0.5) +
-                me.fluct[2] * std::cos(6 * kPi * phi + 1.0));
+    k = me.k *
+        (1.0 + me.fluct[0] * std::cos(2 * kPi * phi) + me.fluct[1] * std::cos(4 * kPi * phi + 0.5) +
+         me.fluct[2] * std::cos(6 * kPi * phi + 1.0));
     if (me.crack_loss > 0.0) {
       const double x = frac(me.crack_rate * rotor * me.crack_windows);
       k *= 1.0 - me.crack_loss * window(x, me.crack_half * me.crack_windows);
     }
-    e = me.te * (std::sin(2 * kPi * phi) + 0.3 * std::sin(4 * kPi * phi + 0.4) + 0.1 * std::sin(6 * kPi * phi + 1.1));
+    e = me.te * (std::sin(2 * kPi * phi) + 0.3 * std::sin(4 * kPi * phi + 0.4) +
+                 0.1 * std::sin(6 * kPi * phi + 1.1));
     e += runout * me.tan_alpha;
   };
 
@@ -343,7 +410,8 @@ LumpedOutput simulate_lumped(const model::Drivetrain& d, const std::function<dou
     for (const ShaftForce& sf : shaft_forces) {
       const double ang = 2 * kPi * sf.rate * rotor;
       const double w = 2 * kPi * sf.rate * rotor_hz;
-      f[sf.dof] += sf.unbalance * w * w * std::cos(ang) + sf.misalignment * (std::cos(2 * ang) + 0.4 * std::cos(ang));
+      f[sf.dof] += sf.unbalance * w * w * std::cos(ang) +
+                   sf.misalignment * (std::cos(2 * ang) + 0.4 * std::cos(ang));
       f[sf.tdof] += 0.05 * sf.misalignment * std::cos(2 * ang);
     }
     for (std::size_t i = 0; i < impacts.size(); ++i) {

@@ -51,25 +51,26 @@
 namespace tools::diagnosis {
 
 struct LumpedEffect {
-  std::string effect;    // contract id, "" for none
-  std::string location;  // component id
-  double severity = 0.0; // crack: stiffness loss [-]; eccentricity [m]; bearing: impact force [N];
-                         // unbalance [kg·m]; misalignment [N]; planet pass: depth [-];
-                         // resonance: frequency [Hz]
-  double slip = 0.01;    // [-] bearing defects
-  double damping = 0.02; // [-] housing resonance
+  std::string effect;     // contract id, "" for none
+  std::string location;   // component id
+  double severity = 0.0;  // crack: stiffness loss [-]; eccentricity [m]; bearing: impact force [N];
+                          // unbalance [kg·m]; misalignment [N]; planet pass: depth [-];
+                          // resonance: frequency [Hz]
+  double slip = 0.01;     // [-] bearing defects
+  double damping = 0.02;  // [-] housing resonance
 };
 
 struct LumpedOutput {
-  std::vector<double> point1, point2;  // [m/s²] seat (or resonator) acceleration of b5, b3
-  std::vector<double> hss_revolutions; // nominal hss angle / 2π
+  std::vector<double> point1, point2;   // [m/s²] seat (or resonator) acceleration of b5, b3
+  std::vector<double> hss_revolutions;  // nominal hss angle / 2π
 };
 
 /// Simulates `seconds` at `fs_hz` (after `settle_s` discarded) with the rotor angle
 /// rotor_revs(t) [rev] and input torque `torque_nm`; `stiffness_scale` scales every mesh
 /// and bearing stiffness (a parameter drift), `damping_scale` the damping.
-LumpedOutput simulate_lumped(const model::Drivetrain& drivetrain, const std::function<double(double)>& rotor_revs,
-                             double torque_nm, double fs_hz, double seconds, double settle_s,
+LumpedOutput simulate_lumped(const model::Drivetrain& drivetrain,
+                             const std::function<double(double)>& rotor_revs, double torque_nm,
+                             double fs_hz, double seconds, double settle_s,
                              const std::vector<LumpedEffect>& effects, double stiffness_scale,
                              double damping_scale, unsigned seed);
 

@@ -31,16 +31,17 @@ int run(int argc, char** argv) {
   CLI::App cli{"Recording bundle from the independent lumped gearbox model with one effect"};
   std::string out, effect, location;
   double severity = 0.0, rpm = 8.33, torque = 361747.0, duration = 30.0, fs = 25600.0, drift = 0.02,
-         drift_period = 23.0, noise = 0.05, gain_error = 0.1, stiffness = 1.0, damping = 1.0, slip = 0.01,
-         damping_ratio = 0.02;
+         drift_period = 23.0, noise = 0.05, gain_error = 0.1, stiffness = 1.0, damping = 1.0,
+         slip = 0.01, damping_ratio = 0.02;
   bool tacho = false, conceal = false;
   unsigned seed = 1;
   cli.add_option("--out", out, "Bundle directory to write")->required();
   cli.add_option("--effect", effect, "Effect id of the diagnosis contract (none when absent)");
   cli.add_option("--location", location, "Component id");
-  cli.add_option("--severity", severity,
-                 "crack: stiffness loss; eccentricity [m]; bearing: impact force [N]; unbalance [kg·m]; "
-                 "misalignment [N]; planet pass: depth; resonance: frequency [Hz]");
+  cli.add_option(
+      "--severity", severity,
+      "crack: stiffness loss; eccentricity [m]; bearing: impact force [N]; unbalance [kg·m]; "
+      "misalignment [N]; planet pass: depth; resonance: frequency [Hz]");
   cli.add_option("--rpm", rpm, "Mean rotor speed [rpm]");
   cli.add_option("--torque", torque, "Rotor torque [N·m]");
   cli.add_option("--duration", duration, "Length [s]");
@@ -50,12 +51,14 @@ int run(int argc, char** argv) {
   cli.add_option("--noise", noise, "White noise RMS as a fraction of each channel's RMS");
   cli.add_option("--gain-error", gain_error, "Sensor gain error: each channel × (1 ± up to this)");
   cli.add_flag("--tacho", tacho, "Add a once-per-revolution tacho channel on the hss");
-  cli.add_option("--stiffness-scale", stiffness, "Every mesh and bearing stiffness × this (parameter drift)");
+  cli.add_option("--stiffness-scale", stiffness,
+                 "Every mesh and bearing stiffness × this (parameter drift)");
   cli.add_option("--damping-scale", damping, "Damping × this (parameter drift)");
   cli.add_option("--slip", slip, "Bearing defects: rolling-element slip");
   cli.add_option("--damping-ratio", damping_ratio, "Housing resonance: damping ratio");
   cli.add_option("--seed", seed, "Noise, gain, jitter and drift-phase seed");
-  cli.add_flag("--conceal", conceal, "Scale the severity (up to 8 tries) until concealed with an 8–20 dB margin");
+  cli.add_flag("--conceal", conceal,
+               "Scale the severity (up to 8 tries) until concealed with an 8–20 dB margin");
   CLI11_PARSE(cli, argc, argv);
 
   tools::diagnosis::LumpedCaseSpec spec;
@@ -74,20 +77,25 @@ int run(int argc, char** argv) {
   spec.damping_scale = damping;
   spec.conceal = conceal;
   spec.seed = seed;
-  const tools::diagnosis::LumpedCase c = tools::diagnosis::make_lumped_case(model::paper_2mw(), spec);
+  const tools::diagnosis::LumpedCase c =
+      tools::diagnosis::make_lumped_case(model::paper_2mw(), spec);
   if (!effect.empty()) {
-    std::printf("concealment: severity %.4g, RMS change %.1f %% (< 10 %%), strongest effect line %.1f dB below the "
-                "tenth peak (≥ 6 dB): %s\n",
-                c.spec.effect.severity, 100.0 * c.concealment.rms_change, c.concealment.line_margin_db,
-                c.concealed ? "CONCEALED" : "NOT CONCEALED");
+    std::printf(
+        "concealment: severity %.4g, RMS change %.1f %% (< 10 %%), strongest effect line %.1f dB "
+        "below the "
+        "tenth peak (≥ 6 dB): %s\n",
+        c.spec.effect.severity, 100.0 * c.concealment.rms_change, c.concealment.line_margin_db,
+        c.concealed ? "CONCEALED" : "NOT CONCEALED");
   }
   const hal::Recording& rec = c.recording;
   if (const auto err = hal::write_bundle(out, rec)) {
     std::fprintf(stderr, "synth_lumped_bundle: %s\n", err->to_string().c_str());
     return 1;
   }
-  std::ofstream(std::filesystem::path(out) / "truth.json") << tools::diagnosis::lumped_truth_json(c);
-  std::printf("wrote %s: %zu samples at %.0f Hz, lumped gearbox, %s\n", out.c_str(), rec.sample_count(), fs,
+  std::ofstream(std::filesystem::path(out) / "truth.json")
+      << tools::diagnosis::lumped_truth_json(c);
+  std::printf("wrote %s: %zu samples at %.0f Hz, lumped gearbox, %s\n", out.c_str(),
+              rec.sample_count(), fs,
               effect.empty() ? "no effect" : (effect + " at " + location).c_str());
   return 0;
 }

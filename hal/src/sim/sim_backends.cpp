@@ -34,9 +34,9 @@ const char* to_string(SimFault f) {
 }
 
 bool parse_sim_fault(const char* s, SimFault& out) {
-  for (auto f : {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy,
-                 SimFault::kGarbage, SimFault::kGaps, SimFault::kBusOff, SimFault::kNonFinite,
-                 SimFault::kOutOfRange}) {
+  for (auto f :
+       {SimFault::kNone, SimFault::kSilent, SimFault::kStuck, SimFault::kNoisy, SimFault::kGarbage,
+        SimFault::kGaps, SimFault::kBusOff, SimFault::kNonFinite, SimFault::kOutOfRange}) {
     if (std::strcmp(s, to_string(f)) == 0) {
       out = f;
       return true;

@@ -28,8 +28,8 @@ double envelope_max_order(const Catalogue& catalogue) {
 
 bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMap& map,
                      const AnalysisWindow& window, const Catalogue& catalogue,
-                     const AnalysisConfig& config, double env_max_order,
-                     const KurtogramBand* band, ChannelAnalysis& out) {
+                     const AnalysisConfig& config, double env_max_order, const KurtogramBand* band,
+                     ChannelAnalysis& out) {
   if (!map.valid() || window.revs < 8) return false;
   // The window's time span and slowest speed.
   const double t0 = map.time_at(window.start_rev);
@@ -53,8 +53,8 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
     return false;
 
   // Band where impacts ring: kurtogram of the prewhitened window (or the given band).
-  const std::vector<double> w = config.prewhiten ? cepstral_prewhiten(x + i0, i1 - i0)
-                                                 : std::vector<double>(x + i0, x + i1);
+  const std::vector<double> w =
+      config.prewhiten ? cepstral_prewhiten(x + i0, i1 - i0) : std::vector<double>(x + i0, x + i1);
   const double env_hz = std::max(env_max_order, 1.0) * mean_hz * 1.05;
   if (band != nullptr) {
     out.band = *band;
@@ -68,7 +68,8 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
     // Away from the prewhitened record's tapered ends.
     const auto edge = static_cast<std::size_t>(2.0 * kCpwTaper * static_cast<double>(w.size()));
     out.kurtogram = kurtogram(w.data() + edge, w.size() - 2 * edge, fs_hz, kc);
-    const double ceiling = config.band_max_hz > 0.0 ? std::min(config.band_max_hz, fs_hz / 2.0) : fs_hz / 2.0;
+    const double ceiling =
+        config.band_max_hz > 0.0 ? std::min(config.band_max_hz, fs_hz / 2.0) : fs_hz / 2.0;
     out.band = {};
     out.band.kurtosis = -1e300;
     for (const KurtogramBand& b : out.kurtogram.bands)
@@ -83,7 +84,8 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
   mean /= static_cast<double>(std::max<std::size_t>(env.size(), 1));
   if (mean > 0.0)
     for (double& v : env) v /= mean;
-  const std::size_t spr_env = next_pow2(static_cast<std::size_t>(std::ceil(4.0 * std::max(env_max_order, 4.0))));
+  const std::size_t spr_env =
+      next_pow2(static_cast<std::size_t>(std::ceil(4.0 * std::max(env_max_order, 4.0))));
   env = lowpass(env.data(), env.size(), fs_hz, 0.45 * static_cast<double>(spr_env) * slowest);
   // The window as a map of its own: the envelope buffer starts at sample i0.
   std::vector<double> shifted = map.pulses();
@@ -115,9 +117,9 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
           spec.mesh_orders.push_back(static_cast<int>(std::lround(per_rev)));
       }
       if (spec.mesh_orders.empty()) continue;
-      const std::size_t spr_s = std::min<std::size_t>(next_pow2(static_cast<std::size_t>(
-                                                          std::ceil(fs_hz / (slowest * s.order)))),
-                                                      std::size_t{1} << 16);
+      const std::size_t spr_s = std::min<std::size_t>(
+          next_pow2(static_cast<std::size_t>(std::ceil(fs_hz / (slowest * s.order)))),
+          std::size_t{1} << 16);
       if (synchronous_average(x, n, fs_hz, map, s.order, start, spr_s, revs, spec, a.tsa))
         out.averages.push_back(std::move(a));
     }

@@ -39,7 +39,8 @@ double AngleMap::time_at(double revolutions) const {
   const std::size_t n = pulses_.size();
   if (revolutions <= 0.0) return pulses_[0] + revolutions * (pulses_[1] - pulses_[0]);
   if (revolutions >= static_cast<double>(n - 1)) {
-    return pulses_[n - 1] + (revolutions - static_cast<double>(n - 1)) * (pulses_[n - 1] - pulses_[n - 2]);
+    return pulses_[n - 1] +
+           (revolutions - static_cast<double>(n - 1)) * (pulses_[n - 1] - pulses_[n - 2]);
   }
   const auto i = static_cast<std::size_t>(revolutions);
   const double frac = revolutions - static_cast<double>(i);
@@ -82,7 +83,8 @@ bool resample_to_angle(const double* x, std::size_t n, double fs_hz, const Angle
   const double inv_spr = 1.0 / static_cast<double>(spr);
   for (std::size_t r = 0; r < revs; ++r) {
     for (std::size_t j = 0; j < spr; ++j) {
-      const double shaft_rev = start_rev + static_cast<double>(r) + static_cast<double>(j) * inv_spr;
+      const double shaft_rev =
+          start_rev + static_cast<double>(r) + static_cast<double>(j) * inv_spr;
       const double s = map.time_at(shaft_rev / ratio) * fs_hz;
       auto i = static_cast<std::size_t>(s);
       i = std::clamp<std::size_t>(i, 1, n - 3);
@@ -98,9 +100,8 @@ double OrderSpectrum::noise(double order) const {
   return lobe_noise_floor(amplitude, line(order), 2, 24);
 }
 
-bool order_spectrum(const double* x, std::size_t n, double fs_hz, const AngleMap& map,
-                    double ratio, double start_rev, std::size_t spr, std::size_t revs,
-                    OrderSpectrum& out) {
+bool order_spectrum(const double* x, std::size_t n, double fs_hz, const AngleMap& map, double ratio,
+                    double start_rev, std::size_t spr, std::size_t revs, OrderSpectrum& out) {
   std::vector<double> angle;
   if (!resample_to_angle(x, n, fs_hz, map, ratio, start_rev, spr, revs, angle)) return false;
   const Fft fft(angle.size());

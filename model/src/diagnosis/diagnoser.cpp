@@ -45,7 +45,8 @@ double spectral_residual(const Spectra& rec, const Spectra& sim, double max_hz) 
     const OrderSpectrum& m = rec[p].spectrum;
     const OrderSpectrum& s = sim[p].spectrum;
     if (m.amplitude.empty() || m.revolutions != s.revolutions) return 1.0;
-    const auto last = static_cast<std::size_t>(max_hz / m.shaft_hz * static_cast<double>(m.revolutions));
+    const auto last =
+        static_cast<std::size_t>(max_hz / m.shaft_hz * static_cast<double>(m.revolutions));
     for (std::size_t k = 1; k <= last && k < m.amplitude.size(); ++k) {
       const double a_s = k < s.amplitude.size() ? s.amplitude[k] : 0.0;
       const double d = m.amplitude[k] - a_s;
@@ -142,18 +143,32 @@ class EffectFitMap : public calibration::FeatureMap {
  public:
   EffectFitMap(EffectSimulator& sim, const Catalogue& cat, const Hypothesis& h,
                const std::vector<EffectParameter>& params, const std::vector<FitLine>& lines,
-               const DynamicsParameters& calibrated, const calibration::OperatingPoint& op, double fs,
-               double ref_hz, std::size_t revs, const AnalysisConfig& acfg, const KurtogramBand* bands,
-               double env_order, double measured_rate, std::size_t& simulations)
-      : sim_(sim), cat_(cat), h_(h), params_(params), lines_(lines), calibrated_(calibrated), op_(op), fs_(fs),
-        ref_hz_(ref_hz), revs_(revs), acfg_(acfg), bands_(bands), env_order_(env_order),
-        measured_rate_(measured_rate), simulations_(simulations) {}
+               const DynamicsParameters& calibrated, const calibration::OperatingPoint& op,
+               double fs, double ref_hz, std::size_t revs, const AnalysisConfig& acfg,
+               const KurtogramBand* bands, double env_order, double measured_rate,
+               std::size_t& simulations)
+      : sim_(sim),
+        cat_(cat),
+        h_(h),
+        params_(params),
+        lines_(lines),
+        calibrated_(calibrated),
+        op_(op),
+        fs_(fs),
+        ref_hz_(ref_hz),
+        revs_(revs),
+        acfg_(acfg),
+        bands_(bands),
+        env_order_(env_order),
+        measured_rate_(measured_rate),
+        simulations_(simulations) {}
   std::size_t variables() const override { return params_.size(); }
   std::size_t features() const override { return lines_.size() + kPoints; }
   double lower(std::size_t i) const override { return to_search(i, params_[i].lower); }
   double upper(std::size_t i) const override { return to_search(i, params_[i].upper); }
   double to_search(std::size_t i, double v) const {
-    return params_[i].log_scale ? std::log(std::max(v, 1e-300)) : v / (params_[i].upper - params_[i].lower);
+    return params_[i].log_scale ? std::log(std::max(v, 1e-300))
+                                : v / (params_[i].upper - params_[i].lower);
   }
   double from_search(std::size_t i, double x) const {
     return params_[i].log_scale ? std::exp(x) : x * (params_[i].upper - params_[i].lower);
@@ -161,7 +176,8 @@ class EffectFitMap : public calibration::FeatureMap {
   EffectSetting setting(const double* x) const {
     EffectSetting s;
     s.hypothesis = &h_;
-    for (std::size_t i = 0; i < params_.size() && i < kMaxEffectParameters; ++i) s.values[i] = from_search(i, x[i]);
+    for (std::size_t i = 0; i < params_.size() && i < kMaxEffectParameters; ++i)
+      s.values[i] = from_search(i, x[i]);
     s.measured_rate_order = measured_rate_;
     return s;
   }
@@ -176,8 +192,8 @@ class EffectFitMap : public calibration::FeatureMap {
     const bool env = h_.domain == Domain::kEnvelope;
     for (std::size_t p = 0; p < kPoints; ++p) {
       ChannelAnalysis an;
-      if (!analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, revs_}, cat_, a, env_order_,
-                           &bands_[p], an))
+      if (!analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, revs_}, cat_,
+                           a, env_order_, &bands_[p], an))
         return false;
       const OrderSpectrum& s = env ? an.envelope : an.spectrum;
       for (std::size_t i = 0; i < lines_.size(); ++i) {
@@ -221,7 +237,8 @@ std::size_t next_pow2(std::size_t n) {
 
 }  // namespace
 
-Diagnoser::Diagnoser(const Drivetrain& drivetrain, EffectSimulator& simulator, const DiagnoserConfig& config)
+Diagnoser::Diagnoser(const Drivetrain& drivetrain, EffectSimulator& simulator,
+                     const DiagnoserConfig& config)
     : drivetrain_(drivetrain), simulator_(simulator), config_(config) {
   std::vector<std::string> sensors;
   for (const MeasurementPoint& m : drivetrain.measurement_points) sensors.push_back(m.location);
@@ -279,7 +296,8 @@ void Diagnoser::publish() {
     e.effect = c.effect;
     std::snprintf(e.location.data(), e.location.size(), "%s", c.location.c_str());
     e.confidence = c.confidence;
-    for (std::size_t k = 0; k < c.parameters.size() && k < kMaxEffectParameters; ++k) e.parameters[k] = c.parameters[k].second;
+    for (std::size_t k = 0; k < c.parameters.size() && k < kMaxEffectParameters; ++k)
+      e.parameters[k] = c.parameters[k].second;
   }
   summary_ = s;
 }
@@ -287,7 +305,8 @@ void Diagnoser::publish() {
 DiagnosisStep Diagnoser::step() {
   if (stage_ == DiagnosisStage::kIdle) return DiagnosisStep::kIdle;
   if (stage_ == DiagnosisStage::kDone)
-    return report_.status == DiagnosisStatus::kOk ? DiagnosisStep::kFinished : DiagnosisStep::kFailed;
+    return report_.status == DiagnosisStatus::kOk ? DiagnosisStep::kFinished
+                                                  : DiagnosisStep::kFailed;
   if (cancel_requested_) return fail(DiagnosisStatus::kCancelled, "cancelled");
   switch (stage_) {
     case DiagnosisStage::kSpeed:
@@ -335,12 +354,15 @@ bool Diagnoser::step_speed() {
   }
   for (std::size_t p = 0; p < kPoints; ++p) {
     if (in.points[p] == nullptr) {
-      fail(DiagnosisStatus::kBadInput, "measurement point " + std::to_string(p + 1) + " has no channel");
+      fail(DiagnosisStatus::kBadInput,
+           "measurement point " + std::to_string(p + 1) + " has no channel");
       return false;
     }
-    const dsp::DspStatus q = dsp::check_waveform(in.points[p], in.samples, config_.features.flat_threshold);
+    const dsp::DspStatus q =
+        dsp::check_waveform(in.points[p], in.samples, config_.features.flat_threshold);
     if (q != dsp::DspStatus::kOk) {
-      fail(DiagnosisStatus::kBadInput, std::string("measurement point ") + std::to_string(p + 1) + ": " + dsp::to_string(q));
+      fail(DiagnosisStatus::kBadInput,
+           std::string("measurement point ") + std::to_string(p + 1) + ": " + dsp::to_string(q));
       return false;
     }
   }
@@ -349,7 +371,8 @@ bool Diagnoser::step_speed() {
   if (in.tacho_pulses_s.size() >= 2) {
     const PartRate* shaft = in.tacho_shaft.empty() ? nullptr : catalogue_.shaft(in.tacho_shaft);
     if (!in.tacho_shaft.empty() && shaft == nullptr) {
-      fail(DiagnosisStatus::kNoSpeed, "tacho on '" + in.tacho_shaft + "', which is not a shaft of the drivetrain");
+      fail(DiagnosisStatus::kNoSpeed,
+           "tacho on '" + in.tacho_shaft + "', which is not a shaft of the drivetrain");
       return false;
     }
     const AngleMap tacho = AngleMap::from_pulses(in.tacho_pulses_s);
@@ -398,12 +421,15 @@ bool Diagnoser::step_speed() {
   const std::size_t half = fft_size_at_most(avail / 2);
   if (half < config_.min_revolutions / 2 || avail < config_.features.revolutions + 2) {
     char text[200];
-    std::snprintf(text, sizeof text,
-                  "the recording covers %zu revolutions of the %s; the analysis needs %zu (%.1f s at %.2f Hz)",
-                  avail, catalogue_.reference_shaft.c_str(),
-                  std::max(config_.min_revolutions, config_.features.revolutions + 2),
-                  static_cast<double>(std::max(config_.min_revolutions, config_.features.revolutions + 2)) / w.ref_hz,
-                  w.ref_hz);
+    std::snprintf(
+        text, sizeof text,
+        "the recording covers %zu revolutions of the %s; the analysis needs %zu (%.1f s at %.2f "
+        "Hz)",
+        avail, catalogue_.reference_shaft.c_str(),
+        std::max(config_.min_revolutions, config_.features.revolutions + 2),
+        static_cast<double>(std::max(config_.min_revolutions, config_.features.revolutions + 2)) /
+            w.ref_hz,
+        w.ref_hz);
     fail(DiagnosisStatus::kTooShort, text);
     return false;
   }
@@ -425,7 +451,8 @@ bool Diagnoser::step_speed() {
   w.op = {report_.rotor_speed_rpm, in.input_torque_nm};
   // The simulation's rate: a power of two samples per reference revolution covering the
   // analysis band 2.2 times, so a simulated waveform is already angle-sampled.
-  w.sim_spr = next_pow2(static_cast<std::size_t>(std::ceil(2.2 * config_.analysis.max_frequency_hz / w.ref_hz)));
+  w.sim_spr = next_pow2(
+      static_cast<std::size_t>(std::ceil(2.2 * config_.analysis.max_frequency_hz / w.ref_hz)));
   w.sim_fs = static_cast<double>(w.sim_spr) * w.ref_hz;
   w.env_order = envelope_max_order(catalogue_);
   return true;
@@ -437,40 +464,47 @@ bool Diagnoser::step_analyse() {
   AnalysisConfig a = config_.analysis;
   a.band_max_hz = 0.45 * w.sim_fs;  // bands the simulation can also show
   for (std::size_t p = 0; p < kPoints; ++p) {
-    if (!analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.full, catalogue_, a, w.env_order,
-                         nullptr, w.rec_full[p]) ||
-        !analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.half_a, catalogue_, a, w.env_order,
-                         &w.rec_full[p].band, w.rec_a[p]) ||
-        !analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.half_b, catalogue_, a, w.env_order,
-                         &w.rec_full[p].band, w.rec_b[p])) {
-      fail(DiagnosisStatus::kTooShort, "measurement point " + std::to_string(p + 1) + ": the analysis window does not fit");
+    if (!analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.full, catalogue_, a,
+                         w.env_order, nullptr, w.rec_full[p]) ||
+        !analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.half_a, catalogue_,
+                         a, w.env_order, &w.rec_full[p].band, w.rec_a[p]) ||
+        !analyse_channel(in.points[p], in.samples, in.sample_rate_hz, w.map, w.half_b, catalogue_,
+                         a, w.env_order, &w.rec_full[p].band, w.rec_b[p])) {
+      fail(DiagnosisStatus::kTooShort,
+           "measurement point " + std::to_string(p + 1) + ": the analysis window does not fit");
       return false;
     }
   }
   // The calibrator and its measured features.
-  const double top_hz = catalogue_.meshes.empty() ? 1000.0
-                                                  : catalogue_.meshes.back().order * w.ref_hz *
-                                                        static_cast<double>(config_.features.harmonics);
-  w.adapter = std::make_unique<EffectCalibrationAdapter>(simulator_, calibration::rom_sample_rate_hz(top_hz));
-  w.calibrator = std::make_unique<calibration::Calibrator>(*w.adapter, drivetrain_, config_.features, config_.calibration);
+  const double top_hz = catalogue_.meshes.empty()
+                            ? 1000.0
+                            : catalogue_.meshes.back().order * w.ref_hz *
+                                  static_cast<double>(config_.features.harmonics);
+  w.adapter = std::make_unique<EffectCalibrationAdapter>(simulator_,
+                                                         calibration::rom_sample_rate_hz(top_hz));
+  w.calibrator = std::make_unique<calibration::Calibrator>(*w.adapter, drivetrain_,
+                                                           config_.features, config_.calibration);
   if (w.calibrator->status() != dsp::DspStatus::kOk) {
-    fail(DiagnosisStatus::kBadInput, std::string("calibration features: ") + dsp::to_string(w.calibrator->status()));
+    fail(DiagnosisStatus::kBadInput,
+         std::string("calibration features: ") + dsp::to_string(w.calibrator->status()));
     return false;
   }
   dsp::FeatureExtractor fx(w.calibrator->feature_config());
   const dsp::SpeedReference ref{w.map.pulses().data(), w.map.pulses().size(), w.ref_hz};
   for (std::size_t p = 0; p < kPoints; ++p) {
-    const dsp::DspStatus s = fx.extract(in.points[p], in.samples, in.sample_rate_hz, ref, w.measured[p]);
+    const dsp::DspStatus s =
+        fx.extract(in.points[p], in.samples, in.sample_rate_hz, ref, w.measured[p]);
     if (s != dsp::DspStatus::kOk) {
       fail(s == dsp::DspStatus::kTooShort ? DiagnosisStatus::kTooShort : DiagnosisStatus::kBadInput,
            "measurement point " + std::to_string(p + 1) + ": " + dsp::to_string(s));
       return false;
     }
     if (w.measured[p].resolved_count() < calibration::kMinTones) {
-      fail(DiagnosisStatus::kBadInput, "measurement point " + std::to_string(p + 1) + ": only " +
-                                           std::to_string(w.measured[p].resolved_count()) +
-                                           " mesh harmonics stand out of the noise; the indicators need " +
-                                           std::to_string(calibration::kMinTones));
+      fail(DiagnosisStatus::kBadInput,
+           "measurement point " + std::to_string(p + 1) + ": only " +
+               std::to_string(w.measured[p].resolved_count()) +
+               " mesh harmonics stand out of the noise; the indicators need " +
+               std::to_string(calibration::kMinTones));
       return false;
     }
   }
@@ -484,7 +518,8 @@ bool Diagnoser::step_calibrate() {
     report_.parameters_before = calibration::with_nominal_damping(drivetrain_.dynamics);
     ++simulations_;
     if (!w.calibrator->evaluate(report_.parameters_before, report_.fit_before)) {
-      fail(DiagnosisStatus::kSimulationFailed, "at the description's parameters: " + simulator_.error());
+      fail(DiagnosisStatus::kSimulationFailed,
+           "at the description's parameters: " + simulator_.error());
       return false;
     }
     w.calibrator->start(report_.parameters_before);
@@ -507,20 +542,24 @@ bool Diagnoser::step_calibrate() {
 }
 
 namespace {
-bool analyse_simulation(EffectSimulator& sim, const DynamicsParameters& params, const std::vector<EffectSetting>& fx,
-                        const calibration::OperatingPoint& op, double fs, double ref_hz, std::size_t revs,
-                        const Catalogue& cat, const AnalysisConfig& a, double env_order, const Spectra& rec_bands,
-                        std::size_t& simulations, Spectra* full, Spectra* half, std::size_t half_revs) {
+bool analyse_simulation(EffectSimulator& sim, const DynamicsParameters& params,
+                        const std::vector<EffectSetting>& fx, const calibration::OperatingPoint& op,
+                        double fs, double ref_hz, std::size_t revs, const Catalogue& cat,
+                        const AnalysisConfig& a, double env_order, const Spectra& rec_bands,
+                        std::size_t& simulations, Spectra* full, Spectra* half,
+                        std::size_t half_revs) {
   std::array<calibration::WaveformView, kPoints> w{};
   ++simulations;
-  if (!sim.simulate(params, fx, op, fs, (static_cast<double>(revs) + 2.5) / ref_hz, w)) return false;
+  if (!sim.simulate(params, fx, op, fs, (static_cast<double>(revs) + 2.5) / ref_hz, w))
+    return false;
   const AngleMap map = AngleMap::constant(ref_hz);
   for (std::size_t p = 0; p < kPoints; ++p) {
-    if (full && !analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, revs}, cat, a, env_order,
-                                 &rec_bands[p].band, (*full)[p]))
+    if (full && !analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, revs},
+                                 cat, a, env_order, &rec_bands[p].band, (*full)[p]))
       return false;
-    if (half && !analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, half_revs}, cat, a,
-                                 env_order, &rec_bands[p].band, (*half)[p]))
+    if (half &&
+        !analyse_channel(w[p].samples, w[p].count, w[p].sample_rate_hz, map, {1.0, half_revs}, cat,
+                         a, env_order, &rec_bands[p].band, (*half)[p]))
       return false;
   }
   return true;
@@ -532,22 +571,26 @@ bool Diagnoser::step_simulate() {
   AnalysisConfig a = config_.analysis;
   a.band_max_hz = 0.45 * w.sim_fs;
   if (w.simulate_phase == 0) {
-    if (!analyse_simulation(simulator_, report_.parameters_before, {}, w.op, w.sim_fs, w.ref_hz, w.full.revs,
-                            catalogue_, a, w.env_order, w.rec_full, simulations_, &w.sim_before, nullptr, 0)) {
-      fail(DiagnosisStatus::kSimulationFailed, "at the description's parameters: " + simulator_.error());
+    if (!analyse_simulation(simulator_, report_.parameters_before, {}, w.op, w.sim_fs, w.ref_hz,
+                            w.full.revs, catalogue_, a, w.env_order, w.rec_full, simulations_,
+                            &w.sim_before, nullptr, 0)) {
+      fail(DiagnosisStatus::kSimulationFailed,
+           "at the description's parameters: " + simulator_.error());
       return false;
     }
-    report_.residual_before = spectral_residual(w.rec_full, w.sim_before, config_.analysis.max_frequency_hz);
+    report_.residual_before =
+        spectral_residual(w.rec_full, w.sim_before, config_.analysis.max_frequency_hz);
     w.simulate_phase = 1;
     return true;
   }
-  if (!analyse_simulation(simulator_, report_.parameters_calibrated, {}, w.op, w.sim_fs, w.ref_hz, w.full.revs,
-                          catalogue_, a, w.env_order, w.rec_full, simulations_, &w.sim_cal, &w.sim_cal_half,
-                          w.half_a.revs)) {
+  if (!analyse_simulation(simulator_, report_.parameters_calibrated, {}, w.op, w.sim_fs, w.ref_hz,
+                          w.full.revs, catalogue_, a, w.env_order, w.rec_full, simulations_,
+                          &w.sim_cal, &w.sim_cal_half, w.half_a.revs)) {
     fail(DiagnosisStatus::kSimulationFailed, "at the calibrated parameters: " + simulator_.error());
     return false;
   }
-  report_.residual_calibrated = spectral_residual(w.rec_full, w.sim_cal, config_.analysis.max_frequency_hz);
+  report_.residual_calibrated =
+      spectral_residual(w.rec_full, w.sim_cal, config_.analysis.max_frequency_hz);
   report_.fit_after = report_.fit_calibrated;
   report_.residual_after = report_.residual_calibrated;
   report_.parameters_after = report_.parameters_calibrated;
@@ -559,9 +602,10 @@ void Diagnoser::step_locate() {
   Work& w = *work_;
   w.pairs.clear();
   for (std::size_t p = 0; p < kPoints; ++p) {
-    const MeasurementPoint* mp = p < drivetrain_.measurement_points.size() ? &drivetrain_.measurement_points[p] : nullptr;
-    w.pairs.push_back({mp ? mp->channel : "point" + std::to_string(p + 1), mp ? mp->location : "", &w.rec_full[p],
-                       &w.sim_cal[p]});
+    const MeasurementPoint* mp =
+        p < drivetrain_.measurement_points.size() ? &drivetrain_.measurement_points[p] : nullptr;
+    w.pairs.push_back({mp ? mp->channel : "point" + std::to_string(p + 1), mp ? mp->location : "",
+                       &w.rec_full[p], &w.sim_cal[p]});
   }
   w.located = locate(catalogue_, w.pairs, config_.locate);
   // The mismatch: every feature with a share worth naming, largest first.
@@ -593,7 +637,8 @@ void Diagnoser::step_locate() {
     c.explanation = h.explanation;
     c.prior_score = s.score;
     c.modelled = !simulator_.parameters(h).empty();
-    if (!c.modelled) c.verdict = "the dynamics model has no term for it: not modelled, not reported";
+    if (!c.modelled)
+      c.verdict = "the dynamics model has no term for it: not modelled, not reported";
     report_.candidates.push_back(std::move(c));
   }
   w.candidate = 0;
@@ -602,7 +647,9 @@ void Diagnoser::step_locate() {
 bool Diagnoser::step_refit() {
   Work& w = *work_;
   // Skip candidates that cannot be modelled.
-  while (w.candidate < report_.candidates.size() && !report_.candidates[w.candidate].modelled && !w.tr) ++w.candidate;
+  while (w.candidate < report_.candidates.size() && !report_.candidates[w.candidate].modelled &&
+         !w.tr)
+    ++w.candidate;
   if (w.candidate >= report_.candidates.size()) {
     stage_ = DiagnosisStage::kDecide;
     return true;
@@ -623,27 +670,36 @@ bool Diagnoser::step_refit() {
       const OrderSpectrum& ss = env ? w.sim_cal_half[p].envelope : w.sim_cal_half[p].spectrum;
       if (rs.amplitude.empty()) continue;
       if (h.effect == Effect::kHousingResonance) {
-        if (p >= drivetrain_.measurement_points.size() || drivetrain_.measurement_points[p].location != h.location) continue;
+        if (p >= drivetrain_.measurement_points.size() ||
+            drivetrain_.measurement_points[p].location != h.location)
+          continue;
         for (const ResidualFeature& f : w.located.features) {
           if (f.channel != p || f.domain != FeatureDomain::kBand) continue;
           const double lo = 0.8 * f.band_lo_hz / w.ref_hz, hi = 1.25 * f.band_hi_hz / w.ref_hz;
           for (std::size_t k = 3; k + 3 < ss.amplitude.size(); ++k) {
             const double o = static_cast<double>(k) / static_cast<double>(ss.revolutions);
-            if (o < lo || o > hi || !(ss.amplitude[k] >= ss.amplitude[k - 1] && ss.amplitude[k] > ss.amplitude[k + 1])) continue;
+            if (o < lo || o > hi ||
+                !(ss.amplitude[k] >= ss.amplitude[k - 1] && ss.amplitude[k] > ss.amplitude[k + 1]))
+              continue;
             const double m = rs.tone(o), n = rs.noise(o);
-            if (m >= config_.locate.snr_min * n) w.lines.push_back({p, Domain::kSpectrum, o, 0.0, m, n, 1.0});
+            if (m >= config_.locate.snr_min * n)
+              w.lines.push_back({p, Domain::kSpectrum, o, 0.0, m, n, 1.0});
           }
         }
         continue;
       }
       for (const SignatureLine& l : h.lines) {
-        const double top = static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
+        const double top =
+            static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
         if (l.order * (1.0 + h.tolerance) > top) continue;
         const std::vector<double> sync = envelope_exclusions(catalogue_);
-        const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
+        const LineMeasure m =
+            measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
         if (!m.significant) continue;
-        w.lines.push_back({p, h.domain, m.order, h.tolerance > 0.0 ? 2.5 / static_cast<double>(rs.revolutions) / m.order : 0.0,
-                           m.measured, m.noise, l.weight});
+        w.lines.push_back(
+            {p, h.domain, m.order,
+             h.tolerance > 0.0 ? 2.5 / static_cast<double>(rs.revolutions) / m.order : 0.0,
+             m.measured, m.noise, l.weight});
         if (l.order == h.lines.front().order && m.measured > best_first) {
           best_first = m.measured;
           rate = m.order;  // the recording's own rate (with slip)
@@ -664,14 +720,18 @@ bool Diagnoser::step_refit() {
       w.lines.resize(cap);
     }
     // Fit resolution: enough revolutions to separate the hypothesis's lines.
-    w.fit_revs = std::max<std::size_t>(config_.fit_revolutions,
-                                       h.rate_order > 0.0 ? next_pow2(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order))) : 0);
+    w.fit_revs = std::max<std::size_t>(
+        config_.fit_revolutions,
+        h.rate_order > 0.0 ? next_pow2(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order)))
+                           : 0);
     w.fit_revs = std::min(w.fit_revs, w.half_a.revs);
-    const double measured_rate = h.domain == Domain::kEnvelope && rate > 0.0 ? rate / h.lines.front().order * h.rate_order : 0.0;
+    const double measured_rate = h.domain == Domain::kEnvelope && rate > 0.0
+                                     ? rate / h.lines.front().order * h.rate_order
+                                     : 0.0;
     for (std::size_t p = 0; p < kPoints; ++p) w.bands[p] = w.rec_full[p].band;
-    auto map = std::make_unique<EffectFitMap>(simulator_, catalogue_, h, w.params, w.lines, report_.parameters_calibrated,
-                                              w.op, w.sim_fs, w.ref_hz, w.fit_revs, a, w.bands.data(), w.env_order,
-                                              measured_rate, simulations_);
+    auto map = std::make_unique<EffectFitMap>(
+        simulator_, catalogue_, h, w.params, w.lines, report_.parameters_calibrated, w.op, w.sim_fs,
+        w.ref_hz, w.fit_revs, a, w.bands.data(), w.env_order, measured_rate, simulations_);
     calibration::TrustRegionConfig tc;
     tc.max_evaluations = config_.fit_evaluations;
     tc.restarts = false;
@@ -694,7 +754,8 @@ bool Diagnoser::step_refit() {
     }
     w.tr->set_target(target.data(), weight.data());
     std::vector<double> x0(w.params.size());
-    for (std::size_t i = 0; i < w.params.size(); ++i) x0[i] = map->to_search(i, w.params[i].initial);
+    for (std::size_t i = 0; i < w.params.size(); ++i)
+      x0[i] = map->to_search(i, w.params[i].initial);
     w.tr->start(x0.data());
     w.map_impl = std::move(map);
     return true;
@@ -706,7 +767,8 @@ bool Diagnoser::step_refit() {
     c.evaluations = w.tr->evaluations();
     c.setting = map->setting(w.tr->best_x().data());
     c.parameters.clear();
-    for (std::size_t i = 0; i < w.params.size(); ++i) c.parameters.push_back({w.params[i].name, c.setting.values[i]});
+    for (std::size_t i = 0; i < w.params.size(); ++i)
+      c.parameters.push_back({w.params[i].name, c.setting.values[i]});
     w.tr.reset();
     w.holdout_pending = true;
     return true;
@@ -714,8 +776,9 @@ bool Diagnoser::step_refit() {
   // Hold-out: the fitted effect over a half window, against both halves.
   w.holdout_pending = false;
   Spectra half{};
-  if (!analyse_simulation(simulator_, report_.parameters_calibrated, {c.setting}, w.op, w.sim_fs, w.ref_hz,
-                          w.half_a.revs, catalogue_, a, w.env_order, w.rec_full, simulations_, &half, nullptr, 0)) {
+  if (!analyse_simulation(simulator_, report_.parameters_calibrated, {c.setting}, w.op, w.sim_fs,
+                          w.ref_hz, w.half_a.revs, catalogue_, a, w.env_order, w.rec_full,
+                          simulations_, &half, nullptr, 0)) {
     c.verdict = "the model with its term did not simulate: " + simulator_.error();
     ++w.candidate;
     return true;
@@ -728,13 +791,15 @@ bool Diagnoser::step_refit() {
   // Its signature: the windows of its lines (the fit lines for a resonance).
   std::array<std::vector<std::size_t>, kPoints> windows;
   for (std::size_t p = 0; p < kPoints; ++p) {
-    const OrderSpectrum& rs = h.domain == Domain::kEnvelope ? w.rec_b[p].envelope : w.rec_b[p].spectrum;
+    const OrderSpectrum& rs =
+        h.domain == Domain::kEnvelope ? w.rec_b[p].envelope : w.rec_b[p].spectrum;
     if (rs.amplitude.empty()) continue;
     const double r = static_cast<double>(rs.revolutions);
     auto add = [&](double order, double tol) {
       const auto lo = static_cast<long long>(std::floor(order * (1.0 - tol) * r - 2.5));
       const auto hi = static_cast<long long>(std::ceil(order * (1.0 + tol) * r + 2.5));
-      for (long long k = std::max(1LL, lo); k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
+      for (long long k = std::max(1LL, lo);
+           k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
         windows[p].push_back(static_cast<std::size_t>(k));
     };
     if (h.effect == Effect::kHousingResonance) {
@@ -772,10 +837,12 @@ bool Diagnoser::step_refit() {
       continue;
     }
     for (const SignatureLine& l : h.lines) {
-      const double top = static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
+      const double top =
+          static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
       if (l.order * (1.0 + h.tolerance) > top) continue;
       const std::vector<double> sync = envelope_exclusions(catalogue_);
-      const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
+      const LineMeasure m =
+          measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
       if (m.significant) {
         c.holdout_evidence += l.weight * (m.measured * m.measured) / (m.noise * m.noise);
         ++c.lines;
@@ -799,21 +866,26 @@ void Diagnoser::step_decide() {
     const double ratio = c.signature_holdout_effect / c.signature_holdout_calibrated;
     if (ratio > gate) {
       std::snprintf(text, sizeof text,
-                    "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines (needs ≤ %.0f %%)",
+                    "on the hold-out half it leaves %.0f %% of the calibrated residual in its "
+                    "lines (needs ≤ %.0f %%)",
                     100.0 * ratio, 100.0 * gate);
     } else if (c.holdout_evidence < config_.locate.min_evidence) {
-      std::snprintf(text, sizeof text, "its lines are not significant on the hold-out half (evidence %.0f < %.0f)",
+      std::snprintf(text, sizeof text,
+                    "its lines are not significant on the hold-out half (evidence %.0f < %.0f)",
                     c.holdout_evidence, config_.locate.min_evidence);
     } else if (c.signature_fit_effect >= c.signature_fit_calibrated) {
       std::snprintf(text, sizeof text, "it does not improve the half it was fitted on");
     } else if (c.residual_holdout_effect > 1.02 * c.residual_holdout_calibrated) {
-      std::snprintf(text, sizeof text, "it raises the hold-out half's total residual from %.3f to %.3f",
+      std::snprintf(text, sizeof text,
+                    "it raises the hold-out half's total residual from %.3f to %.3f",
                     c.residual_holdout_calibrated, c.residual_holdout_effect);
     } else {
-      std::snprintf(text, sizeof text,
-                    "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines "
-                    "(%.3f → %.3f), its lines' evidence %.0f",
-                    100.0 * ratio, c.signature_holdout_calibrated, c.signature_holdout_effect, c.holdout_evidence);
+      std::snprintf(
+          text, sizeof text,
+          "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines "
+          "(%.3f → %.3f), its lines' evidence %.0f",
+          100.0 * ratio, c.signature_holdout_calibrated, c.signature_holdout_effect,
+          c.holdout_evidence);
       pass.push_back(i);
     }
     c.verdict = text;
@@ -826,7 +898,8 @@ void Diagnoser::step_decide() {
     if (!judged(c)) continue;
     const double n = static_cast<double>(std::max<std::size_t>(c.lines, 1));
     const double k = static_cast<double>(c.parameters.size());
-    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) + k * std::log(std::max(n, 2.0));
+    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) +
+               k * std::log(std::max(n, 2.0));
     best = std::min(best, delta[i]);
   }
   double z = std::exp(-0.5 * (0.0 - best));
@@ -873,15 +946,18 @@ bool Diagnoser::step_final() {
   Spectra after{};
   const Spectra* shown = &w.sim_cal;
   if (!effects.empty()) {
-    if (!analyse_simulation(simulator_, report_.parameters_calibrated, effects, w.op, w.sim_fs, w.ref_hz, w.full.revs,
-                            catalogue_, a, w.env_order, w.rec_full, simulations_, &after, nullptr, 0)) {
+    if (!analyse_simulation(simulator_, report_.parameters_calibrated, effects, w.op, w.sim_fs,
+                            w.ref_hz, w.full.revs, catalogue_, a, w.env_order, w.rec_full,
+                            simulations_, &after, nullptr, 0)) {
       fail(DiagnosisStatus::kSimulationFailed, "with the reported effects: " + simulator_.error());
       return false;
     }
-    report_.residual_after = spectral_residual(w.rec_full, after, config_.analysis.max_frequency_hz);
+    report_.residual_after =
+        spectral_residual(w.rec_full, after, config_.analysis.max_frequency_hz);
     w.adapter->set_effects(effects);
     ++simulations_;
-    if (!w.calibrator->evaluate(report_.parameters_calibrated, report_.fit_after)) report_.fit_after = report_.fit_calibrated;
+    if (!w.calibrator->evaluate(report_.parameters_calibrated, report_.fit_after))
+      report_.fit_after = report_.fit_calibrated;
     w.adapter->set_effects({});
     shown = &after;
   }
@@ -900,7 +976,8 @@ bool Diagnoser::step_final() {
     s.envelope_after = trace((*shown)[p].envelope, w.ref_hz, env_hz, config_.plot_points / 2);
     s.band = w.rec_full[p].band;
     s.stats = w.rec_full[p].stats;
-    for (const ShaftAverage& sa : w.rec_full[p].averages) s.shaft_kurtosis.push_back({sa.shaft, sa.tsa.difference_stats.kurtosis});
+    for (const ShaftAverage& sa : w.rec_full[p].averages)
+      s.shaft_kurtosis.push_back({sa.shaft, sa.tsa.difference_stats.kurtosis});
     report_.spectra.push_back(std::move(s));
   }
   return true;

@@ -20,10 +20,10 @@ std::vector<EffectParameter> RomEffectSimulator::parameters(const Hypothesis&) c
   return {};
 }
 
-bool RomEffectSimulator::simulate(const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
-                                  const calibration::OperatingPoint& op, double sample_rate_hz,
-                                  double duration_s,
-                                  std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) {
+bool RomEffectSimulator::simulate(
+    const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
+    const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
+    std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) {
   if (!effects.empty()) {
     error_ = "the dynamics model has no switchable term for " +
              std::string(effect_id(effects.front().hypothesis->effect));
@@ -37,8 +37,9 @@ bool RomEffectSimulator::simulate(const DynamicsParameters& params, const std::v
   if (!dynamics::simulate_rom(drivetrain_, dop, settings, state_->outputs, &error_)) return false;
   const auto skip = static_cast<std::size_t>(std::llround(settle_s_ * sample_rate_hz));
   for (std::size_t p = 0; p < calibration::kMeasurementPoints; ++p) {
-    const std::string channel =
-        p < drivetrain_.measurement_points.size() ? drivetrain_.measurement_points[p].channel : std::string();
+    const std::string channel = p < drivetrain_.measurement_points.size()
+                                    ? drivetrain_.measurement_points[p].channel
+                                    : std::string();
     const auto& ch = state_->outputs.sensor_channels;
     std::size_t idx = ch.size();
     for (std::size_t c = 0; c < ch.size(); ++c)

@@ -24,7 +24,8 @@ std::vector<double> envelope_exclusions(const Catalogue& catalogue) {
 }
 
 LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, double order,
-                         double tolerance, const LocateConfig& cfg, const std::vector<double>* exclude) {
+                         double tolerance, const LocateConfig& cfg,
+                         const std::vector<double>* exclude) {
   LineMeasure m;
   m.order = order;
   if (rec.amplitude.empty() || !(order > 0.0)) return m;
@@ -50,7 +51,8 @@ LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, dou
   m.simulated = sim.amplitude.empty() ? 0.0 : sim.tone(best_order);
   const double explained = m.simulated * m.simulated + m.noise * m.noise;
   m.excess = std::max(0.0, m.measured * m.measured - explained);
-  m.significant = m.measured >= cfg.snr_min * m.noise && m.measured * m.measured >= cfg.excess_ratio * explained;
+  m.significant = m.measured >= cfg.snr_min * m.noise &&
+                  m.measured * m.measured >= cfg.excess_ratio * explained;
   if (!m.significant) m.excess = 0.0;
   return m;
 }
@@ -65,7 +67,8 @@ struct Peak {
 
 // Significant excess peaks of a channel's spectrum up to max_order (none at `exclude`).
 std::vector<Peak> excess_peaks(const OrderSpectrum& rec, const OrderSpectrum& sim, double max_order,
-                               const LocateConfig& cfg, const std::vector<double>* exclude = nullptr) {
+                               const LocateConfig& cfg,
+                               const std::vector<double>* exclude = nullptr) {
   std::vector<Peak> peaks;
   const auto& a = rec.amplitude;
   if (a.size() < 8) return peaks;
@@ -129,14 +132,16 @@ void claim_families(const Catalogue& cat, std::size_t channel, Domain domain, Fe
         }
       }
     }
-    std::sort(mine.begin(), mine.end(), [](const Peak* a, const Peak* b) { return a->line.excess > b->line.excess; });
+    std::sort(mine.begin(), mine.end(),
+              [](const Peak* a, const Peak* b) { return a->line.excess > b->line.excess; });
     feat.band_lo_hz = 1e300;
     for (const Peak* p : mine) {
       feat.excess += p->line.excess;
       feat.band_lo_hz = std::min(feat.band_lo_hz, p->order * ref_hz);
       feat.band_hi_hz = std::max(feat.band_hi_hz, p->order * ref_hz);
       feat.max_snr = std::max(feat.max_snr, p->line.measured / std::max(p->line.noise, 1e-300));
-      if (feat.peaks_hz.size() < cfg.max_peaks_per_feature) feat.peaks_hz.push_back(p->order * ref_hz);
+      if (feat.peaks_hz.size() < cfg.max_peaks_per_feature)
+        feat.peaks_hz.push_back(p->order * ref_hz);
     }
     feat.share = feat.excess / total;
     out.push_back(std::move(feat));
@@ -149,13 +154,15 @@ void claim_families(const Catalogue& cat, std::size_t channel, Domain domain, Fe
   std::vector<const Peak*> left;
   for (const Peak& p : peaks)
     if (!p.claimed) left.push_back(&p);
-  std::sort(left.begin(), left.end(), [](const Peak* a, const Peak* b) { return a->line.excess > b->line.excess; });
+  std::sort(left.begin(), left.end(),
+            [](const Peak* a, const Peak* b) { return a->line.excess > b->line.excess; });
   for (const Peak* p : left) {
     rest.excess += p->line.excess;
     rest.band_lo_hz = std::min(rest.band_lo_hz, p->order * ref_hz);
     rest.band_hi_hz = std::max(rest.band_hi_hz, p->order * ref_hz);
     rest.max_snr = std::max(rest.max_snr, p->line.measured / std::max(p->line.noise, 1e-300));
-    if (rest.peaks_hz.size() < cfg.max_peaks_per_feature) rest.peaks_hz.push_back(p->order * ref_hz);
+    if (rest.peaks_hz.size() < cfg.max_peaks_per_feature)
+      rest.peaks_hz.push_back(p->order * ref_hz);
   }
   if (rest.excess >= 0.02 * total) {
     rest.share = rest.excess / total;
@@ -171,8 +178,9 @@ void claim_families(const Catalogue& cat, std::size_t channel, Domain domain, Fe
 // at least 60 % of the gains' squared deviation there, lines are amplified by ≥ 6 dB,
 // and what is left scatters by less than 4 dB: a foreign gearbox's misfit is irregular
 // from line to line, a resonance amplifies every line of its band along one curve.
-void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpectrum& sim, double max_order,
-                   double ref_hz, double total, const LocateConfig& cfg, std::vector<ResidualFeature>& out) {
+void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpectrum& sim,
+                   double max_order, double ref_hz, double total, const LocateConfig& cfg,
+                   std::vector<ResidualFeature>& out) {
   const auto& s = sim.amplitude;
   if (s.size() < 8 || rec.amplitude.size() < 8) return;
   struct G {
@@ -188,7 +196,8 @@ void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpe
     const double m = rec.tone(o);
     const double n = rec.noise(o);
     if (sv < cfg.snr_min * n || m < cfg.snr_min * n) continue;
-    lines.push_back({o * ref_hz, 20.0 * std::log10(m / sv), std::max(0.0, m * m - sv * sv - n * n), m / n});
+    lines.push_back(
+        {o * ref_hz, 20.0 * std::log10(m / sv), std::max(0.0, m * m - sv * sv - n * n), m / n});
   }
   if (lines.size() < 5) return;
   std::vector<double> gains;
@@ -220,7 +229,8 @@ void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpe
       }
       if (in < 5 || amplified < 2 || !(null_rss > 0.0)) continue;
       const double improvement = 1.0 - fit_rss / null_rss;
-      if (improvement > best.improvement) best = {fr, zeta, improvement, std::sqrt(fit_rss / static_cast<double>(in))};
+      if (improvement > best.improvement)
+        best = {fr, zeta, improvement, std::sqrt(fit_rss / static_cast<double>(in))};
     }
   }
   if (best.improvement < 0.6 || best.scatter > 4.0) return;
@@ -234,7 +244,9 @@ void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpe
   std::vector<const G*> mine;
   double gsum = 0.0;
   for (const G& g : lines) {
-    if (transmissibility_db(g.hz, best.fr, best.zeta) < 3.0 || g.hz < best.fr / 1.6 || g.hz > best.fr * 1.6) continue;
+    if (transmissibility_db(g.hz, best.fr, best.zeta) < 3.0 || g.hz < best.fr / 1.6 ||
+        g.hz > best.fr * 1.6)
+      continue;
     mine.push_back(&g);
     f.band_lo_hz = std::min(f.band_lo_hz, g.hz);
     f.band_hi_hz = std::max(f.band_hi_hz, g.hz);
@@ -254,7 +266,8 @@ void band_features(std::size_t channel, const OrderSpectrum& rec, const OrderSpe
 
 }  // namespace
 
-LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channels, const LocateConfig& cfg) {
+LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channels,
+                    const LocateConfig& cfg) {
   LocateResult result;
   const std::vector<double> sync = envelope_exclusions(cat);
   result.spectrum_total.assign(channels.size(), 0.0);
@@ -268,18 +281,18 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
     std::vector<Peak> sp = excess_peaks(rec.spectrum, sim.spectrum, rec.max_order, cfg);
     for (const Peak& p : sp) result.spectrum_total[c] += p.line.excess;
     claim_families(cat, c, Domain::kSpectrum, FeatureDomain::kSpectrum, sp,
-                   static_cast<double>(rec.spectrum.revolutions), ref_hz, result.spectrum_total[c], cfg,
-                   result.features);
-    band_features(c, rec.spectrum, sim.spectrum, rec.max_order, ref_hz, result.spectrum_total[c], cfg,
-                  result.features);
+                   static_cast<double>(rec.spectrum.revolutions), ref_hz, result.spectrum_total[c],
+                   cfg, result.features);
+    band_features(c, rec.spectrum, sim.spectrum, rec.max_order, ref_hz, result.spectrum_total[c],
+                  cfg, result.features);
     if (!rec.envelope.amplitude.empty()) {
       const double env_top = static_cast<double>(rec.envelope.amplitude.size() - 1) /
                              static_cast<double>(rec.envelope.revolutions) * 0.9;
       std::vector<Peak> ep = excess_peaks(rec.envelope, sim.envelope, env_top, cfg, &sync);
       for (const Peak& p : ep) result.envelope_total[c] += p.line.excess;
       claim_families(cat, c, Domain::kEnvelope, FeatureDomain::kEnvelope, ep,
-                     static_cast<double>(rec.envelope.revolutions), ref_hz, result.envelope_total[c], cfg,
-                     result.features);
+                     static_cast<double>(rec.envelope.revolutions), ref_hz,
+                     result.envelope_total[c], cfg, result.features);
     }
     for (const ShaftAverage& ra : rec.averages) {
       for (const ShaftAverage& sa : sim.averages) {
@@ -311,7 +324,8 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
       for (std::size_t c = 0; c < channels.size(); ++c) {
         if (channels[c].location != h.location) continue;
         for (const ResidualFeature& f : result.features)
-          if (f.channel == c && f.domain == FeatureDomain::kBand && f.fit_share * f.strength > s.score) {
+          if (f.channel == c && f.domain == FeatureDomain::kBand &&
+              f.fit_share * f.strength > s.score) {
             s.share = f.fit_share;
             s.presence = 1.0;
             s.strength = f.strength;
@@ -334,19 +348,22 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
         const double revs = static_cast<double>(rs.revolutions);
         const double top = static_cast<double>(rs.amplitude.size() - 3) / revs;
         auto usable = [&](double order, double tol) {
-          return order * (1.0 + tol) <= top && order * revs >= static_cast<double>(cfg.min_order_lines);
+          return order * (1.0 + tol) <= top &&
+                 order * revs >= static_cast<double>(cfg.min_order_lines);
         };
         double present = 0.0;
         std::vector<double> seen;  // positions counted in the local total
         for (const SignatureLine& l : h.lines) {
           if (!usable(l.order, h.tolerance)) continue;
-          const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, cfg, env ? &sync : nullptr);
+          const LineMeasure m =
+              measure_line(rs, ss, l.order, h.tolerance, cfg, env ? &sync : nullptr);
           if (!m.significant) continue;
           explained += l.weight * m.excess;
           present += l.weight;
           s.evidence += l.weight * (m.measured * m.measured) / std::max(m.noise * m.noise, 1e-300);
-          s.strength += l.weight * std::log(m.measured * m.measured /
-                                            std::max(m.simulated * m.simulated + m.noise * m.noise, 1e-300));
+          s.strength +=
+              l.weight * std::log(m.measured * m.measured /
+                                  std::max(m.simulated * m.simulated + m.noise * m.noise, 1e-300));
         }
         // The local total: the excess on the lines of its broad family and its own.
         std::vector<double> orders = fam.orders;
@@ -389,13 +406,15 @@ std::string describe_feature(const Catalogue& cat, const ResidualFeature& f, dou
   char buf[256];
   switch (f.domain) {
     case FeatureDomain::kBand:
-      std::snprintf(buf, sizeof buf, "lines amplified by %.1f dB over %.0f–%.0f Hz at the sensor on %s: a resonance",
+      std::snprintf(buf, sizeof buf,
+                    "lines amplified by %.1f dB over %.0f–%.0f Hz at the sensor on %s: a resonance",
                     f.gain_db, f.band_lo_hz, f.band_hi_hz,
                     f.channel < channels.size() ? channels[f.channel].location.c_str() : "?");
       return buf;
     case FeatureDomain::kAverage:
       std::snprintf(buf, sizeof buf,
-                    "impulsive once per %s revolution in its synchronous average (difference-signal kurtosis %.1f)",
+                    "impulsive once per %s revolution in its synchronous average "
+                    "(difference-signal kurtosis %.1f)",
                     f.shaft.c_str(), f.gain_db);
       return buf;
     case FeatureDomain::kSpectrum:
@@ -415,7 +434,8 @@ std::string describe_feature(const Catalogue& cat, const ResidualFeature& f, dou
   }
   if (f.domain == FeatureDomain::kEnvelope && f.channel < channels.size()) {
     const ChannelAnalysis* rec = channels[f.channel].recorded;
-    std::snprintf(buf, sizeof buf, ", in the envelope of %.0f–%.0f Hz", rec->band.f_lo_hz, rec->band.f_hi_hz);
+    std::snprintf(buf, sizeof buf, ", in the envelope of %.0f–%.0f Hz", rec->band.f_lo_hz,
+                  rec->band.f_hi_hz);
     text += buf;
   }
   return text;

@@ -42,8 +42,9 @@ void hann_amplitude_spectrum(const double* x, std::size_t n, const Fft& fft,
   double sum_w = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
     // Periodic Hann window w[i] = 0.5·(1 − cos(2πi/N)) (Harris 1978).
-    const double w = 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) /
-                                           static_cast<double>(n)));
+    const double w =
+        0.5 *
+        (1.0 - std::cos(2.0 * std::numbers::pi * static_cast<double>(i) / static_cast<double>(n)));
     sum_w += w;
     in[i] = Complex((x[i] - mean) * w, 0.0);
   }
@@ -136,7 +137,9 @@ std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
   std::vector<double> tapered(x, x + n);
   const auto edge = static_cast<std::size_t>(kCpwTaper * static_cast<double>(n));
   for (std::size_t i = 0; i < edge; ++i) {
-    const double w = 0.5 * (1.0 - std::cos(std::numbers::pi * static_cast<double>(i) / static_cast<double>(edge)));
+    const double w =
+        0.5 *
+        (1.0 - std::cos(std::numbers::pi * static_cast<double>(i) / static_cast<double>(edge)));
     tapered[i] *= w;
     tapered[n - 1 - i] *= w;
   }
@@ -165,7 +168,8 @@ std::vector<double> real_cepstrum(const double* x, std::size_t n) {
   double top = 0.0;
   for (const Complex& c : spec) top = std::max(top, std::abs(c));
   const double floor = std::max(1e-12 * top, 1e-300);
-  for (std::size_t k = 0; k < n; ++k) in[k] = Complex(std::log(std::max(std::abs(spec[k]), floor)), 0.0);
+  for (std::size_t k = 0; k < n; ++k)
+    in[k] = Complex(std::log(std::max(std::abs(spec[k]), floor)), 0.0);
   fft.inverse(in.data(), spec.data());
   for (std::size_t q = 0; q < n; ++q) out[q] = spec[q].real();
   return out;

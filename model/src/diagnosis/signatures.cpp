@@ -6,10 +6,15 @@
 namespace model::diagnosis {
 
 namespace {
-constexpr const char* kEffectIds[kEffectCount] = {
-    "tooth_crack",         "gear_eccentricity",          "bearing_outer_race_defect",
-    "bearing_inner_race_defect", "bearing_ball_defect",  "shaft_unbalance",
-    "shaft_misalignment",  "planet_pass_modulation",     "housing_resonance"};
+constexpr const char* kEffectIds[kEffectCount] = {"tooth_crack",
+                                                  "gear_eccentricity",
+                                                  "bearing_outer_race_defect",
+                                                  "bearing_inner_race_defect",
+                                                  "bearing_ball_defect",
+                                                  "shaft_unbalance",
+                                                  "shaft_misalignment",
+                                                  "planet_pass_modulation",
+                                                  "housing_resonance"};
 
 std::string pretty(std::string id) {
   std::replace(id.begin(), id.end(), '_', '-');
@@ -83,8 +88,9 @@ struct Builder {
       o.push_back(l.order);
       w.push_back(l.weight);
     }
-    return family(Domain::kSpectrum, "sidebands of the " + pretty(stage) + " mesh spaced at " + rate_text,
-                  rate, o, w, 0.0);
+    return family(Domain::kSpectrum,
+                  "sidebands of the " + pretty(stage) + " mesh spaced at " + rate_text, rate, o, w,
+                  0.0);
   }
 
   std::size_t harmonic_family(const std::string& shaft, double rate) {
@@ -114,8 +120,9 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
   for (const Shaft& s : d.shafts) {
     if (const auto f = k.shaft_hz(s.id, kRpm)) cat.shafts.push_back({s.id, *f / ref});
   }
-  const bool has_planetary = std::any_of(d.stages.begin(), d.stages.end(),
-                                         [](const GearStage& s) { return s.type == StageType::kPlanetary; });
+  const bool has_planetary = std::any_of(d.stages.begin(), d.stages.end(), [](const GearStage& s) {
+    return s.type == StageType::kPlanetary;
+  });
   if (has_planetary) cat.shafts.push_back({"planet", *k.shaft_hz("planet", kRpm) / ref});
 
   Builder b{d, cfg, cat};
@@ -135,13 +142,24 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
       const std::string planet_id = stage.gears.size() > 1 ? stage.gears[1] : "planet";
       const std::string ring_id = stage.gears.size() > 2 ? stage.gears[2] : "ring";
       // Sun: a tooth meets the planets N times per revolution relative to the carrier.
-      const std::size_t f_sun = b.sideband_family(stage.id, mesh, sun_rel, "the sun's speed relative to the carrier");
+      const std::size_t f_sun =
+          b.sideband_family(stage.id, mesh, sun_rel, "the sun's speed relative to the carrier");
       b.sideband_family(stage.id, mesh, n_planets * sun_rel,
-                        "the sun's tooth-meets-planet rate (" + std::to_string(n_planets) + " × its speed relative to the carrier)");
+                        "the sun's tooth-meets-planet rate (" + std::to_string(n_planets) +
+                            " × its speed relative to the carrier)");
       {
-        Hypothesis h{Effect::kToothCrack, sun_id, Domain::kSpectrum, {}, 0.0, sun_rel, f_sun, stage.output_shaft,
-                     "loss of mesh stiffness while the cracked sun tooth meets a planet: an impulsive "
-                     "modulation of the " + pretty(stage.id) + " mesh once per sun revolution relative to the carrier"};
+        Hypothesis h{
+            Effect::kToothCrack,
+            sun_id,
+            Domain::kSpectrum,
+            {},
+            0.0,
+            sun_rel,
+            f_sun,
+            stage.output_shaft,
+            "loss of mesh stiffness while the cracked sun tooth meets a planet: an impulsive "
+            "modulation of the " +
+                pretty(stage.id) + " mesh once per sun revolution relative to the carrier"};
         auto lines = b.sidebands(mesh, sun_rel, cfg.crack_sidebands, 3, 0.5);
         for (int hh = 1; hh <= cfg.mesh_harmonics; ++hh)
           for (int kk = 1; kk <= 2; ++kk) {
@@ -149,16 +167,34 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
             lines.push_back({hh * mesh + kk * n_planets * sun_rel, 1.0});
           }
         b.add(h, lines);
-        Hypothesis e{Effect::kGearEccentricity, sun_id, Domain::kSpectrum, {}, 0.0, sun_rel, f_sun, stage.output_shaft,
-                     "run-out of the sun: transmission error and centre distance of the " + pretty(stage.id) +
+        Hypothesis e{Effect::kGearEccentricity,
+                     sun_id,
+                     Domain::kSpectrum,
+                     {},
+                     0.0,
+                     sun_rel,
+                     f_sun,
+                     stage.output_shaft,
+                     "run-out of the sun: transmission error and centre distance of the " +
+                         pretty(stage.id) +
                          " mesh modulated once per sun revolution relative to the carrier"};
         b.add(e, b.sidebands(mesh, sun_rel, cfg.eccentricity_sidebands, 1, 1.0));
       }
       {
-        const std::size_t f_planet = b.sideband_family(stage.id, mesh, planet_rel, "the planets' speed relative to the carrier");
-        Hypothesis h{Effect::kToothCrack, planet_id, Domain::kSpectrum, {}, 0.0, planet_rel, f_planet, "",
-                     "loss of mesh stiffness while the cracked planet tooth is in contact with the sun or "
-                     "the ring: an impulsive modulation of the " + pretty(stage.id) + " mesh once per planet revolution"};
+        const std::size_t f_planet = b.sideband_family(
+            stage.id, mesh, planet_rel, "the planets' speed relative to the carrier");
+        Hypothesis h{
+            Effect::kToothCrack,
+            planet_id,
+            Domain::kSpectrum,
+            {},
+            0.0,
+            planet_rel,
+            f_planet,
+            "",
+            "loss of mesh stiffness while the cracked planet tooth is in contact with the sun or "
+            "the ring: an impulsive modulation of the " +
+                pretty(stage.id) + " mesh once per planet revolution"};
         b.add(h, b.sidebands(mesh, planet_rel, cfg.crack_sidebands, 2, 0.5));
       }
       {
@@ -170,11 +206,21 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
             w.push_back(1.0);
             w.push_back(1.0);
           }
-        const std::size_t f_pp = b.family(Domain::kSpectrum, "sidebands of the " + pretty(stage.id) +
-                                              " mesh spaced at the planet-pass frequency", pass, o, w, 0.0);
-        Hypothesis h{Effect::kPlanetPassModulation, ring_id, Domain::kSpectrum, {}, 0.0, pass, f_pp, "",
-                     "the path from each planet's mesh to the sensor changes as the carrier turns: the " +
-                         pretty(stage.id) + " mesh modulated at the planet-pass frequency"};
+        const std::size_t f_pp = b.family(
+            Domain::kSpectrum,
+            "sidebands of the " + pretty(stage.id) + " mesh spaced at the planet-pass frequency",
+            pass, o, w, 0.0);
+        Hypothesis h{
+            Effect::kPlanetPassModulation,
+            ring_id,
+            Domain::kSpectrum,
+            {},
+            0.0,
+            pass,
+            f_pp,
+            "",
+            "the path from each planet's mesh to the sensor changes as the carrier turns: the " +
+                pretty(stage.id) + " mesh modulated at the planet-pass frequency"};
         std::vector<SignatureLine> lines;
         for (std::size_t j = 0; j < o.size(); ++j) lines.push_back({o[j], w[j]});
         for (int kk = 1; kk <= 2; ++kk) lines.push_back({kk * pass, 0.5});
@@ -187,12 +233,29 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
         const auto f = k.shaft_hz(g->shaft, kRpm);
         if (!f) continue;
         const double rate = *f / ref;
-        const std::size_t fam = b.sideband_family(stage.id, mesh, rate, "the " + g->shaft + " speed");
-        Hypothesis h{Effect::kToothCrack, gear_id, Domain::kSpectrum, {}, 0.0, rate, fam, g->shaft,
-                     "loss of mesh stiffness while the cracked tooth of " + gear_id + " is in contact: an "
-                     "impulsive modulation of the " + pretty(stage.id) + " mesh once per " + g->shaft + " revolution"};
+        const std::size_t fam =
+            b.sideband_family(stage.id, mesh, rate, "the " + g->shaft + " speed");
+        Hypothesis h{Effect::kToothCrack,
+                     gear_id,
+                     Domain::kSpectrum,
+                     {},
+                     0.0,
+                     rate,
+                     fam,
+                     g->shaft,
+                     "loss of mesh stiffness while the cracked tooth of " + gear_id +
+                         " is in contact: an "
+                         "impulsive modulation of the " +
+                         pretty(stage.id) + " mesh once per " + g->shaft + " revolution"};
         b.add(h, b.sidebands(mesh, rate, cfg.crack_sidebands, 3, 0.5));
-        Hypothesis e{Effect::kGearEccentricity, gear_id, Domain::kSpectrum, {}, 0.0, rate, fam, g->shaft,
+        Hypothesis e{Effect::kGearEccentricity,
+                     gear_id,
+                     Domain::kSpectrum,
+                     {},
+                     0.0,
+                     rate,
+                     fam,
+                     g->shaft,
                      "run-out of " + gear_id + ": transmission error and centre distance of the " +
                          pretty(stage.id) + " mesh modulated once per " + g->shaft + " revolution"};
         b.add(e, b.sidebands(mesh, rate, cfg.eccentricity_sidebands, 1, 1.0));
@@ -206,10 +269,24 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
   for (const PartRate& s : std::vector<PartRate>(cat.shafts)) {
     if (s.id == "planet" || s.id == rotor_shaft) continue;
     const std::size_t fam = b.harmonic_family(s.id, s.order);
-    b.add({Effect::kShaftUnbalance, s.id, Domain::kSpectrum, {}, 0.0, s.order, fam, s.id,
+    b.add({Effect::kShaftUnbalance,
+           s.id,
+           Domain::kSpectrum,
+           {},
+           0.0,
+           s.order,
+           fam,
+           s.id,
            "a rotating force once per " + s.id + " revolution from a mass off the axis"},
           {{s.order, 1.0}});
-    b.add({Effect::kShaftMisalignment, s.id, Domain::kSpectrum, {}, 0.0, s.order, fam, s.id,
+    b.add({Effect::kShaftMisalignment,
+           s.id,
+           Domain::kSpectrum,
+           {},
+           0.0,
+           s.order,
+           fam,
+           s.id,
            "coupling forces at twice (and once) the " + s.id + " speed from misaligned shafts"},
           {{2 * s.order, 1.0}, {s.order, 0.5}, {3 * s.order, 0.3}});
   }
@@ -229,9 +306,17 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
         w.push_back(1.0);
         lines.push_back({kk * bpfo, 1.0});
       }
-      const std::size_t fam = b.family(Domain::kEnvelope, br.id + " outer-race defect frequency (BPFO) and harmonics",
-                                       bpfo, o, w, cfg.slip);
-      b.add({Effect::kBearingOuterRaceDefect, br.id, Domain::kEnvelope, {}, cfg.slip, bpfo, fam, "",
+      const std::size_t fam =
+          b.family(Domain::kEnvelope, br.id + " outer-race defect frequency (BPFO) and harmonics",
+                   bpfo, o, w, cfg.slip);
+      b.add({Effect::kBearingOuterRaceDefect,
+             br.id,
+             Domain::kEnvelope,
+             {},
+             cfg.slip,
+             bpfo,
+             fam,
+             "",
              "impacts as each rolling element passes a defect on the outer race of " + br.id +
                  ", ringing the housing"},
             lines);
@@ -246,9 +331,18 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
           w.push_back(wt);
           lines.push_back({kk * bpfi + j * fr, wt});
         }
-      const std::size_t fam = b.family(Domain::kEnvelope, br.id + " inner-race defect frequency (BPFI) with sidebands at the shaft speed",
-                                       bpfi, o, w, cfg.slip);
-      b.add({Effect::kBearingInnerRaceDefect, br.id, Domain::kEnvelope, {}, cfg.slip, bpfi, fam, "",
+      const std::size_t fam =
+          b.family(Domain::kEnvelope,
+                   br.id + " inner-race defect frequency (BPFI) with sidebands at the shaft speed",
+                   bpfi, o, w, cfg.slip);
+      b.add({Effect::kBearingInnerRaceDefect,
+             br.id,
+             Domain::kEnvelope,
+             {},
+             cfg.slip,
+             bpfi,
+             fam,
+             "",
              "impacts as each rolling element passes a defect on the inner race of " + br.id +
                  ", modulated by the load zone once per shaft revolution"},
             lines);
@@ -263,9 +357,18 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
           w.push_back(wt);
           lines.push_back({kk * bsf2 + j * ftf, wt});
         }
-      const std::size_t fam = b.family(Domain::kEnvelope, br.id + " rolling-element defect frequency (2 × BSF) with sidebands at the cage speed",
-                                       bsf2, o, w, cfg.slip);
-      b.add({Effect::kBearingBallDefect, br.id, Domain::kEnvelope, {}, cfg.slip, bsf2, fam, "",
+      const std::size_t fam = b.family(
+          Domain::kEnvelope,
+          br.id + " rolling-element defect frequency (2 × BSF) with sidebands at the cage speed",
+          bsf2, o, w, cfg.slip);
+      b.add({Effect::kBearingBallDefect,
+             br.id,
+             Domain::kEnvelope,
+             {},
+             cfg.slip,
+             bsf2,
+             fam,
+             "",
              "impacts twice per spin of a rolling element of " + br.id +
                  " with a defect, modulated as the cage carries it through the load zone"},
             lines);
@@ -275,10 +378,18 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
   // Housing resonances between a measured bearing and its sensor.
   for (const std::string& loc : sensor_locations) {
     if (d.bearing(loc) == nullptr) continue;
-    const std::size_t fam = b.family(Domain::kSpectrum, "lines amplified in one band at the sensor on " + loc,
-                                     0.0, {}, {}, 0.0);
-    b.add({Effect::kHousingResonance, loc, Domain::kSpectrum, {}, 0.0, 0.0, fam, "",
-           "a structural resonance of the housing between " + loc + " and its sensor amplifying every line in its band"},
+    const std::size_t fam = b.family(
+        Domain::kSpectrum, "lines amplified in one band at the sensor on " + loc, 0.0, {}, {}, 0.0);
+    b.add({Effect::kHousingResonance,
+           loc,
+           Domain::kSpectrum,
+           {},
+           0.0,
+           0.0,
+           fam,
+           "",
+           "a structural resonance of the housing between " + loc +
+               " and its sensor amplifying every line in its band"},
           {});
   }
   return cat;

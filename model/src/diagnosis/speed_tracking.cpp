@@ -136,7 +136,8 @@ bool refine(const double* x, std::size_t n, double fs, const AngleMap& map, doub
   // The ideal band filter rings near the ends of the block: skip 1/band revolutions there.
   const double trim = std::ceil(1.0 / band);
   auto delta_at = [&](double theta0) {  // theta0 relative to `start`
-    const double pos = std::clamp(theta0 * static_cast<double>(spr), 0.0, static_cast<double>(m - 1));
+    const double pos =
+        std::clamp(theta0 * static_cast<double>(spr), 0.0, static_cast<double>(m - 1));
     const auto i = std::min(static_cast<std::size_t>(pos), m - 2);
     const double u = pos - static_cast<double>(i);
     return delta[i] + u * (delta[i + 1] - delta[i]);
@@ -172,15 +173,16 @@ TrackedSpeed track_speed(const double* x, std::size_t n, double fs_hz, double no
   };
   Choice best;
   const std::size_t max_frame = next_pow2(static_cast<std::size_t>(config.max_frame_s * fs_hz)) / 2;
-  const std::size_t base_frame = std::min<std::size_t>(max_frame, std::max<std::size_t>(
-      1024, next_pow2(static_cast<std::size_t>(0.25 * fs_hz))));
+  const std::size_t base_frame = std::min<std::size_t>(
+      max_frame, std::max<std::size_t>(1024, next_pow2(static_cast<std::size_t>(0.25 * fs_hz))));
   std::vector<double> avg;
   std::size_t frames = 0;
-  stft(x, n, fs_hz, std::min(base_frame, next_pow2(n) / 2), [&](double, const std::vector<double>& mag) {
-    if (avg.empty()) avg.assign(mag.size(), 0.0);
-    for (std::size_t k = 0; k < mag.size(); ++k) avg[k] += mag[k];
-    ++frames;
-  });
+  stft(x, n, fs_hz, std::min(base_frame, next_pow2(n) / 2),
+       [&](double, const std::vector<double>& mag) {
+         if (avg.empty()) avg.assign(mag.size(), 0.0);
+         for (std::size_t k = 0; k < mag.size(); ++k) avg[k] += mag[k];
+         ++frames;
+       });
   if (frames == 0) return result;
   const double df_avg = fs_hz / static_cast<double>(2 * (avg.size() - 1));
   for (const LineCandidate& c : candidates) {
@@ -195,17 +197,21 @@ TrackedSpeed track_speed(const double* x, std::size_t n, double fs_hz, double no
     if (needed_frame_s > config.max_frame_s || needed_frame_s > duration / 4.0) continue;
     const auto k0 = static_cast<std::size_t>(f * (1.0 - config.search) / df_avg);
     const auto k1 = static_cast<std::size_t>(f * (1.0 + config.search) / df_avg) + 1;
-    const auto w0 = static_cast<std::size_t>(std::max(1.0, f * (1.0 - 4.0 * config.search) / df_avg));
-    const auto w1 = std::min(avg.size() - 1, static_cast<std::size_t>(f * (1.0 + 4.0 * config.search) / df_avg) + 1);
+    const auto w0 =
+        static_cast<std::size_t>(std::max(1.0, f * (1.0 - 4.0 * config.search) / df_avg));
+    const auto w1 = std::min(
+        avg.size() - 1, static_cast<std::size_t>(f * (1.0 + 4.0 * config.search) / df_avg) + 1);
     if (k1 >= avg.size() || k0 >= k1) continue;
     double peak = 0.0;
     for (std::size_t k = k0; k <= k1; ++k) peak = std::max(peak, avg[k]);
-    std::vector<double> around(avg.begin() + static_cast<long>(w0), avg.begin() + static_cast<long>(w1) + 1);
+    std::vector<double> around(avg.begin() + static_cast<long>(w0),
+                               avg.begin() + static_cast<long>(w1) + 1);
     const double floor = median_of(std::move(around));
     const double prominence = floor > 0.0 ? peak / floor : 0.0;
     if (prominence > best.prominence) {
-      best = {c.order, c.spacing, prominence,
-              std::max<std::size_t>(1024, next_pow2(static_cast<std::size_t>(needed_frame_s * fs_hz)))};
+      best = {
+          c.order, c.spacing, prominence,
+          std::max<std::size_t>(1024, next_pow2(static_cast<std::size_t>(needed_frame_s * fs_hz)))};
     }
   }
   if (best.prominence < config.min_prominence) return result;
@@ -216,7 +222,8 @@ TrackedSpeed track_speed(const double* x, std::size_t n, double fs_hz, double no
   stft(x, n, fs_hz, best.frame, [&](double centre, const std::vector<double>& mag) {
     const double df = fs_hz / static_cast<double>(2 * (mag.size() - 1));
     const auto k0 = static_cast<std::size_t>(std::max(1.0, f_nom * (1.0 - config.search) / df));
-    const auto k1 = std::min(mag.size() - 2, static_cast<std::size_t>(f_nom * (1.0 + config.search) / df) + 1);
+    const auto k1 =
+        std::min(mag.size() - 2, static_cast<std::size_t>(f_nom * (1.0 + config.search) / df) + 1);
     t_knots.push_back(centre);
     f_knots.push_back(peak_line(mag, k0, k1) * df / best.order);
   });

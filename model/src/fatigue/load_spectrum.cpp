@@ -18,6 +18,31 @@ double SpectrumGrid::speed_at(std::uint32_t j) const {
                              static_cast<double>(speed_points - 1);
 }
 
+bool damage_per_rev_at_point(const ChannelSet& channels, const LoadSimulator& simulator, double t,
+                             double n, double* out, std::string* error) {
+  LoadSeries series;
+  if (!simulator(t, n, series) || series.samples.empty() ||
+      series.samples.size() != series.rotor_rpm.size() || !(series.dt_s > 0.0)) {
+    if (error)
+      *error = "load spectrum: simulator failed at torque " + std::to_string(t) + " N·m, speed " +
+               std::to_string(n) + " rpm";
+    return false;
+  }
+  AccumulatorConfig cfg;
+  cfg.tick_s = series.dt_s;
+  DamageAccumulator acc(channels, cfg);
+  for (std::size_t k = 0; k < series.samples.size(); ++k)
+    acc.step(series.samples[k], series.rotor_rpm[k], 1);
+  const double revs = acc.rotor_revolutions();
+  if (!(revs > 0.0)) {
+    if (error)
+      *error = "load spectrum: no rotor revolutions at speed " + std::to_string(n) + " rpm";
+    return false;
+  }
+  for (std::size_t c = 0; c < channels.channel_count(); ++c) out[c] = acc.damage(c) / revs;
+  return true;
+}
+
 LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid& grid,
                                  SpectrumSource source, const LoadSimulator& simulator,
                                  std::string* error) {
@@ -36,28 +61,16 @@ LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid&
   s.channel_count = channels.channel_count();
   s.damage_per_rev.assign(
       static_cast<std::size_t>(grid.torque_points) * grid.speed_points * s.channel_count, 0.0);
-  LoadSeries series;
+  std::vector<double> point(s.channel_count);
   for (std::uint32_t i = 0; i < grid.torque_points; ++i) {
     for (std::uint32_t j = 0; j < grid.speed_points; ++j) {
-      const double t = grid.torque_at(i), n = grid.speed_at(j);
-      series.samples.clear();
-      series.rotor_rpm.clear();
-      if (!simulator(t, n, series) || series.samples.empty() ||
-          series.samples.size() != series.rotor_rpm.size() || !(series.dt_s > 0.0)) {
-        return fail("load spectrum: simulator failed at torque " + std::to_string(t) +
-                    " N·m, speed " + std::to_string(n) + " rpm");
-      }
-      AccumulatorConfig cfg;
-      cfg.tick_s = series.dt_s;
-      DamageAccumulator acc(channels, cfg);
-      for (std::size_t k = 0; k < series.samples.size(); ++k)
-        acc.step(series.samples[k], series.rotor_rpm[k], 1);
-      const double revs = acc.rotor_revolutions();
-      if (!(revs > 0.0))
-        return fail("load spectrum: no rotor revolutions at speed " + std::to_string(n) + " rpm");
+      std::string why;
+      if (!damage_per_rev_at_point(channels, simulator, grid.torque_at(i), grid.speed_at(j),
+                                   point.data(), &why))
+        return fail(why);
       for (std::size_t c = 0; c < s.channel_count; ++c) {
         s.damage_per_rev[(static_cast<std::size_t>(i) * grid.speed_points + j) * s.channel_count +
-                         c] = acc.damage(c) / revs;
+                         c] = point[c];
       }
     }
   }

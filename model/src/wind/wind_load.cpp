@@ -38,8 +38,8 @@ WindLoad::WindLoad(const Turbine& turbine)
       half_rho_area_(0.5 * turbine.air_density_kg_m3 * kPi * turbine.rotor_radius_m *
                      turbine.rotor_radius_m) {
   tracking_lambda_ = turbine.corrections.tracking_tip_speed_ratio > 0.0
-                        ? turbine.corrections.tracking_tip_speed_ratio
-                        : peak_.lambda_opt;
+                         ? turbine.corrections.tracking_tip_speed_ratio
+                         : peak_.lambda_opt;
   speed_limit_wind_mps_ = tracking_lambda_ > 0.0
                               ? rated_speed_rad_s_ * turbine_.rotor_radius_m / tracking_lambda_
                               : 0.0;
@@ -136,9 +136,9 @@ WindLoadOutput WindLoad::with_rotor_speed(double wind_speed_mps, double rotor_sp
       free_stream_wind_mps(wind_speed_mps, k.nacelle_wind_gain, k.nacelle_wind_offset_mps);
   if (k.tracking_band_margin > 0.0 && tracking_lambda_ > 0.0) {
     // Between its speed limits the controller holds its tip-speed ratio λ_c, so the measured
-    // speed gives the rotor-effective wind ωR/λ_c; at a limit the speed is held and says nothing about the
-    // wind. A 10-minute mean near a limit mixes both: the weight rises linearly from 0 at the
-    // limit to 1 at (1 + m)·ω_min and (1 − m)·ω_rated.
+    // speed gives the rotor-effective wind ωR/λ_c; at a limit the speed is held and says nothing
+    // about the wind. A 10-minute mean near a limit mixes both: the weight rises linearly from 0 at
+    // the limit to 1 at (1 + m)·ω_min and (1 − m)·ω_rated.
     const double m = k.tracking_band_margin;
     const double lo = min_speed_rad_s_, hi = rated_speed_rad_s_;
     const double w_lo = lo > 0.0 ? std::clamp((rotor_speed_rad_s - lo) / (m * lo), 0.0, 1.0) : 1.0;

@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "bus/bus_config.hpp"
 #include "bus/probe.hpp"
@@ -128,6 +130,87 @@ TEST(BusProbe, ReplaysABundleAtItsRecordedRate) {
   EXPECT_EQ(status, 0) << s;
   EXPECT_NE(s.find("point1=100 [m/s^2] point2=100 [m/s^2]"), std::string::npos) << s;
   EXPECT_NE(s.find("rotor_speed_rpm                8.330 rpm"), std::string::npos) << s;
+}
+
+// ---- issue 15: stale, stuck, inconsistent, and one bus failing -------------------------
+
+// Runs the probe on a config text for `seconds` of stepped time; returns status and output.
+std::pair<int, std::string> probe(const std::string& text, double seconds = 2.0, bool fast = true) {
+  const auto c = app::bus::parse_bus_config(text, "probe.toml");
+  app::bus::ProbeOptions o;
+  o.seconds = seconds;
+  o.fast = fast;
+  std::ostringstream out;
+  const int status = app::bus::run_probe(c, o, out);
+  return {status, out.str()};
+}
+
+const char* const kAllSim =
+    "format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"sim\"\n[cms]\nbackend = \"sim\"\n"
+    "[keyphasor]\nbackend = \"sim\"\n";
+
+TEST(BusProbe, EveryRedundantSpeedAgreesOnTheSimulatedPaperPoint) {
+  // The simulated buses at the paper point: SCADA rotor 8.33 rpm (noisy), generator speed
+  // 8.33 × 103.0246, keyphasor at 14.3032 Hz on the hss (= 8.33 rpm through the ratio
+  // (1 + 99/21)·92/21·107/26), CMS tone at the 371.884 Hz high-speed mesh (26 teeth × hss).
+  const auto [status, s] = probe(kAllSim);
+  EXPECT_EQ(status, 0) << s;
+  EXPECT_NE(s.find("keyphasor on hss (pulses_per_rev 1) 8.33;"), std::string::npos) << s;
+  EXPECT_NE(s.find("CMS mesh lines of ch0, ch1 (25600 Hz) 8.33;"), std::string::npos) << s;
+  EXPECT_NE(s.find("nothing stale, stuck or inconsistent"), std::string::npos) << s;
+}
+
+TEST(BusProbe, AWrongPulsesPerRevIsCaughtByTheSpeedCrossCheck) {
+  // One pulse per hss revolution read as two: 7.15 Hz = 429 rpm on the hss, half of what
+  // SCADA's generator speed (858 rpm), its rotor speed and the CMS mesh line say.
+  const auto [status, s] =
+      probe(std::string(kAllSim) + "pulses_per_rev = 2\n");  // appended to [keyphasor]
+  EXPECT_EQ(status, 4) << s;
+  EXPECT_NE(s.find("speeds disagree: keyphasor on hss (pulses_per_rev 2) gives 4.165 rotor rpm, "
+                   "0.5 (1/2) x the 8.3"),
+            std::string::npos)
+      << s;
+  EXPECT_NE(s.find("look at: keyphasor.pulses_per_rev"), std::string::npos) << s;
+}
+
+TEST(BusProbe, AStuckCmsStreamExitsNonZeroSayingWhatToLookAt) {
+  const auto [status, s] =
+      probe("format = \"drivetwin-bus/1\"\n[cms]\nbackend = \"sim\"\nfault = \"stuck\"\n");
+  EXPECT_EQ(status, 4) << s;
+  EXPECT_NE(s.find("cms: stale at the end of the probe after"), std::string::npos) << s;
+  EXPECT_NE(s.find("duplicate blocks"), std::string::npos) << s;
+  EXPECT_NE(s.find("look at: the CMS front end"), std::string::npos) << s;
+}
+
+TEST(BusProbe, FrozenScadaValuesAreReportedStuck) {
+  // A SCADA export replayed whose wind and rotor speed never change (a frozen register block).
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("drivetwin-probe-stuck-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::string csv = "t_s,wind_speed_mps,rotor_speed_rpm\n";
+  for (int i = 0; i < 10; ++i) csv += std::to_string(i) + ",6.75,8.33\n";
+  std::ofstream(dir / "scada.csv") << csv;
+  const auto [status, s] =
+      probe("format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"replay\"\ncsv = \"" +
+                (dir / "scada.csv").string() + "\"\n",
+            6.0);
+  std::filesystem::remove_all(dir);
+  EXPECT_EQ(status, 4) << s;
+  EXPECT_NE(s.find("scada: stuck: wind and rotor speed identical in"), std::string::npos) << s;
+}
+
+TEST(BusProbe, AMissingCanInterfaceDoesNotStopTheOtherBuses) {
+  const auto [status, s] = probe(
+      "format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"sim\"\n[cms]\nbackend = "
+      "\"socketcan\"\ninterface = \"nosuchcan0\"\n[[cms.channel]]\nid = 0\nname = "
+      "\"point1\"\nscale = 0.001\nunit = \"m/s^2\"\n[keyphasor]\nbackend = \"sim\"\n",
+      1.0, /*fast=*/false);  // a live bus: real time
+  EXPECT_EQ(status, 4) << s;
+  EXPECT_NE(s.find("cms: FAILED to open"), std::string::npos) << s;
+  EXPECT_NE(s.find("look at: the CAN interface nosuchcan0"), std::string::npos) << s;
+  // ... and SCADA and the keyphasor were still probed.
+  EXPECT_NE(s.find("wind_speed_mps"), std::string::npos) << s;
+  EXPECT_NE(s.find("keyphasor: hss 14.3032 Hz"), std::string::npos) << s;
 }
 
 }  // namespace

@@ -17,17 +17,20 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("drivetwin-test-diagnose-bench-" + std::to_string(::getpid())) / name;
+  const fs::path p = fs::temp_directory_path() /
+                     ("drivetwin-test-diagnose-bench-" + std::to_string(::getpid())) / name;
   fs::remove_all(p);
   return p;
 }
 
 nlohmann::json diagnose(const tools::diagnosis::LumpedCaseSpec& spec) {
-  const tools::diagnosis::LumpedCase c = tools::diagnosis::make_lumped_case(model::paper_2mw(), spec);
+  const tools::diagnosis::LumpedCase c =
+      tools::diagnosis::make_lumped_case(model::paper_2mw(), spec);
   const fs::path dir = scratch(spec.id);
   EXPECT_FALSE(hal::write_bundle(dir, c.recording).has_value());
   const fs::path json = dir.parent_path() / (spec.id + ".json");
-  const app::cli::RunResult r = app::cli::run({"diagnose", dir.string(), "--json", json.string(), "--quiet"});
+  const app::cli::RunResult r =
+      app::cli::run({"diagnose", dir.string(), "--json", json.string(), "--quiet"});
   EXPECT_EQ(r.exit_code, 0) << r.error;
   std::ifstream in(json);
   return nlohmann::json::parse(in);
@@ -52,7 +55,8 @@ TEST(DiagnoseBench, ACrackOfG4InTheLumpedGearboxShowsAsHssSidebandsOfTheHighSpee
   const nlohmann::json j = diagnose(s);
   bool found = false;
   for (const auto& m : j["mismatch"])
-    if (m["signature"].get<std::string>().rfind("sidebands of the high-speed mesh spaced at the hss speed", 0) == 0)
+    if (m["signature"].get<std::string>().rfind(
+            "sidebands of the high-speed mesh spaced at the hss speed", 0) == 0)
       found = true;
   EXPECT_TRUE(found) << j["mismatch"].dump(1);
 }

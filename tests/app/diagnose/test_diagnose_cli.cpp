@@ -26,7 +26,8 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scratch(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("drivetwin-test-diagnose-" + std::to_string(::getpid())) / name;
+  const fs::path p =
+      fs::temp_directory_path() / ("drivetwin-test-diagnose-" + std::to_string(::getpid())) / name;
   fs::remove_all(p);
   return p;
 }
@@ -45,11 +46,14 @@ fs::path write_case(const std::string& name, Fault fault = Fault::kNone) {
     d.dynamics.bearing_stiffness_scale = {1.2, 1.2, 1.2};
     model::dynamics::SimulationOutputs out;
     std::string error;
-    EXPECT_TRUE(model::dynamics::simulate_rom(d, {14.8, 1.23e6}, {seconds + 0.5, fs_hz}, out, &error)) << error;
+    EXPECT_TRUE(
+        model::dynamics::simulate_rom(d, {14.8, 1.23e6}, {seconds + 0.5, fs_hz}, out, &error))
+        << error;
     const auto skip = static_cast<std::size_t>(0.5 * fs_hz);
     std::mt19937_64 rng(7);
     for (std::size_t p = 0; p < 2; ++p) {
-      std::vector<double> x(out.acceleration_m_s2[p].begin() + static_cast<long>(skip), out.acceleration_m_s2[p].end());
+      std::vector<double> x(out.acceleration_m_s2[p].begin() + static_cast<long>(skip),
+                            out.acceleration_m_s2[p].end());
       double ss = 0.0;
       for (double v : x) ss += v * v;
       std::normal_distribution<double> g(0.0, 0.03 * std::sqrt(ss / static_cast<double>(x.size())));
@@ -96,8 +100,9 @@ struct Outcome {
 };
 
 Outcome diagnose(const fs::path& dir, const fs::path& json, const fs::path& html) {
-  const app::cli::RunResult r = app::cli::run(
-      {"diagnose", dir.string(), "--json", json.string(), "--html", html.string(), "--quiet", "--evaluations", "25"});
+  const app::cli::RunResult r =
+      app::cli::run({"diagnose", dir.string(), "--json", json.string(), "--html", html.string(),
+                     "--quiet", "--evaluations", "25"});
   return {r.exit_code, r.error};
 }
 
@@ -111,9 +116,10 @@ TEST(DiagnoseCli, WritesTheContractsJsonWithEveryFieldAndAnOfflineHtmlReport) {
   // The contract's keys, in its order, and nothing else at the top level.
   std::vector<std::string> keys;
   for (auto it = j.begin(); it != j.end(); ++it) keys.push_back(it.key());
-  const std::vector<std::string> contract = {"format", "bundle", "operating_point", "fit_before", "fit_calibrated",
-                                             "residual_before", "residual_calibrated", "mismatch", "missing_physics",
-                                             "fit_after", "residual_after"};
+  const std::vector<std::string> contract = {
+      "format",          "bundle",          "operating_point",     "fit_before",
+      "fit_calibrated",  "residual_before", "residual_calibrated", "mismatch",
+      "missing_physics", "fit_after",       "residual_after"};
   std::vector<std::string> sorted_keys = keys, sorted_contract = contract;
   std::sort(sorted_keys.begin(), sorted_keys.end());
   std::sort(sorted_contract.begin(), sorted_contract.end());
@@ -124,7 +130,8 @@ TEST(DiagnoseCli, WritesTheContractsJsonWithEveryFieldAndAnOfflineHtmlReport) {
   EXPECT_EQ(j["operating_point"]["input_torque_nm"].get<double>(), 1.23e6);
   for (const char* fit : {"fit_before", "fit_calibrated", "fit_after"})
     for (const char* p : {"point1", "point2"})
-      for (const char* f : {"f1", "f2", "f3"}) EXPECT_TRUE(j[fit][p][f].is_number()) << fit << p << f;
+      for (const char* f : {"f1", "f2", "f3"})
+        EXPECT_TRUE(j[fit][p][f].is_number()) << fit << p << f;
   for (const char* r : {"residual_before", "residual_calibrated", "residual_after"}) {
     EXPECT_GE(j[r].get<double>(), 0.0);
     EXPECT_LE(j[r].get<double>(), 1.0);
@@ -148,7 +155,8 @@ TEST(DiagnoseCli, WritesTheContractsJsonWithEveryFieldAndAnOfflineHtmlReport) {
   EXPECT_EQ(text.find("<link"), std::string::npos);
   // The only URL is the SVG namespace, an identifier that is never fetched.
   std::size_t urls = 0, namespaces = 0;
-  for (std::size_t at = text.find("http"); at != std::string::npos; at = text.find("http", at + 1)) {
+  for (std::size_t at = text.find("http"); at != std::string::npos;
+       at = text.find("http", at + 1)) {
     ++urls;
     if (text.compare(at, 26, "http://www.w3.org/2000/svg") == 0) ++namespaces;
   }
@@ -157,10 +165,12 @@ TEST(DiagnoseCli, WritesTheContractsJsonWithEveryFieldAndAnOfflineHtmlReport) {
 
 void expect_refused(Fault fault, const std::string& name, const std::vector<std::string>& words) {
   const fs::path dir = write_case(name, fault);
-  const fs::path json = dir.parent_path() / (name + ".json"), html = dir.parent_path() / (name + ".html");
+  const fs::path json = dir.parent_path() / (name + ".json"),
+                 html = dir.parent_path() / (name + ".html");
   const Outcome o = diagnose(dir, json, html);
   EXPECT_NE(o.status, 0);
-  for (const std::string& w : words) EXPECT_NE(o.error.find(w), std::string::npos) << "'" << w << "' not in: " << o.error;
+  for (const std::string& w : words)
+    EXPECT_NE(o.error.find(w), std::string::npos) << "'" << w << "' not in: " << o.error;
   EXPECT_FALSE(fs::exists(json));
   EXPECT_FALSE(fs::exists(html));
 }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "loop/runner.hpp"
+#include "replay_damage_check.hpp"
 #include "run/run_config.hpp"
 #include "run_test_util.hpp"
 
@@ -98,6 +99,12 @@ TEST(RunTwin, AReplayCoversItsRowsExactlyAndRepeatsBitForBit) {
   for (std::size_t i = 0; i < a.damage.size(); ++i)
     EXPECT_EQ(a.damage[i], b.damage[i]) << a.channel_names[i];  // bit for bit
   EXPECT_GT(a.damage[0], 0.0);
+}
+
+TEST(RunTwin, AReplayOfTheBuiltInDayGivesTheDamageOfDrivetwinDamage) {
+  // The replay-vs-history proof at a low ROM rate (1024 Hz, cut-off 150 Hz; one row): the same
+  // code path as test_replay_damage.cpp, cheap enough for qemu-aarch64 and the sanitizers.
+  run_test::expect_replay_equals_damage(1, 16, 150.0, 0.01);
 }
 
 TEST(RunTwin, StartUpErrorsNameWhatIsWrong) {

@@ -119,8 +119,8 @@ TEST(CpFit, RecoversTheTrackedTipSpeedRatioBandAndTurbulenceIntensity) {
   std::vector<app::wind::FitRow> rows;
   const double floor = truth.min_rotor_speed_rpm, rated = truth.rated_rotor_speed_rpm;
   for (double v = 3.5; v < 11.0; v += 0.1) {
-    for (double rpm : {floor, 1.03 * floor, 1.06 * floor, 10.0, 12.0, 0.96 * rated,
-                       0.98 * rated, rated}) {
+    for (double rpm :
+         {floor, 1.03 * floor, 1.06 * floor, 10.0, 12.0, 0.96 * rated, 0.98 * rated, rated}) {
       const double w = rpm * kRpm;
       const double torque = load.with_rotor_speed(v, w, 0.0, false).torque_nm;
       const double reference = load.electrical_power_w(torque, w) / w;

@@ -81,11 +81,11 @@ TEST(HeldOut, BreakdownByMonthRegionAndWindBinAgreesWithHandValues) {
   using R = model::wind::OperatingRegion;
   app::wind::ErrorBreakdown b;
   const double jan = utc("2019-01-03 10:00:00"), jul = utc("2019-07-02 03:10:00");
-  b.add(jan, 3.5, row_in(R::kTracking, 110.0, 100.0));   // +10 %, low wind
-  b.add(jan, 4.9, row_in(R::kTracking, 80.0, 100.0));    // −20 %, low wind
+  b.add(jan, 3.5, row_in(R::kTracking, 110.0, 100.0));     // +10 %, low wind
+  b.add(jan, 4.9, row_in(R::kTracking, 80.0, 100.0));      // −20 %, low wind
   b.add(jan, 9.0, row_in(R::kSpeedLimited, 99.0, 100.0));  // −1 %
-  b.add(jul, 13.0, row_in(R::kRated, 102.0, 100.0));     // +2 %
-  b.add(jul, 5.0, row_in(R::kTracking, 95.0, 100.0));    // −5 %, not in [3, 5)
+  b.add(jul, 13.0, row_in(R::kRated, 102.0, 100.0));       // +2 %
+  b.add(jul, 5.0, row_in(R::kTracking, 95.0, 100.0));      // −5 %, not in [3, 5)
   app::wind::RowEstimate out = row_in(R::kTracking, 300.0, 100.0);
   out.in_operation = false;  // ignored
   b.add(jul, 4.0, out);
@@ -166,9 +166,9 @@ TEST_F(LeaveOneOut, TheWinterFoldCarriesExactlyTheWinterLossItWasNotFittedOn) {
   options.no_load_loss = true;
   const app::wind::TimeWindow year;
   // Act
-  const auto folds = app::wind::leave_one_out(path, hal::bundle_scada_columns(), d,
-                                              app::wind::EstimatorOptions{}, year,
-                                              app::wind::meteorological_seasons(), options);
+  const auto folds =
+      app::wind::leave_one_out(path, hal::bundle_scada_columns(), d, app::wind::EstimatorOptions{},
+                               year, app::wind::meteorological_seasons(), options);
   // Assert: the winter fold is fitted on 9 months at 60 kW, so each winter row is off by
   // −30 kW/P_i exactly (the estimate (ηTω − 60 kW)/ω against (ηTω − 30 kW)/ω).
   ASSERT_EQ(folds.size(), 4u);

@@ -44,7 +44,7 @@ TEST(AngleMap, InterpolatesBetweenPulsesAndInvertsItself) {
   EXPECT_NEAR(m.revolutions_at(0.275), 1.5, 1e-12);
   EXPECT_NEAR(m.time_at(1.5), 0.275, 1e-12);
   EXPECT_NEAR(m.revolutions_at(0.05), -0.5, 1e-12);  // extrapolated with the first period
-  EXPECT_NEAR(m.time_at(3.5), 0.5, 1e-12);          // and with the last
+  EXPECT_NEAR(m.time_at(3.5), 0.5, 1e-12);           // and with the last
   EXPECT_NEAR(m.mean_hz(), 3.0 / 0.35, 1e-12);
   EXPECT_FALSE(md::AngleMap::from_pulses({0.1, 0.1}).valid());
 }
@@ -77,7 +77,8 @@ TEST(SynchronousAverage, RecoversTheShaftPatternAndTheResidualShowsTheImpact) {
   std::normal_distribution<double> gauss(0.0, 1.0);
   auto pattern = [](double rev) {
     const double frac = rev - std::floor(rev);
-    const double impact = frac > 0.5 && frac < 0.52 ? 1.5 * std::sin(kPi * (frac - 0.5) / 0.02) : 0.0;
+    const double impact =
+        frac > 0.5 && frac < 0.52 ? 1.5 * std::sin(kPi * (frac - 0.5) / 0.02) : 0.0;
     return 2.0 * std::cos(2.0 * kPi * 20.0 * rev) + impact;
   };
   for (std::size_t i = 0; i < n; ++i) x[i] = pattern(ratio * s.theta(i / fs)) + gauss(rng);

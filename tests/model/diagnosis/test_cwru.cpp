@@ -90,7 +90,8 @@ Verdict analyse(const MatRecording& rec, double fs_hz) {
   EXPECT_EQ(cat.reference_shaft, "motor");
   const double shaft_hz = rec.rpm / 60.0;
   const md::AngleMap map = md::AngleMap::constant(shaft_hz, 0.0);
-  const std::size_t revs = md::fft_size_at_most(md::revolutions_available(rec.de.size(), fs_hz, map, 1.0, 1.0) - 1);
+  const std::size_t revs =
+      md::fft_size_at_most(md::revolutions_available(rec.de.size(), fs_hz, map, 1.0, 1.0) - 1);
   md::AnalysisConfig cfg;
   cfg.synchronous_averages = false;
   cfg.max_frequency_hz = 0.45 * fs_hz;
@@ -114,7 +115,8 @@ Verdict analyse(const MatRecording& rec, double fs_hz) {
       v.best = h.effect;
     }
   }
-  std::printf("  band %.0f–%.0f Hz (SK %.1f), evidence:", a.band.f_lo_hz, a.band.f_hi_hz, a.band.kurtosis);
+  std::printf("  band %.0f–%.0f Hz (SK %.1f), evidence:", a.band.f_lo_hz, a.band.f_hi_hz,
+              a.band.kurtosis);
   for (const auto& [e, ev] : v.evidence) std::printf(" %s %.0f", md::effect_id(e), ev);
   std::printf("\n");
   return v;
@@ -135,8 +137,12 @@ void expect_fault(const char* file, md::Effect expected) {
   EXPECT_GE(v.best_evidence, md::LocateConfig{}.min_evidence);
 }
 
-TEST(Cwru, InnerRaceFault007AtNoLoadShowsBpfi) { expect_fault("IR007_0.mat", md::Effect::kBearingInnerRaceDefect); }
-TEST(Cwru, InnerRaceFault021AtOneHpShowsBpfi) { expect_fault("IR021_1.mat", md::Effect::kBearingInnerRaceDefect); }
+TEST(Cwru, InnerRaceFault007AtNoLoadShowsBpfi) {
+  expect_fault("IR007_0.mat", md::Effect::kBearingInnerRaceDefect);
+}
+TEST(Cwru, InnerRaceFault021AtOneHpShowsBpfi) {
+  expect_fault("IR021_1.mat", md::Effect::kBearingInnerRaceDefect);
+}
 TEST(Cwru, OuterRaceFault007InTheLoadZoneShowsBpfo) {
   expect_fault("OR007@6_0.mat", md::Effect::kBearingOuterRaceDefect);
 }

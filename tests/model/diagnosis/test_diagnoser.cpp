@@ -23,10 +23,12 @@ constexpr double kPi = std::numbers::pi;
 // Amplitude of mesh harmonic (stage s, harmonic h) at point p for parameters q.
 double tone_amplitude(const model::DynamicsParameters& q, std::size_t s, int h, std::size_t p) {
   const double base = (s == 2 ? 1.0 : (s == 1 ? 0.5 : 0.2)) / h * (p == 0 ? 1.0 : 0.6);
-  // Log-linear in the parameters, each harmonic its own mix, so the calibration can tell them apart.
+  // Log-linear in the parameters, each harmonic its own mix, so the calibration can tell them
+  // apart.
   const double g = std::pow(q.mesh_stiffness_scale[s], 0.8 + 0.3 * h) *
                    std::pow(q.bearing_stiffness_scale[s], p == 0 ? -0.6 : -0.3 * h) *
-                   std::pow(q.rayleigh_zeta / 1e-5, -0.2 * h) * std::pow(q.rayleigh_eta / 5.0, -0.05);
+                   std::pow(q.rayleigh_zeta / 1e-5, -0.2 * h) *
+                   std::pow(q.rayleigh_eta / 5.0, -0.05);
   return base * g;
 }
 
@@ -41,10 +43,12 @@ struct ToneGearbox {
   struct Tone {
     double order, amplitude, phase;
   };
-  std::vector<Tone> tones(const model::DynamicsParameters& q, double c, double unbalance, std::size_t p) const {
+  std::vector<Tone> tones(const model::DynamicsParameters& q, double c, double unbalance,
+                          std::size_t p) const {
     std::vector<Tone> t;
     for (std::size_t s = 0; s < 3; ++s)
-      for (int h = 1; h <= 3; ++h) t.push_back({h * mesh_orders[s], tone_amplitude(q, s, h, p), 0.3 * h + s});
+      for (int h = 1; h <= 3; ++h)
+        t.push_back({h * mesh_orders[s], tone_amplitude(q, s, h, p), 0.3 * h + s});
     if (c > 0.0) {
       for (int h = 1; h <= 3; ++h)
         for (int k = 1; k <= 4; ++k) {
@@ -65,10 +69,13 @@ struct ToneGearbox {
 
 class ToneEffectSimulator : public md::EffectSimulator {
  public:
-  explicit ToneEffectSimulator(const md::Catalogue& cat) : box_(cat), ref_per_rotor_(cat.reference_per_rotor) {}
+  explicit ToneEffectSimulator(const md::Catalogue& cat)
+      : box_(cat), ref_per_rotor_(cat.reference_per_rotor) {}
   std::vector<md::EffectParameter> parameters(const md::Hypothesis& h) const override {
-    if (h.effect == md::Effect::kToothCrack && h.location == "g4") return {{"stiffness_loss", 1e-3, 1.0, 0.05, true}};
-    if (h.effect == md::Effect::kShaftUnbalance && h.location == "hss") return {{"force", 1e-4, 1.0, 0.01, true}};
+    if (h.effect == md::Effect::kToothCrack && h.location == "g4")
+      return {{"stiffness_loss", 1e-3, 1.0, 0.05, true}};
+    if (h.effect == md::Effect::kShaftUnbalance && h.location == "hss")
+      return {{"force", 1e-4, 1.0, 0.01, true}};
     return {};
   }
   bool simulate(const model::DynamicsParameters& q, const std::vector<md::EffectSetting>& effects,
@@ -84,7 +91,8 @@ class ToneEffectSimulator : public md::EffectSimulator {
     for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
       wave_[p].resize(n);
       const auto tones = box_.tones(q, crack, unbalance, p);
-      for (std::size_t i = 0; i < n; ++i) wave_[p][i] = ToneGearbox::value(tones, f * static_cast<double>(i) / fs);
+      for (std::size_t i = 0; i < n; ++i)
+        wave_[p][i] = ToneGearbox::value(tones, f * static_cast<double>(i) / fs);
       out[p] = {wave_[p].data(), n, fs};
     }
     return true;
@@ -104,8 +112,8 @@ struct Recording {
 };
 
 // The recording: truth parameters, a crack of `crack`, speed drifting ±1.5 % (no tacho), noise.
-Recording record(const md::Catalogue& cat, const model::DynamicsParameters& truth, double crack, double seconds,
-                 unsigned seed) {
+Recording record(const md::Catalogue& cat, const model::DynamicsParameters& truth, double crack,
+                 double seconds, unsigned seed) {
   Recording r;
   const ToneGearbox box(cat);
   const double f0 = 8.33 / 60.0 * cat.reference_per_rotor, d = 0.015, period = 17.0;
@@ -195,7 +203,8 @@ TEST(Diagnoser, ReportsNothingWhenOnlyTheParametersDrifted) {
   }
   ASSERT_EQ(st, md::DiagnosisStep::kFinished) << d.report().message;
   EXPECT_TRUE(d.report().missing.empty());
-  for (const md::CandidateResult& c : d.report().candidates) EXPECT_FALSE(c.accepted) << md::effect_id(c.effect);
+  for (const md::CandidateResult& c : d.report().candidates)
+    EXPECT_FALSE(c.accepted) << md::effect_id(c.effect);
 }
 
 TEST(Diagnoser, CancelEndsTheRunAtTheNextStepAndTheSummarySaysSo) {
@@ -206,7 +215,7 @@ TEST(Diagnoser, CancelEndsTheRunAtTheNextStepAndTheSummarySaysSo) {
   const Recording r = record(probe.catalogue(), drifted(), 0.0, 14.0, 3);
   md::DiagnosisSummary s;
   d.start(input_of(r));
-  EXPECT_FALSE(d.read_result(s));  // nothing before the first step
+  EXPECT_FALSE(d.read_result(s));                    // nothing before the first step
   ASSERT_EQ(d.step(), md::DiagnosisStep::kRunning);  // speed
   ASSERT_TRUE(d.read_result(s));
   EXPECT_FALSE(s.finished);

@@ -77,7 +77,8 @@ Case make_case2(Effect&& effect, SimExtra&& sim_extra, double duration = 10.0, u
 
 template <typename Effect>
 Case make_case(Effect&& effect, double duration = 10.0, unsigned seed = 1) {
-  return make_case2(effect, [](double) { return 0.0; }, duration, seed);
+  return make_case2(
+      effect, [](double) { return 0.0; }, duration, seed);
 }
 
 struct Analysed {
@@ -91,8 +92,10 @@ void analyse(const Case& c, const md::Catalogue& cat, Analysed& a) {
   cfg.band_max_hz = 12000.0;
   const double env = md::envelope_max_order(cat);
   md::AnalysisWindow w{1.0, 135};
-  ASSERT_TRUE(md::analyse_channel(c.rec.data(), c.rec.size(), kFs, c.rec_map, w, cat, cfg, env, nullptr, a.rec));
-  ASSERT_TRUE(md::analyse_channel(c.sim.data(), c.sim.size(), kFs, c.sim_map, w, cat, cfg, env, &a.rec.band, a.sim));
+  ASSERT_TRUE(md::analyse_channel(c.rec.data(), c.rec.size(), kFs, c.rec_map, w, cat, cfg, env,
+                                  nullptr, a.rec));
+  ASSERT_TRUE(md::analyse_channel(c.sim.data(), c.sim.size(), kFs, c.sim_map, w, cat, cfg, env,
+                                  &a.rec.band, a.sim));
   a.pairs = {{"point1", "b5", &a.rec, &a.sim}};
   a.result = md::locate(cat, a.pairs);
 }
@@ -109,7 +112,8 @@ TEST(Locate, NamesABroadHssSidebandFamilyAroundTheHsMeshAsACrackOfG4) {
     double v = 0.0;
     for (int h = 1; h <= 3; ++h)
       for (int k = 1; k <= 5; ++k)
-        v += 0.02 / h * (std::cos(2 * kPi * (26.0 * h + k) * th) + std::cos(2 * kPi * (26.0 * h - k) * th));
+        v += 0.02 / h *
+             (std::cos(2 * kPi * (26.0 * h + k) * th) + std::cos(2 * kPi * (26.0 * h - k) * th));
     return v;
   });
   Analysed a;
@@ -132,7 +136,8 @@ TEST(Locate, NamesFirstSidebandsAndA1xLineAsEccentricityOfG4) {
   const Case c = make_case([](double, double th) {
     double v = 0.03 * std::cos(2 * kPi * th);
     for (int h = 1; h <= 3; ++h)
-      v += 0.03 / h * (std::cos(2 * kPi * (26.0 * h + 1) * th) + std::cos(2 * kPi * (26.0 * h - 1) * th));
+      v += 0.03 / h *
+           (std::cos(2 * kPi * (26.0 * h + 1) * th) + std::cos(2 * kPi * (26.0 * h - 1) * th));
     return v;
   });
   Analysed a;
@@ -146,13 +151,16 @@ TEST(Locate, NamesA2xLineAsMisalignmentAndA1xLineAsUnbalanceOfTheIms) {
   const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
   const double ims = 26.0 / 107.0;
   Analysed a2;
-  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * 2 * ims * th) + 0.02 * std::cos(2 * kPi * ims * th); }),
+  analyse(make_case([&](double, double th) {
+            return 0.05 * std::cos(2 * kPi * 2 * ims * th) + 0.02 * std::cos(2 * kPi * ims * th);
+          }),
           cat, a2);
   ASSERT_FALSE(a2.result.ranking.empty());
   EXPECT_EQ(md::effect_id(top(cat, a2.result).effect), std::string("shaft_misalignment"));
   EXPECT_EQ(top(cat, a2.result).location, "ims");
   Analysed a1;
-  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * ims * th); }), cat, a1);
+  analyse(make_case([&](double, double th) { return 0.05 * std::cos(2 * kPi * ims * th); }), cat,
+          a1);
   ASSERT_FALSE(a1.result.ranking.empty());
   EXPECT_EQ(md::effect_id(top(cat, a1.result).effect), std::string("shaft_unbalance"));
   EXPECT_EQ(top(cat, a1.result).location, "ims");
@@ -165,7 +173,8 @@ TEST(Locate, FindsOuterRaceImpactsOfB5InTheEnvelopeOfTheBandWhereTheyRing) {
   const double bpfo = 93.066 / kHss * 0.99;
   const double wn = 2 * kPi * 6000.0;
   const Case c = make_case([&](double t, double th) {
-    const double since_rev = std::fmod(th * bpfo, 1.0) / (bpfo * kHss);  // [s] since the last impact
+    const double since_rev =
+        std::fmod(th * bpfo, 1.0) / (bpfo * kHss);  // [s] since the last impact
     (void)t;
     return 0.25 * std::exp(-0.03 * wn * since_rev) * std::sin(wn * since_rev);
   });
@@ -182,7 +191,8 @@ TEST(Locate, FindsNothingWhenTheRecordingIsTheSimulationPlusNoise) {
   const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
   Analysed a;
   analyse(make_case([](double, double) { return 0.0; }), cat, a);
-  for (const auto& s : a.result.ranking) EXPECT_LT(s.score, 0.05) << md::effect_id(cat.hypotheses[s.hypothesis].effect);
+  for (const auto& s : a.result.ranking)
+    EXPECT_LT(s.score, 0.05) << md::effect_id(cat.hypotheses[s.hypothesis].effect);
 }
 
 }  // namespace
@@ -192,7 +202,8 @@ namespace {
 // A comb of lines: every hss harmonic 1..120 with a slowly varying amplitude.
 double comb(double th, const std::vector<double>& gain) {
   double v = 0.0;
-  for (int k = 1; k <= 120; ++k) v += gain[k] * 0.05 / std::sqrt(k) * std::cos(2 * kPi * k * th + 0.37 * k * k);
+  for (int k = 1; k <= 120; ++k)
+    v += gain[k] * 0.05 / std::sqrt(k) * std::cos(2 * kPi * k * th + 0.37 * k * k);
   return v;
 }
 
@@ -204,7 +215,8 @@ TEST(Locate, FitsAResonanceWhenEveryLineOfABandIsAmplifiedAlongOneTransmissibili
     const double r = k * kHss / 600.0, z = 0.03;
     h[k] = std::sqrt((1 + 4 * z * z * r * r) / ((1 - r * r) * (1 - r * r) + 4 * z * z * r * r));
   }
-  const Case c = make_case2([&](double, double th) { return comb(th, h); }, [&](double th) { return comb(th, ones); });
+  const Case c = make_case2([&](double, double th) { return comb(th, h); },
+                            [&](double th) { return comb(th, ones); });
   Analysed a;
   analyse(c, cat, a);
   const md::ResidualFeature* band = nullptr;
@@ -223,10 +235,12 @@ TEST(Locate, FindsNoResonanceInAMisfitThatScattersFromLineToLine) {
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(-10.0, 10.0);
   for (int k = 1; k <= 120; ++k) g[k] = std::pow(10.0, u(rng) / 20.0);
-  const Case c = make_case2([&](double, double th) { return comb(th, g); }, [&](double th) { return comb(th, ones); });
+  const Case c = make_case2([&](double, double th) { return comb(th, g); },
+                            [&](double th) { return comb(th, ones); });
   Analysed a;
   analyse(c, cat, a);
-  for (const auto& f : a.result.features) EXPECT_NE(f.domain, md::FeatureDomain::kBand) << f.resonance_hz;
+  for (const auto& f : a.result.features)
+    EXPECT_NE(f.domain, md::FeatureDomain::kBand) << f.resonance_hz;
 }
 
 }  // namespace

@@ -186,7 +186,8 @@ TEST(Lowpass, RemovesWhatLiesAboveTheCutoffAndKeepsWhatLiesBelow) {
   for (std::size_t i = 0; i < n; ++i)
     x[i] = std::sin(2.0 * kPi * 50.0 * i / fs) + std::sin(2.0 * kPi * 300.0 * i / fs);
   const auto y = md::lowpass(x.data(), n, fs, 100.0);
-  for (std::size_t i = 0; i < n; i += 17) EXPECT_NEAR(y[i], std::sin(2.0 * kPi * 50.0 * i / fs), 1e-9);
+  for (std::size_t i = 0; i < n; i += 17)
+    EXPECT_NEAR(y[i], std::sin(2.0 * kPi * 50.0 * i / fs), 1e-9);
 }
 
 }  // namespace

@@ -34,8 +34,10 @@ TEST(SignatureCatalogue, CoversEveryEffectOfTheContractAtItsTypicalLocations) {
     EXPECT_NE(find(c, md::Effect::kBearingInnerRaceDefect, b), nullptr) << b;
     EXPECT_NE(find(c, md::Effect::kBearingBallDefect, b), nullptr) << b;
   }
-  for (const char* s : {"sun_shaft", "ims", "hss"}) EXPECT_NE(find(c, md::Effect::kShaftUnbalance, s), nullptr) << s;
-  for (const char* s : {"ims", "hss"}) EXPECT_NE(find(c, md::Effect::kShaftMisalignment, s), nullptr) << s;
+  for (const char* s : {"sun_shaft", "ims", "hss"})
+    EXPECT_NE(find(c, md::Effect::kShaftUnbalance, s), nullptr) << s;
+  for (const char* s : {"ims", "hss"})
+    EXPECT_NE(find(c, md::Effect::kShaftMisalignment, s), nullptr) << s;
   EXPECT_NE(find(c, md::Effect::kPlanetPassModulation, "ring"), nullptr);
   EXPECT_NE(find(c, md::Effect::kHousingResonance, "b5"), nullptr);
   EXPECT_NE(find(c, md::Effect::kHousingResonance, "b3"), nullptr);
@@ -76,7 +78,8 @@ TEST(SignatureCatalogue, PutsTheLinesWhereTheReferenceKinematicsTableDoes) {
   const auto* mis = find(c, md::Effect::kShaftMisalignment, "ims");
   EXPECT_TRUE(has_line(*mis, 2 * 3.4756 / hss, tol));
   // The families name the features: the g4 crack's is the hss-spaced hs-mesh family.
-  EXPECT_EQ(c.families[g4->family].text, "sidebands of the high-speed mesh spaced at the hss speed");
+  EXPECT_EQ(c.families[g4->family].text,
+            "sidebands of the high-speed mesh spaced at the hss speed");
 }
 
 TEST(SignatureCatalogue, DropsLinesAboveTheAnalysisBand) {

@@ -24,10 +24,11 @@
 namespace model::diagnosis {
 
 struct AnalysisConfig {
-  double max_frequency_hz = 5000.0;  // [Hz] band of the order spectrum compared (the contract's residual band)
-  double band_max_hz = 0.0;          // [Hz] kurtogram bands must end below this (0: fs/2)
-  int kurtogram_max_level = 7;       // [-]
-  bool prewhiten = true;             // kurtogram and envelope on the cepstrally prewhitened waveform
+  double max_frequency_hz =
+      5000.0;  // [Hz] band of the order spectrum compared (the contract's residual band)
+  double band_max_hz = 0.0;     // [Hz] kurtogram bands must end below this (0: fs/2)
+  int kurtogram_max_level = 7;  // [-]
+  bool prewhiten = true;        // kurtogram and envelope on the cepstrally prewhitened waveform
   bool synchronous_averages = true;
 };
 
@@ -44,13 +45,13 @@ struct ShaftAverage {
 };
 
 struct ChannelAnalysis {
-  WaveformStatistics stats;          // of the raw waveform within the window
-  OrderSpectrum spectrum;            // reference orders, up to max_frequency_hz at least
-  Kurtogram kurtogram;               // of the (prewhitened) waveform; empty when a band was given
-  KurtogramBand band;                // envelope band used
-  OrderSpectrum envelope;            // squared envelope / its mean, reference orders
+  WaveformStatistics stats;  // of the raw waveform within the window
+  OrderSpectrum spectrum;    // reference orders, up to max_frequency_hz at least
+  Kurtogram kurtogram;       // of the (prewhitened) waveform; empty when a band was given
+  KurtogramBand band;        // envelope band used
+  OrderSpectrum envelope;    // squared envelope / its mean, reference orders
   std::vector<ShaftAverage> averages;
-  double max_order = 0.0;            // [orders] max_frequency_hz at the window's mean speed
+  double max_order = 0.0;  // [orders] max_frequency_hz at the window's mean speed
 };
 
 /// Samples per reference revolution for a sample rate: the smallest power of two at

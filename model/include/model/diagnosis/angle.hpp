@@ -56,10 +56,10 @@ std::size_t revolutions_available(std::size_t n, double fs_hz, const AngleMap& m
 /// An order spectrum: the Hann amplitude spectrum of `revs` revolutions of a shaft in
 /// the angle domain; line k is at order k/revs (cycles per revolution of that shaft).
 struct OrderSpectrum {
-  std::size_t revolutions = 0;       // [-] R: resolution 1/R order
-  std::size_t samples_per_rev = 0;   // [-]
-  double shaft_hz = 0.0;             // [Hz] mean speed of the shaft (orders → Hz)
-  std::vector<double> amplitude;     // [unit of x] per line
+  std::size_t revolutions = 0;      // [-] R: resolution 1/R order
+  std::size_t samples_per_rev = 0;  // [-]
+  double shaft_hz = 0.0;            // [Hz] mean speed of the shaft (orders → Hz)
+  std::vector<double> amplitude;    // [unit of x] per line
   double line(double order) const { return order * static_cast<double>(revolutions); }
   /// Tone amplitude at `order` (main-lobe energy, ±2 lines).
   double tone(double order) const;
@@ -68,17 +68,16 @@ struct OrderSpectrum {
 };
 
 /// Order spectrum of `revs` revolutions (chosen 2·3·5-smooth by the caller for speed).
-bool order_spectrum(const double* x, std::size_t n, double fs_hz, const AngleMap& map,
-                    double ratio, double start_rev, std::size_t spr, std::size_t revs,
-                    OrderSpectrum& out);
+bool order_spectrum(const double* x, std::size_t n, double fs_hz, const AngleMap& map, double ratio,
+                    double start_rev, std::size_t spr, std::size_t revs, OrderSpectrum& out);
 
 /// A time-synchronous average and the signals separated from it.
 struct SynchronousAverage {
-  std::size_t samples_per_rev = 0;   // [-]
-  std::size_t revolutions = 0;       // [-] averaged
-  std::vector<double> average;       // [unit of x] one revolution
-  std::vector<double> residual;      // average − shaft orders ≤ low_orders − mesh harmonics
-  std::vector<double> difference;    // residual − the first sidebands of every mesh harmonic
+  std::size_t samples_per_rev = 0;  // [-]
+  std::size_t revolutions = 0;      // [-] averaged
+  std::vector<double> average;      // [unit of x] one revolution
+  std::vector<double> residual;     // average − shaft orders ≤ low_orders − mesh harmonics
+  std::vector<double> difference;   // residual − the first sidebands of every mesh harmonic
   WaveformStatistics average_stats;
   WaveformStatistics residual_stats;
   WaveformStatistics difference_stats;  // its kurtosis is FM4 (Stewart 1977)

@@ -80,28 +80,29 @@ struct DiagnoserConfig {
   LocateConfig locate{};
   CatalogueConfig catalogue{};
   SpeedTrackingConfig speed{};
-  dsp::FeatureConfig features{};            // the calibrator's features (mesh orders filled by it)
+  dsp::FeatureConfig features{};  // the calibrator's features (mesh orders filled by it)
   calibration::CalibratorConfig calibration{};
-  std::size_t max_candidates = 3;           // hypotheses refitted
-  std::size_t fit_evaluations = 10;         // per candidate, probes included
+  std::size_t max_candidates = 3;             // hypotheses refitted
+  std::size_t fit_evaluations = 10;           // per candidate, probes included
   std::size_t recalibration_evaluations = 0;  // calibrator with the effect on (0: not run)
-  double min_improvement = 0.25;            // [-] of the calibrated hold-out signature residual
-  double settle_s = 0.5;                    // [s] simulated and discarded per simulation
-  std::size_t min_revolutions = 64;         // [-] reference revolutions the analysis needs at least
-  std::size_t fit_revolutions = 64;         // [-] at least, per fit evaluation
-  std::size_t plot_points = 1200;           // per spectrum trace of the report
+  double min_improvement = 0.25;              // [-] of the calibrated hold-out signature residual
+  double settle_s = 0.5;                      // [s] simulated and discarded per simulation
+  std::size_t min_revolutions = 64;  // [-] reference revolutions the analysis needs at least
+  std::size_t fit_revolutions = 64;  // [-] at least, per fit evaluation
+  std::size_t plot_points = 1200;    // per spectrum trace of the report
 };
 
 /// The recording handed to the diagnosis (samples referenced, not copied: keep them
 /// alive until the run has finished).
 struct DiagnosisInput {
-  double sample_rate_hz = 0.0;                  // [Hz]
-  std::array<const double*, kPoints> points{};  // [m/s²] the drivetrain's measurement points, in order
-  std::size_t samples = 0;                      // per channel
-  std::vector<double> tacho_pulses_s;           // [s] once-per-revolution instants; empty: none
-  std::string tacho_shaft;                      // shaft the tacho is on ("" : the reference shaft)
-  double rotor_speed_rpm = 0.0;                 // [rpm] nominal (the bundle's operating point)
-  double input_torque_nm = 0.0;                 // [N·m]
+  double sample_rate_hz = 0.0;  // [Hz]
+  std::array<const double*, kPoints>
+      points{};                        // [m/s²] the drivetrain's measurement points, in order
+  std::size_t samples = 0;             // per channel
+  std::vector<double> tacho_pulses_s;  // [s] once-per-revolution instants; empty: none
+  std::string tacho_shaft;             // shaft the tacho is on ("" : the reference shaft)
+  double rotor_speed_rpm = 0.0;        // [rpm] nominal (the bundle's operating point)
+  double input_torque_nm = 0.0;        // [N·m]
 };
 
 enum class DiagnosisStatus : std::uint8_t {
@@ -115,7 +116,16 @@ enum class DiagnosisStatus : std::uint8_t {
 const char* to_string(DiagnosisStatus status);
 
 enum class DiagnosisStage : std::uint8_t {
-  kIdle, kSpeed, kAnalyse, kCalibrate, kSimulate, kLocate, kRefit, kDecide, kFinal, kDone
+  kIdle,
+  kSpeed,
+  kAnalyse,
+  kCalibrate,
+  kSimulate,
+  kLocate,
+  kRefit,
+  kDecide,
+  kFinal,
+  kDone
 };
 
 /// A spectrum as drawn in a report: line maxima over equal frequency bins.
@@ -126,11 +136,12 @@ struct SpectrumTrace {
 
 struct PointSpectra {
   std::string channel;
-  SpectrumTrace recorded, before, calibrated, after;          // order spectra in Hz at the mean speed
+  SpectrumTrace recorded, before, calibrated, after;  // order spectra in Hz at the mean speed
   SpectrumTrace envelope_recorded, envelope_calibrated, envelope_after;  // modulation spectra
-  KurtogramBand band;                                        // envelope band
-  std::vector<std::pair<std::string, double>> shaft_kurtosis;  // difference-signal kurtosis per shaft (recording)
-  WaveformStatistics stats;                                  // recording
+  KurtogramBand band;                                                    // envelope band
+  std::vector<std::pair<std::string, double>>
+      shaft_kurtosis;        // difference-signal kurtosis per shaft (recording)
+  WaveformStatistics stats;  // recording
 };
 
 struct MismatchEntry {
@@ -147,20 +158,20 @@ struct CandidateResult {
   Effect effect = Effect::kToothCrack;
   std::string location;
   std::string explanation;
-  double prior_score = 0.0;    // locate.hpp's ranking score
-  bool modelled = false;       // the dynamics model could switch its term on
+  double prior_score = 0.0;  // locate.hpp's ranking score
+  bool modelled = false;     // the dynamics model could switch its term on
   std::vector<std::pair<std::string, double>> parameters;  // fitted
-  EffectSetting setting;       // fitted, for the final simulation
-  double residual_fit_calibrated = 0.0, residual_fit_effect = 0.0;          // half A
-  double residual_holdout_calibrated = 0.0, residual_holdout_effect = 0.0;  // half B
-  double signature_fit_calibrated = 0.0, signature_fit_effect = 0.0;        // half A, its lines
+  EffectSetting setting;                                   // fitted, for the final simulation
+  double residual_fit_calibrated = 0.0, residual_fit_effect = 0.0;            // half A
+  double residual_holdout_calibrated = 0.0, residual_holdout_effect = 0.0;    // half B
+  double signature_fit_calibrated = 0.0, signature_fit_effect = 0.0;          // half A, its lines
   double signature_holdout_calibrated = 0.0, signature_holdout_effect = 0.0;  // half B, its lines
   double holdout_evidence = 0.0;  // Σ w·(m/n)² of its significant lines on half B
   std::size_t lines = 0;          // its significant lines on half B (n of the BIC)
   std::size_t evaluations = 0;
   bool accepted = false;
   double confidence = 0.0;
-  std::string verdict;            // why it was or was not reported
+  std::string verdict;  // why it was or was not reported
 };
 
 /// Everything the reports show; valid after step() returned kFinished (owner thread).
@@ -168,7 +179,7 @@ struct DiagnosisReport {
   std::string drivetrain;
   double rotor_speed_rpm = 0.0, input_torque_nm = 0.0, reference_hz = 0.0;
   std::string reference_shaft;
-  std::string speed_source;  // "tacho", "mesh line", "operating point"
+  std::string speed_source;                       // "tacho", "mesh line", "operating point"
   double speed_min_hz = 0.0, speed_max_hz = 0.0;  // reference shaft over the recording
   std::size_t revolutions = 0, half_revolutions = 0;
   calibration::PointIndicators fit_before{}, fit_calibrated{}, fit_after{};
@@ -176,11 +187,11 @@ struct DiagnosisReport {
   DynamicsParameters parameters_before{}, parameters_calibrated{}, parameters_after{};
   std::size_t calibration_evaluations = 0;
   std::vector<MismatchEntry> mismatch;
-  std::vector<CandidateResult> candidates;   // in the order refitted (prior score)
-  std::vector<std::size_t> missing;          // indices into candidates, most likely first
+  std::vector<CandidateResult> candidates;  // in the order refitted (prior score)
+  std::vector<std::size_t> missing;         // indices into candidates, most likely first
   std::vector<PointSpectra> spectra;
   DiagnosisStatus status = DiagnosisStatus::kOk;
-  std::string message;                       // when status != kOk
+  std::string message;  // when status != kOk
 };
 
 /// The fixed-size result read_result() returns.
@@ -211,7 +222,8 @@ class Diagnoser {
  public:
   /// @param drivetrain outlives the diagnoser
   /// @param simulator  the dynamics model with its effect terms (outlives the diagnoser)
-  Diagnoser(const Drivetrain& drivetrain, EffectSimulator& simulator, const DiagnoserConfig& config = {});
+  Diagnoser(const Drivetrain& drivetrain, EffectSimulator& simulator,
+            const DiagnoserConfig& config = {});
   ~Diagnoser();
 
   /// Begins a diagnosis of `input` (validated here: a bad input fails the first step).

@@ -24,11 +24,11 @@ inline constexpr std::size_t kMaxEffectParameters = 4;
 
 /// One fitted parameter of an effect term.
 struct EffectParameter {
-  std::string name;      // as reported: "stiffness_loss", "eccentricity_m", ...
-  double lower = 0.0;    // bounds of the fit
+  std::string name;    // as reported: "stiffness_loss", "eccentricity_m", ...
+  double lower = 0.0;  // bounds of the fit
   double upper = 1.0;
-  double initial = 0.1;  // where the fit starts
-  bool log_scale = true; // searched as a logarithm (a severity spans decades)
+  double initial = 0.1;   // where the fit starts
+  bool log_scale = true;  // searched as a logarithm (a severity spans decades)
 };
 
 /// An effect switched on: the hypothesis, its parameter values, and what the recording
@@ -47,10 +47,10 @@ class EffectSimulator {
   /// Steady-state vibration at both measurement points over `duration_s` after the
   /// model's settling, at a constant speed, with `params` and the effects of `effects`.
   /// @return false when the model cannot produce a waveform; `error()` says why
-  virtual bool simulate(const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
-                        const calibration::OperatingPoint& op, double sample_rate_hz,
-                        double duration_s,
-                        std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) = 0;
+  virtual bool simulate(
+      const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
+      const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
+      std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) = 0;
   virtual const std::string& error() const = 0;
 };
 
@@ -62,9 +62,10 @@ class RomEffectSimulator : public EffectSimulator {
   RomEffectSimulator(const Drivetrain& drivetrain, double settle_s);
   ~RomEffectSimulator() override;
   std::vector<EffectParameter> parameters(const Hypothesis& h) const override;
-  bool simulate(const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
-                const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
-                std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) override;
+  bool simulate(
+      const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
+      const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
+      std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) override;
   const std::string& error() const override { return error_; }
 
  private:
@@ -82,8 +83,9 @@ class EffectCalibrationAdapter : public calibration::VibrationSimulator {
   EffectCalibrationAdapter(EffectSimulator& simulator, double sample_rate_hz)
       : simulator_(simulator), sample_rate_hz_(sample_rate_hz) {}
   void set_effects(std::vector<EffectSetting> effects) { effects_ = std::move(effects); }
-  bool simulate(const DynamicsParameters& params, const calibration::OperatingPoint& op, double duration_s,
-                std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) override {
+  bool simulate(
+      const DynamicsParameters& params, const calibration::OperatingPoint& op, double duration_s,
+      std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) override {
     return simulator_.simulate(params, effects_, op, sample_rate_hz_, duration_s, out);
   }
 

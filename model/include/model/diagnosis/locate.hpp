@@ -20,9 +20,9 @@
 // claim is one feature; peaks no family claims stay as "unexplained" features. A band in
 // which the lines the simulation does have are stronger in the recording along the
 // transmissibility curve of one resonator (by ≥ gain_db at its peak; see band_features in
-// locate.cpp) is a band feature ("amplified in one band"). A shaft whose synchronous-average difference signal is
-// impulsive (kurtosis above `impulsive_kurtosis` and above the simulation's) is a feature
-// of the synchronous-average domain.
+// locate.cpp) is a band feature ("amplified in one band"). A shaft whose synchronous-average
+// difference signal is impulsive (kurtosis above `impulsive_kurtosis` and above the simulation's)
+// is a feature of the synchronous-average domain.
 //
 // Ranking. Over its significant lines (all points) a hypothesis has the strength
 //   strength = Σ w·ln(m² / (s² + n²))          (how far above what is explained they stand)
@@ -77,21 +77,21 @@ struct ChannelPair {
 enum class FeatureDomain : unsigned char { kSpectrum, kEnvelope, kAverage, kBand };
 
 struct ResidualFeature {
-  std::size_t channel = 0;      // index into the ChannelPair list
+  std::size_t channel = 0;  // index into the ChannelPair list
   FeatureDomain domain = FeatureDomain::kSpectrum;
-  double band_lo_hz = 0.0;      // [Hz]
-  double band_hi_hz = 0.0;      // [Hz]
-  std::vector<double> peaks_hz; // [Hz] strongest lines, descending excess
+  double band_lo_hz = 0.0;       // [Hz]
+  double band_hi_hz = 0.0;       // [Hz]
+  std::vector<double> peaks_hz;  // [Hz] strongest lines, descending excess
   std::size_t family = kNoFamily;
-  std::string shaft;            // kAverage: the shaft
-  double excess = 0.0;          // [unit²] (envelope: [-]) excess energy of its lines
-  double share = 0.0;           // [-] of the channel's significant excess in its domain
-  double max_snr = 0.0;         // [-] strongest line / noise floor
-  double gain_db = 0.0;         // kBand: mean amplification [dB]; kAverage: kurtosis
-  double resonance_hz = 0.0;    // kBand: the fitted resonance
+  std::string shaft;          // kAverage: the shaft
+  double excess = 0.0;        // [unit²] (envelope: [-]) excess energy of its lines
+  double share = 0.0;         // [-] of the channel's significant excess in its domain
+  double max_snr = 0.0;       // [-] strongest line / noise floor
+  double gain_db = 0.0;       // kBand: mean amplification [dB]; kAverage: kurtosis
+  double resonance_hz = 0.0;  // kBand: the fitted resonance
   double resonance_damping = 0.0;
-  double fit_share = 0.0;       // kBand: share of the gains' squared deviation the resonance explains
-  double strength = 0.0;        // kBand: Σ ln of the amplification over its lines
+  double fit_share = 0.0;  // kBand: share of the gains' squared deviation the resonance explains
+  double strength = 0.0;   // kBand: Σ ln of the amplification over its lines
 };
 
 struct LineMeasure {
@@ -107,8 +107,9 @@ struct LineMeasure {
 /// Positions within 2 lines of an order in `exclude` are not taken when searching within
 /// the tolerance (envelope spectra: a gearbox's mesh modulation is synchronous, a bearing's
 /// is not).
-LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& simulated, double order,
-                         double tolerance, const LocateConfig& config, const std::vector<double>* exclude = nullptr);
+LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& simulated,
+                         double order, double tolerance, const LocateConfig& config,
+                         const std::vector<double>* exclude = nullptr);
 
 /// The synchronous orders of the envelope: harmonics 1..8 of every mesh. No bearing line is
 /// read there (a defect line that falls exactly on one cannot be told from mesh modulation).
@@ -125,10 +126,10 @@ struct HypothesisScore {
 };
 
 struct LocateResult {
-  std::vector<ResidualFeature> features;    // descending share within each domain
-  std::vector<HypothesisScore> ranking;     // descending score (only score > 0)
-  std::vector<double> spectrum_total;       // per channel: significant spectrum excess
-  std::vector<double> envelope_total;       // per channel: significant envelope excess
+  std::vector<ResidualFeature> features;  // descending share within each domain
+  std::vector<HypothesisScore> ranking;   // descending score (only score > 0)
+  std::vector<double> spectrum_total;     // per channel: significant spectrum excess
+  std::vector<double> envelope_total;     // per channel: significant envelope excess
 };
 
 LocateResult locate(const Catalogue& catalogue, const std::vector<ChannelPair>& channels,

@@ -80,10 +80,10 @@ std::vector<double> real_cepstrum(const double* x, std::size_t n);
 
 /// One band of a kurtogram.
 struct KurtogramBand {
-  double level = 0.0;       // [-] log2 of (fs/2)/bandwidth: 0, 1, 1.6, 2, 2.6, ...
-  double f_lo_hz = 0.0;     // [Hz]
-  double f_hi_hz = 0.0;     // [Hz]
-  double kurtosis = 0.0;    // [-] spectral kurtosis E|c|⁴/(E|c|²)² − 2 of the complex envelope
+  double level = 0.0;     // [-] log2 of (fs/2)/bandwidth: 0, 1, 1.6, 2, 2.6, ...
+  double f_lo_hz = 0.0;   // [Hz]
+  double f_hi_hz = 0.0;   // [Hz]
+  double kurtosis = 0.0;  // [-] spectral kurtosis E|c|⁴/(E|c|²)² − 2 of the complex envelope
 };
 
 struct KurtogramConfig {

@@ -64,11 +64,11 @@ enum class Domain : std::uint8_t { kSpectrum, kEnvelope };
 /// A kinematic family of lines: what the locate step names a residual feature by.
 struct Family {
   Domain domain = Domain::kSpectrum;
-  std::string text;            // "sidebands of the high-speed mesh spaced at the hss speed"
-  double spacing_order = 0.0;  // [orders] the family's characteristic rate (printed in Hz)
-  std::vector<double> orders;  // [orders] the lines
-  std::vector<double> weights; // [-] expected relative importance of each line (1: primary)
-  double tolerance = 0.0;      // [-] relative: a line may lie order·(1 ± tolerance) (slip)
+  std::string text;             // "sidebands of the high-speed mesh spaced at the hss speed"
+  double spacing_order = 0.0;   // [orders] the family's characteristic rate (printed in Hz)
+  std::vector<double> orders;   // [orders] the lines
+  std::vector<double> weights;  // [-] expected relative importance of each line (1: primary)
+  double tolerance = 0.0;       // [-] relative: a line may lie order·(1 ± tolerance) (slip)
 };
 
 /// A line a hypothesis predicts.
@@ -80,23 +80,23 @@ struct SignatureLine {
 /// One hypothesis: an effect at a location with its kinematic signature.
 struct Hypothesis {
   Effect effect = Effect::kToothCrack;
-  std::string location;              // component id of the drivetrain
+  std::string location;               // component id of the drivetrain
   Domain domain = Domain::kSpectrum;  // where its lines are looked for
-  std::vector<SignatureLine> lines;  // empty for housing_resonance (band evidence)
-  double tolerance = 0.0;            // [-] relative position tolerance of its lines (slip)
-  double rate_order = 0.0;           // [orders] the rate it repeats at (gear, shaft, defect)
-  std::size_t family = 0;            // index into Catalogue::families: how its lines are named
-  std::string shaft;                 // shaft whose synchronous average it changes ("" none)
-  std::string explanation;           // the physics, one sentence
+  std::vector<SignatureLine> lines;   // empty for housing_resonance (band evidence)
+  double tolerance = 0.0;             // [-] relative position tolerance of its lines (slip)
+  double rate_order = 0.0;            // [orders] the rate it repeats at (gear, shaft, defect)
+  std::size_t family = 0;             // index into Catalogue::families: how its lines are named
+  std::string shaft;                  // shaft whose synchronous average it changes ("" none)
+  std::string explanation;            // the physics, one sentence
 };
 
 struct CatalogueConfig {
-  int mesh_harmonics = 3;       // [-] h = 1..H
-  int crack_sidebands = 5;      // [-] K_crack
+  int mesh_harmonics = 3;   // [-] h = 1..H
+  int crack_sidebands = 5;  // [-] K_crack
   int eccentricity_sidebands = 2;
-  int bearing_harmonics = 3;    // [-] k = 1..3
-  double slip = 0.02;           // [-] rolling-element slip tolerance on bearing lines
-  double max_order = 1e9;       // [orders] lines above are dropped (analysis band)
+  int bearing_harmonics = 3;  // [-] k = 1..3
+  double slip = 0.02;         // [-] rolling-element slip tolerance on bearing lines
+  double max_order = 1e9;     // [orders] lines above are dropped (analysis band)
 };
 
 /// Rate of a rotating part in orders of the reference shaft.
@@ -106,10 +106,10 @@ struct PartRate {
 };
 
 struct Catalogue {
-  std::string reference_shaft;   // the shaft orders refer to
+  std::string reference_shaft;       // the shaft orders refer to
   double reference_per_rotor = 1.0;  // [-] reference speed / rotor speed
-  std::vector<PartRate> shafts;  // every shaft of the description (and "planet", relative)
-  std::vector<PartRate> meshes;  // per stage: mesh order (id: stage id)
+  std::vector<PartRate> shafts;      // every shaft of the description (and "planet", relative)
+  std::vector<PartRate> meshes;      // per stage: mesh order (id: stage id)
   std::vector<Family> families;
   std::vector<Hypothesis> hypotheses;
 
@@ -120,7 +120,8 @@ struct Catalogue {
 
 /// Builds the catalogue of `drivetrain`. `sensor_locations` are the bearings that carry a
 /// measurement channel (the locations of housing_resonance).
-Catalogue build_catalogue(const Drivetrain& drivetrain, const std::vector<std::string>& sensor_locations,
+Catalogue build_catalogue(const Drivetrain& drivetrain,
+                          const std::vector<std::string>& sensor_locations,
                           const CatalogueConfig& config = {});
 
 }  // namespace model::diagnosis

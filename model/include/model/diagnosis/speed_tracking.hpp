@@ -36,10 +36,10 @@ struct LineCandidate {
 };
 
 struct SpeedTrackingConfig {
-  double search = 0.04;       // [-] relative half-width of the search window (±2 % drift + margin)
-  double max_frame_s = 1.0;   // [s] longest STFT frame of the coarse track
-  double band_share = 0.4;    // [-] demodulation half-band as a share of the neighbour spacing
-  int refinements = 2;        // [-] phase-demodulation passes
+  double search = 0.04;      // [-] relative half-width of the search window (±2 % drift + margin)
+  double max_frame_s = 1.0;  // [s] longest STFT frame of the coarse track
+  double band_share = 0.4;   // [-] demodulation half-band as a share of the neighbour spacing
+  int refinements = 2;       // [-] phase-demodulation passes
   double min_prominence = 4.0;  // [-] line peak / median of its surroundings to be usable
 };
 

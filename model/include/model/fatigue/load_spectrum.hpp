@@ -69,6 +69,12 @@ struct LoadSpectrum {
   void damage_per_rev_at(double torque_nm, double rotor_rpm, double* out) const;
 };
 
+/// Damage per rotor revolution of every channel at one operating point: `simulator`'s load
+/// history through a DamageAccumulator (what build_load_spectrum() does at each grid point).
+/// Writes channels.channel_count() values; false with `error` naming the point on failure.
+bool damage_per_rev_at_point(const ChannelSet& channels, const LoadSimulator& simulator,
+                             double torque_nm, double rotor_rpm, double* out, std::string* error);
+
 /// Runs `simulator` at every grid point; empty spectrum (channel_count 0) on failure,
 /// with `error` naming the grid point.
 LoadSpectrum build_load_spectrum(const ChannelSet& channels, const SpectrumGrid& grid,
