@@ -185,10 +185,10 @@ void run(const DamageArgs& args) {
   options.lubrication = args.lubrication;
   options.lubrication.enabled = !args.basic_life;
   if (!(args.lubrication.viscosity_100c_mm2_s < args.lubrication.viscosity_40c_mm2_s)) {
-    throw CommandError("--oil-viscosity-100: " + std::to_string(args.lubrication.viscosity_100c_mm2_s) +
-                       " mm2/s is not below --oil-viscosity-40 (" +
-                       std::to_string(args.lubrication.viscosity_40c_mm2_s) +
-                       " mm2/s): an oil thins as it warms");
+    throw CommandError(
+        "--oil-viscosity-100: " + std::to_string(args.lubrication.viscosity_100c_mm2_s) +
+        " mm2/s is not below --oil-viscosity-40 (" +
+        std::to_string(args.lubrication.viscosity_40c_mm2_s) + " mm2/s): an oil thins as it warms");
   }
   if (args.sn == "haibach") {
     options.branch = mf::KneeBranch::kHaibach;

@@ -27,8 +27,7 @@ std::vector<BearingRatingRow> bearing_rating_rows(const model::Drivetrain& drive
     r.geometry_error = geometry.error;
     r.c0_n = life.c0_n;
     r.cu_n = life.cu_n;
-    r.rated_load_n =
-        mf::equivalent_load_n(b, rated.bearing_radial_n[s], rated.bearing_axial_n[s]);
+    r.rated_load_n = mf::equivalent_load_n(b, rated.bearing_radial_n[s], rated.bearing_axial_n[s]);
     r.rated_speed_rpm = rated_rpm * life.rev_per_rotor_rev;
     const double nu1 = mf::rated_viscosity_mm2_s(r.rated_speed_rpm, life.pitch_diameter_mm);
     r.kappa = nu1 > 0.0 ? life.viscosity_mm2_s / nu1 : 0.0;
@@ -67,8 +66,8 @@ std::string bearing_rating_text(const mf::ChannelSet& channels,
   if (!lub.enabled) {
     return out + "# life modification: none (--basic-life): bearing lives are ISO 281 L10\n";
   }
-  const double nu = rows.empty() ? 0.0
-                                 : channels.bearing_life(0).viscosity_mm2_s;  // same oil for all
+  const double nu =
+      rows.empty() ? 0.0 : channels.bearing_life(0).viscosity_mm2_s;  // same oil for all
   std::snprintf(buf, sizeof buf,
                 "# ISO 281:2007 life modification a_ISO: oil nu40 %.0f / nu100 %.1f mm2/s at %.0f "
                 "degC -> nu %.1f mm2/s, contamination factor e_C %.2f; C0, C_u [kN]:",
@@ -93,16 +92,17 @@ nlohmann::json bearing_rating_json(const mf::ChannelSet& channels,
                                    const std::vector<BearingRatingRow>& rows) {
   nlohmann::json j = {{"bearings", nlohmann::json::object()}};
   for (const BearingRatingRow& r : rows) {
-    j["bearings"][r.id] = {{"c_n", r.c_n},
-               {"c_source", r.c_from_catalogue ? "description" : "iso281-geometry"},
-               {"c_iso281_geometry_n",
-                r.c_geometry_n > 0.0 ? nlohmann::json(r.c_geometry_n) : nlohmann::json()},
-               {"c0_n", r.c0_n},
-               {"cu_n", r.cu_n},
-               {"rated_equivalent_load_n", r.rated_load_n},
-               {"rated_ring_speed_rpm", r.rated_speed_rpm},
-               {"kappa_at_rated", r.kappa},
-               {"a_iso_at_rated", r.a_iso}};
+    j["bearings"][r.id] = {
+        {"c_n", r.c_n},
+        {"c_source", r.c_from_catalogue ? "description" : "iso281-geometry"},
+        {"c_iso281_geometry_n",
+         r.c_geometry_n > 0.0 ? nlohmann::json(r.c_geometry_n) : nlohmann::json()},
+        {"c0_n", r.c0_n},
+        {"cu_n", r.cu_n},
+        {"rated_equivalent_load_n", r.rated_load_n},
+        {"rated_ring_speed_rpm", r.rated_speed_rpm},
+        {"kappa_at_rated", r.kappa},
+        {"a_iso_at_rated", r.a_iso}};
   }
   const mf::Lubrication& lub = channels.options().lubrication;
   j["life_modification"] = {{"enabled", lub.enabled},

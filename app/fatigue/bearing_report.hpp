@@ -20,10 +20,10 @@ namespace app::fatigue {
 /// One bearing slot's ratings and its life modification at rated torque and speed.
 struct BearingRatingRow {
   std::string id;
-  double c_n = 0.0;           // [N] in use
+  double c_n = 0.0;               // [N] in use
   bool c_from_catalogue = false;  // the description gives C
-  double c_geometry_n = 0.0;  // [N] ISO 281:2007 from the geometry (0: not computable)
-  std::string geometry_error; // why not
+  double c_geometry_n = 0.0;      // [N] ISO 281:2007 from the geometry (0: not computable)
+  std::string geometry_error;     // why not
   double c0_n = 0.0, cu_n = 0.0;  // [N]
   double rated_load_n = 0.0;      // [N] P at rated torque (quasi-static)
   double rated_speed_rpm = 0.0;   // [rpm] ring speed at rated rotor speed

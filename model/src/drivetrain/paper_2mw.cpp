@@ -116,18 +116,13 @@ Drivetrain paper_2mw() {
     return b;
   };
   d.bearings = {
-      bearing("b1", "sun_shaft", "planet side", 22, 40, 400, 0, 1, 60, 1700,
-              2.0e9),
-      bearing("b2", "sun_shaft", "g1 side", 22, 40, 400, 0, 1, 60, 1700,
-              2.0e9),
+      bearing("b1", "sun_shaft", "planet side", 22, 40, 400, 0, 1, 60, 1700, 2.0e9),
+      bearing("b2", "sun_shaft", "g1 side", 22, 40, 400, 0, 1, 60, 1700, 2.0e9),
       bearing("b3", "ims", "rotor side", 18, 32, 230, 0, 1, 56, 1250, 1.2e9),
-      bearing("b4", "ims", "generator side", 20, 28, 220, 12, 2, 45, 1350,
-              1.0e9),
+      bearing("b4", "ims", "generator side", 20, 28, 220, 12, 2, 45, 1350, 1.0e9),
       bearing("b5", "hss", "rotor side", 16, 28, 150, 0, 1, 42, 560, 0.8e9),
-      bearing("b6", "hss", "generator side", 14, 30, 160, 15, 2, 40, 800,
-              0.7e9),
-      bearing("pb", "planet", "on planet pin", 17, 36, 250,
-              0, 2, 110, 2900, 3.0e9),
+      bearing("b6", "hss", "generator side", 14, 30, 160, 15, 2, 40, 800, 0.7e9),
+      bearing("pb", "planet", "on planet pin", 17, 36, 250, 0, 2, 110, 2900, 3.0e9),
   };
 
   d.measurement_points = {

@@ -6,10 +6,10 @@
 
 namespace model::fatigue {
 namespace {
-constexpr double kMm = 1e3;          // [mm/m]
+constexpr double kMm = 1e3;  // [mm/m]
 constexpr double kZeroCelsiusK = 273.15;
-constexpr double kAisoMax = 50.0;    // ISO 281:2007 §9.3.1
-constexpr double kKappaMin = 0.1;    // the standard's curves span 0.1 ≤ κ ≤ 4
+constexpr double kAisoMax = 50.0;  // ISO 281:2007 §9.3.1
+constexpr double kKappaMin = 0.1;  // the standard's curves span 0.1 ≤ κ ≤ 4
 constexpr double kKappaMax = 4.0;
 
 double loglog(double nu) { return std::log10(std::log10(nu + 0.7)); }

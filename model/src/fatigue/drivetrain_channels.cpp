@@ -311,8 +311,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       life.pitch_diameter_mm = b.pitch_diameter_m * 1e3;
       life.rev_per_rotor_rev = rev;
       const Lubrication& lub = options.lubrication;
-      life.viscosity_mm2_s = kinematic_viscosity_mm2_s(
-          lub.viscosity_40c_mm2_s, lub.viscosity_100c_mm2_s, lub.temperature_c);
+      life.viscosity_mm2_s = kinematic_viscosity_mm2_s(lub.viscosity_40c_mm2_s,
+                                                       lub.viscosity_100c_mm2_s, lub.temperature_c);
       life.ec_cu_n = lub.contamination_factor * life.cu_n;
       life.applied = lub.enabled && life.cu_n > 0.0 && life.viscosity_mm2_s > 0.0;
       if (lub.enabled && !life.applied && k == 0) {
@@ -344,8 +344,8 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
 double ChannelSet::life_modification(std::size_t slot, double p_n, double rotor_rpm) const {
   const BearingLifeTerms& t = life_[slot];
   if (!t.applied || !(p_n > 0.0)) return 1.0;
-  const double nu1 = rated_viscosity_mm2_s(std::abs(rotor_rpm) * t.rev_per_rotor_rev,
-                                           t.pitch_diameter_mm);
+  const double nu1 =
+      rated_viscosity_mm2_s(std::abs(rotor_rpm) * t.rev_per_rotor_rev, t.pitch_diameter_mm);
   // At standstill no film forms: the lowest curve (κ = 0.1) of the standard.
   const double kappa = nu1 > 0.0 ? t.viscosity_mm2_s / nu1 : 0.0;
   return life_modification_factor(t.type, kappa, t.ec_cu_n / p_n);

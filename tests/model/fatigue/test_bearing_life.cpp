@@ -25,7 +25,8 @@ TEST(BearingLife, OilViscosityFollowsAstmD341ThroughBothReferencePoints) {
   EXPECT_NEAR(kinematic_viscosity_mm2_s(320.0, 35.0, 100.0), 35.0, 1e-9);
   EXPECT_NEAR(kinematic_viscosity_mm2_s(320.0, 35.0, 70.0), 88.844, 1e-3);
   // Colder oil is thicker.
-  EXPECT_GT(kinematic_viscosity_mm2_s(320.0, 35.0, 50.0), kinematic_viscosity_mm2_s(320.0, 35.0, 60.0));
+  EXPECT_GT(kinematic_viscosity_mm2_s(320.0, 35.0, 50.0),
+            kinematic_viscosity_mm2_s(320.0, 35.0, 60.0));
 }
 
 TEST(BearingLife, RatedViscosityOfIso281BelowAndAbove1000Rpm) {
@@ -51,18 +52,21 @@ TEST(BearingLife, LifeModificationFactorHasTheStandardsProperties) {
     for (double kappa : {0.1, 0.3, 0.7, 1.0, 2.5, 4.0}) {
       EXPECT_NEAR(life_modification_factor(type, kappa, 0.0), 0.1, 1e-12);
     }
-    // The κ branches join (the standard's constants to their printed digits).
+    // The κ branches join, to the standard's constants' printed digits (their inner terms agree
+    // to ~1e-5 at κ = 0.4, which the exponent −9.3 turns into up to ~7e-4 of a_ISO).
     for (double x : {0.05, 0.2, 0.5}) {
-      EXPECT_NEAR(life_modification_factor(type, 0.4 - 1e-12, x) /
-                      life_modification_factor(type, 0.4, x),
-                  1.0, 1e-4);
+      EXPECT_NEAR(
+          life_modification_factor(type, 0.4 - 1e-12, x) / life_modification_factor(type, 0.4, x),
+          1.0, 1e-3);
       EXPECT_NEAR(life_modification_factor(type, 1.0 - 1e-12, x),
                   life_modification_factor(type, 1.0, x), 1e-9);
     }
     // Capped at 50; κ above 4 counts as 4, below 0.1 as 0.1.
     EXPECT_DOUBLE_EQ(life_modification_factor(type, 4.0, 50.0), 50.0);
-    EXPECT_DOUBLE_EQ(life_modification_factor(type, 10.0, 0.3), life_modification_factor(type, 4.0, 0.3));
-    EXPECT_DOUBLE_EQ(life_modification_factor(type, 0.01, 0.3), life_modification_factor(type, 0.1, 0.3));
+    EXPECT_DOUBLE_EQ(life_modification_factor(type, 10.0, 0.3),
+                     life_modification_factor(type, 4.0, 0.3));
+    EXPECT_DOUBLE_EQ(life_modification_factor(type, 0.01, 0.3),
+                     life_modification_factor(type, 0.1, 0.3));
     // More film and more margin both lengthen life.
     double previous = 0.0;
     for (double kappa = 0.1; kappa <= 4.0; kappa += 0.05) {
@@ -94,7 +98,8 @@ TEST(BearingLife, StaticRatingAndFatigueLoadLimitOfTheReferenceB1) {
   const Bearing b = reference_b1();
   // ISO 76: C0 = 44·(1 − 40/400)·1·22·60·40 = 44·0.9·52800 = 2 090 880 N.
   EXPECT_NEAR(iso76_static_rating_n(b), 2090880.0, 1e-6);
-  // ISO 281's approximation, D_pw > 100 mm: C_u = C0/8.2·(100/400)^0.3 = 254985.4·0.659754 = 168 227.6.
+  // ISO 281's approximation, D_pw > 100 mm: C_u = C0/8.2·(100/400)^0.3 = 254985.4·0.659754 = 168
+  // 227.6.
   EXPECT_NEAR(effective_fatigue_load_limit_n(b), 168227.6, 0.1);
   // Given figures win; a ball bearing needs them.
   Bearing given = b;
@@ -175,8 +180,8 @@ TEST(BearingLife, BearingDamageIsTheBasicDamageOverAIso) {
   for (std::size_t s = 0; s < cs.bearing_count(); ++s) {
     if (cs.bearing_id(s) != "b1") continue;
     const BearingLifeTerms& t = cs.bearing_life(s);
-    EXPECT_NEAR(t.viscosity_mm2_s / rated_viscosity_mm2_s(rpm * t.rev_per_rotor_rev, 400.0),
-                1.5705, 5e-4);
+    EXPECT_NEAR(t.viscosity_mm2_s / rated_viscosity_mm2_s(rpm * t.rev_per_rotor_rev, 400.0), 1.5705,
+                5e-4);
   }
 }
 

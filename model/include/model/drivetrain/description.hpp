@@ -148,7 +148,7 @@ struct Bearing {
   double static_rating_n = 0.0;
   // [N] C_u, ISO 281:2007 §9.3; 0: from C0 by ISO 281:2007's approximation (bearing_life.hpp).
   double fatigue_load_limit_n = 0.0;
-  double radial_stiffness_n_m = 0.0;       // [N/m] mean radial stiffness k_a
+  double radial_stiffness_n_m = 0.0;  // [N/m] mean radial stiffness k_a
 };
 
 /// A CMS measurement channel: where the accelerometer sits.

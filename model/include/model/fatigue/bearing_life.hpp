@@ -5,7 +5,8 @@
 //
 // a1 = 1 (90 % reliability, the L10 the twin reports). a_ISO (§9.3) follows from the viscosity
 // ratio κ and the contamination term e_C·C_u/P:
-//   radial roller bearings, 0.1 ≤ κ < 0.4:  a_ISO = 0.1·[1 − (1.5859 − 1.3993/κ^0.054381)·x^0.4]^−9.185
+//   radial roller bearings, 0.1 ≤ κ < 0.4:  a_ISO = 0.1·[1 − (1.5859
+//   − 1.3993/κ^0.054381)·x^0.4]^−9.185
 //                           0.4 ≤ κ < 1:    0.1·[1 − (1.5859 − 1.2348/κ^0.19087)·x^0.4]^−9.185
 //                           1 ≤ κ ≤ 4:      0.1·[1 − (1.5859 − 1.2348/κ^0.071739)·x^0.4]^−9.185
 //   radial ball bearings:   0.1·[1 − (2.5671 − k1/κ^k2)^0.83·x^(1/3)]^−9.3 with k1 = 2.2649,
@@ -37,11 +38,11 @@ namespace model::fatigue {
 
 /// The lubricant and cleanliness a_ISO is computed with (documented defaults, see fatigue.md).
 struct Lubrication {
-  bool enabled = true;                  // false: a_ISO = 1 (the basic rating life L10)
-  double viscosity_40c_mm2_s = 320.0;   // [mm²/s] ν40: ISO VG 320, the usual wind-gearbox grade
-  double viscosity_100c_mm2_s = 35.0;   // [mm²/s] ν100: a PAO (synthetic) VG 320, VI ≈ 150
-  double temperature_c = 70.0;          // [°C] bearing operating temperature (oil sump + rise)
-  double contamination_factor = 0.6;    // [-] e_C: the lower end of "normal cleanliness"
+  bool enabled = true;                 // false: a_ISO = 1 (the basic rating life L10)
+  double viscosity_40c_mm2_s = 320.0;  // [mm²/s] ν40: ISO VG 320, the usual wind-gearbox grade
+  double viscosity_100c_mm2_s = 35.0;  // [mm²/s] ν100: a PAO (synthetic) VG 320, VI ≈ 150
+  double temperature_c = 70.0;         // [°C] bearing operating temperature (oil sump + rise)
+  double contamination_factor = 0.6;   // [-] e_C: the lower end of "normal cleanliness"
 };
 
 /// Kinematic viscosity at a temperature from the values at 40 and 100 °C (ASTM D341) [mm²/s].
