@@ -253,13 +253,22 @@ void run(const DamageArgs& args) {
         source == mf::SpectrumSource::kDynamics
             ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings, &sim_error)
             : mf::quasi_static_simulator(channels);
-    if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
-      std::fprintf(
-          stderr,
-          "building the load spectrum with the dynamics model (%u points, cached afterwards)...\n",
-          grid.torque_points * grid.speed_points);
-    }
-    spectrum = mf::build_load_spectrum(channels, grid, source, simulator, &error);
+    // The dynamics spectrum runs the ROM at every grid point (minutes): a progress line on
+    // a terminal, counted by wrapping the simulator.
+    const double points = static_cast<double>(grid.torque_points) * grid.speed_points;
+    app::fatigue::ProgressLine progress(
+        source == mf::SpectrumSource::kDynamics &&
+            app::fatigue::show_progress(args.no_progress, STDERR_FILENO),
+        "load spectrum (dynamics model, cached afterwards)", "points", points);
+    double simulated = 0.0;
+    const mf::LoadSimulator counted = [&](double torque_nm, double rotor_rpm,
+                                          mf::LoadSeries& series) {
+      const bool ok = simulator(torque_nm, rotor_rpm, series);
+      progress.update(++simulated);
+      return ok;
+    };
+    spectrum = mf::build_load_spectrum(channels, grid, source, counted, &error);
+    progress.finish();
     if (spectrum.channel_count == 0)
       throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);

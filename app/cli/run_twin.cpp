@@ -15,6 +15,7 @@
 #include "cli/command.hpp"
 #include "config/drivetrain_file.hpp"
 #include "loop/runner.hpp"
+#include "loop/timing_histogram.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "run/run_config.hpp"
@@ -34,6 +35,7 @@ struct RunTwinArgs {
   std::string state_dir;
   std::string json;
   bool lockstep = false;
+  std::string timing;  // the timing benchmark's report (JSON)
 };
 
 std::atomic<bool> g_run_twin_stop{false};
@@ -111,6 +113,34 @@ void write_summary(const app::loop::RunSummary& s, const std::string& json_file)
   out << j.dump(2) << '\n';
 }
 
+// --timing: the loop's wake-up latency and cycle time distribution, overruns and the RT
+// thread's CPU share (the timing benchmark, tools/rt_bench/run.sh).
+void write_timing(const app::loop::TimingHistogram& t, const app::loop::RunSummary& s,
+                  const app::run::RunConfig& c, const std::string& file) {
+  const double period_us = static_cast<double>(c.period_us);
+  nlohmann::json j;
+  j["period_us"] = period_us;
+  j["cycles"] = t.cycles();
+  j["loop_time_s"] = s.loop_time_s;
+  j["wall_time_s"] = s.wall_time_s;
+  j["rt_cpu_s"] = s.rt_cpu_s;
+  j["rt_cpu_share"] = s.loop_time_s > 0.0 ? s.rt_cpu_s / s.loop_time_s : 0.0;
+  j["rt_thread_warning"] = s.rt_thread_warning;
+  j["memory_locked"] = s.memory_locked;
+  j["overruns"] = s.last.counters.overruns;
+  j["late_by_more_than_period"] = t.latency_above(period_us);
+  for (const auto& [name, q] : {std::pair<const char*, double>{"p50", 0.5},
+                                {"p99", 0.99},
+                                {"p99_9", 0.999},
+                                {"max", 1.0}}) {
+    j["latency_us"][name] = t.latency_quantile_us(q);
+    j["cycle_us"][name] = t.cycle_quantile_us(q);
+  }
+  std::ofstream out(file);
+  if (!out) throw CommandError("--timing: cannot write " + file);
+  out << j.dump(2) << '\n';
+}
+
 void run_twin_command(const RunTwinArgs& a) {
   if (a.reference) {
     std::fputs(app::run::run_config_reference().c_str(), stdout);
@@ -134,6 +164,11 @@ void run_twin_command(const RunTwinArgs& a) {
   o.duration_s = a.duration_s;
   o.print_config = a.print_config;
   o.lockstep = a.lockstep;
+  std::unique_ptr<app::loop::TimingHistogram> timing;
+  if (!a.timing.empty()) {
+    timing = std::make_unique<app::loop::TimingHistogram>();
+    o.timing = timing.get();
+  }
   g_run_twin_stop = false;
   o.stop = &g_run_twin_stop;
   struct sigaction sa {};
@@ -150,6 +185,7 @@ void run_twin_command(const RunTwinArgs& a) {
     throw CommandError(e.what());
   }
   write_summary(s, a.json);
+  if (timing) write_timing(*timing, s, c, a.timing);
 }
 
 void setup_run_twin(CLI::App& sub) {
@@ -178,6 +214,10 @@ void setup_run_twin(CLI::App& sub) {
                "replay / simulated buses: wait for the calibration thread at each window, so "
                "that the run, calibration included, repeats bit for bit");
   sub.add_option("--json", a->json, "write a JSON summary (damage per channel, counters)");
+  sub.add_option("--timing", a->timing,
+                 "write the loop's timing (wake-up latency and cycle time p50/p99/p99.9/max, "
+                 "overruns, the RT thread's CPU share) as JSON: the timing benchmark, "
+                 "tools/rt_bench/run.sh");
   sub.callback([a] { run_twin_command(*a); });
 }
 

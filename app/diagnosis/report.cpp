@@ -81,14 +81,17 @@ std::string spectrum_svg(const md::SpectrumTrace& rec, const md::SpectrumTrace& 
     << "</text>";
   for (const md::MismatchEntry* m : marks) {
     if (m->domain == md::FeatureDomain::kAverage) continue;
-    const double x0 = x_of(std::max(0.0, m->band_lo_hz - 2.0)), x1 = x_of(m->band_hi_hz + 2.0);
-    o << "<rect x='" << x0 << "' y='" << top << "' width='" << std::max(2.0, x1 - x0)
-      << "' height='" << ph << "' fill='#ffd54f' fill-opacity='0.35'><title>"
-      << escape(m->signature) << "</title></rect>";
+    // A kinematic family's band is shaded; lines no family explains are only marked (grey).
+    if (m->kinematic) {
+      const double x0 = x_of(std::max(0.0, m->band_lo_hz - 2.0)), x1 = x_of(m->band_hi_hz + 2.0);
+      o << "<rect x='" << x0 << "' y='" << top << "' width='" << std::max(2.0, x1 - x0)
+        << "' height='" << ph << "' fill='#ffd54f' fill-opacity='0.35'><title>"
+        << escape(m->signature) << "</title></rect>";
+    }
     for (double f : m->peaks_hz)
-      o << "<path d='M" << x_of(f) << ' ' << top << " l-4 -7 h8 z' fill='#e65100'><title>"
-        << fixed(f, 2) + " Hz"
-        << "</title></path>";
+      o << "<path d='M" << x_of(f) << ' ' << top << " l-4 -7 h8 z' fill='"
+        << (m->kinematic ? "#e65100" : "#9e9e9e") << "'><title>"
+        << fixed(f, 2) + " Hz: " << escape(m->signature) << "</title></path>";
   }
   for (int db = 0; db >= -100; db -= 20) {
     const double y = top + ph * db / db_lo;
@@ -286,7 +289,8 @@ std::string report_html(const md::DiagnosisReport& r, const md::Catalogue& catal
     << fixed(5000.0 / static_cast<double>(std::max<std::size_t>(
                           r.spectra.empty() ? 1 : r.spectra[0].recorded.hz.size(), 1)),
              1)
-    << " Hz bin); the mismatch is shaded, its strongest lines marked ▼.</small></p>";
+    << " Hz bin); a kinematic family's mismatch is shaded and its strongest lines marked ▼ "
+       "(orange); lines no family explains are marked grey.</small></p>";
   for (const md::PointSpectra& s : r.spectra) {
     std::vector<const md::MismatchEntry*> marks, env_marks;
     for (const md::MismatchEntry& m : r.mismatch) {

@@ -119,6 +119,8 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
         ++r.torque_rows_wind;
         break;
       case app::wind::TorqueSource::kNone:
+      case app::wind::TorqueSource::kHeld:  // the supervisor's, never rotor_torque()'s
+      case app::wind::TorqueSource::kSteadyState:
         ++r.rows_no_data;
         return;
     }

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -34,6 +35,7 @@
 #include "loop/calibration_worker.hpp"
 #include "loop/cycle_clock.hpp"
 #include "loop/events.hpp"
+#include "loop/timing_histogram.hpp"
 #include "loop/twin.hpp"
 #include "model/fatigue/rul.hpp"
 #include "persistence/twin_persistence.hpp"
@@ -642,6 +644,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     CycleClock cc(stepped ? CycleClock::Mode::kStepped : CycleClock::Mode::kLive, ts.period_ns,
                   stepped ? opt.speed : 0.0);
     if (opt.on_rt_start) opt.on_rt_start();
+    timespec cpu0{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
     cc.start();
     for (;;) {
       if (opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed)) break;
@@ -655,11 +659,17 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
       manual_clock.set(t.now);
       twin->cycle(t.now);
       if (opt.on_cycle) opt.on_cycle(*twin, t.now);
-      twin->record_timing(t.latency_us, cc.cycle_time_us(), t.overran, t.skipped);
+      const double cycle_us = cc.cycle_time_us();
+      twin->record_timing(t.latency_us, cycle_us, t.overran, t.skipped);
+      if (opt.timing != nullptr) opt.timing->add(t.latency_us, cycle_us, t.overran);
       last_now = t.now;
       last_now_ns.store(t.now.count(), std::memory_order_relaxed);
     }
     twin->publish(last_now);
+    timespec cpu1{};
+    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu1);
+    summary.rt_cpu_s = static_cast<double>(cpu1.tv_sec - cpu0.tv_sec) +
+                       1e-9 * static_cast<double>(cpu1.tv_nsec - cpu0.tv_nsec);
     if (opt.on_rt_stop) opt.on_rt_stop();
   });
   summary.rt_thread_warning = rt_thread.report().warning;

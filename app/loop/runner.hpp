@@ -36,6 +36,7 @@ namespace app::loop {
 
 class Twin;
 struct TwinDevices;
+class TimingHistogram;
 
 struct RunOptions {
   std::string replay;  // "" (live buses), a recording bundle folder, a SCADA CSV or builtin:NAME
@@ -59,6 +60,9 @@ struct RunOptions {
   /// Test hook: called on the RT thread after every cycle with the twin (its accumulator,
   /// counters, last snapshot) and the cycle's loop time; must be real-time safe.
   std::function<void(const Twin&, hal::Timestamp)> on_cycle;
+  /// The timing benchmark's histogram of every cycle's wake-up latency and cycle time
+  /// (nullptr: not recorded); filled on the RT thread.
+  TimingHistogram* timing = nullptr;
   /// Set from outside (signal handler, test) to end the run; polled every cycle.
   std::atomic<bool>* stop = nullptr;
 };
@@ -74,6 +78,7 @@ struct RunSummary {
   bool memory_locked = false;
   std::uint32_t calibration_generation = 0;
   bool restored = false;  // damage was loaded from the state folder
+  double rt_cpu_s = 0.0;  // [s] CPU time the RT thread used (CLOCK_THREAD_CPUTIME_ID)
 };
 
 /// Runs the twin until it is told to stop. Throws std::runtime_error (with a message

@@ -5,24 +5,6 @@
 
 namespace app::loop {
 
-const char* to_string(TorqueSource source) {
-  switch (source) {
-    case TorqueSource::kNone:
-      return "none";
-    case TorqueSource::kMeasured:
-      return "measured";
-    case TorqueSource::kPower:
-      return "power";
-    case TorqueSource::kWind:
-      return "wind";
-    case TorqueSource::kHeld:
-      return "held";
-    case TorqueSource::kSteadyState:
-      return "steady-state";
-  }
-  return "?";
-}
-
 const char* to_string(VibrationZone zone) {
   switch (zone) {
     case VibrationZone::kUnknown:

@@ -21,6 +21,7 @@
 
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "results/register_map.hpp"
+#include "wind/torque_source_kind.hpp"
 
 namespace app::loop {
 
@@ -29,17 +30,10 @@ inline constexpr std::uint32_t kSnapshotVersion = 1;
 inline constexpr std::size_t kSnapshotPoints = 2;
 inline constexpr float kNoValue = std::numeric_limits<float>::quiet_NaN();
 
-/// Where the ROM's input torque came from this cycle (the supervisor's choice).
-enum class TorqueSource : std::uint8_t {
-  kNone = 0,        // no usable input yet: the ROM is not stepped, nothing accumulated
-  kMeasured = 1,    // the controller's rotor torque
-  kPower = 2,       // electrical power and rotor speed (drivetrain losses added back)
-  kWind = 3,        // wind speed through the wind load model
-  kHeld = 4,        // SCADA stale: the last valid inputs, held for a bounded time
-  kSteadyState = 5  // SCADA stale too long: the controller's steady-state torque at the
-                    // last valid wind / speed (flagged degraded)
-};
-const char* to_string(TorqueSource source);
+/// Where the ROM's input torque came from this cycle (the supervisor's choice): the one
+/// enum of wind/torque_source_kind.hpp.
+using TorqueSource = wind::TorqueSource;
+using wind::to_string;
 
 /// ISO 10816-21 evaluation zone of a measurement (Annex A boundaries; see docs/run.md).
 enum class VibrationZone : std::uint8_t {

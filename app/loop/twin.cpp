@@ -172,8 +172,8 @@ void Twin::collect_window(hal::Timestamp now, const supervisor::SupervisorDecisi
   }
   // The operating point of the window: only measured (not held) inputs count.
   const bool measured =
-      d.rom_valid && (d.source == TorqueSource::kMeasured || d.source == TorqueSource::kPower ||
-                      d.source == TorqueSource::kWind);
+      d.rom_valid && (d.source == TorqueSource::kMeasuredTorque ||
+                      d.source == TorqueSource::kPower || d.source == TorqueSource::kWind);
   if (!measured) {
     abort_window(3);
     return;

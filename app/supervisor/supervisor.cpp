@@ -15,20 +15,6 @@ constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
 
 bool fresh(hal::Status s) { return s == hal::Status::kOk; }
 
-loop::TorqueSource loop_source(wind::TorqueSource s) {
-  switch (s) {
-    case wind::TorqueSource::kMeasuredTorque:
-      return loop::TorqueSource::kMeasured;
-    case wind::TorqueSource::kPower:
-      return loop::TorqueSource::kPower;
-    case wind::TorqueSource::kWind:
-      return loop::TorqueSource::kWind;
-    case wind::TorqueSource::kNone:
-      break;
-  }
-  return loop::TorqueSource::kNone;
-}
-
 }  // namespace
 
 Supervisor::Supervisor(const model::Drivetrain& drivetrain, const SupervisorConfig& config)
@@ -64,7 +50,7 @@ SupervisorDecision Supervisor::update(hal::Timestamp now, const hal::ScadaData& 
     if (t.source != wind::TorqueSource::kNone && std::isfinite(t.torque_nm) &&
         std::isfinite(t.rotor_speed_rpm)) {
       d.rom = {t.rotor_speed_rpm, t.torque_nm};
-      d.source = loop_source(t.source);
+      d.source = t.source;
       derived = true;
     }
     if (values.has(hal::ScadaQuantity::kWindSpeed)) {

@@ -13,20 +13,6 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 using Q = hal::ScadaQuantity;
 }  // namespace
 
-const char* to_string(TorqueSource source) {
-  switch (source) {
-    case TorqueSource::kNone:
-      return "none";
-    case TorqueSource::kMeasuredTorque:
-      return "measured torque";
-    case TorqueSource::kPower:
-      return "power";
-    case TorqueSource::kWind:
-      return "wind";
-  }
-  return "?";
-}
-
 double rotor_torque_from_power_nm(const model::Turbine& t, double power_kw,
                                   double rotor_speed_rpm) {
   if (!(rotor_speed_rpm >= kMinPowerSpeedRpm) || !(t.drivetrain_efficiency > 0.0)) return 0.0;

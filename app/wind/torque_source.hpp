@@ -23,15 +23,15 @@
 #include "hal/scada_quantity.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
+#include "wind/torque_source_kind.hpp"
 
 namespace app::wind {
 
 /// Below this rotor speed power says nothing about torque (P/ω undefined) [rpm].
 inline constexpr double kMinPowerSpeedRpm = 0.1;
 
-/// Where a torque came from.
-enum class TorqueSource : std::uint8_t { kNone, kMeasuredTorque, kPower, kWind };
-const char* to_string(TorqueSource source);
+// Where a torque came from: TorqueSource (wind/torque_source_kind.hpp); rotor_torque() gives
+// kNone, kMeasuredTorque, kPower or kWind.
 
 /// Which source to use. kAuto: the order above. The others force one source (values without
 /// it give kNone); kWindSteady also takes the rotor speed from the wind model's steady state,

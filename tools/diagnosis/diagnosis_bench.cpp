@@ -4,9 +4,11 @@
 //                                               (bundles + truth.json) into DIR/<case>/
 //   diagnosis_bench --run DIR... [--drivetwin PATH] [--json out.json]
 //                                               diagnose every bundle under DIR (any
-//                                               generator whose case has a truth.json
-//                                               naming "effect" and "location", null for
-//                                               a control) with the drivetwin executable,
+//                                               generator whose case has a truth —
+//                                               DIR/<case>/truth.json or
+//                                               DIR/truth/<case>.json — naming "effect"
+//                                               and "location", null for a control) with
+//                                               the drivetwin executable,
 //                                               and print the table: per case the effect and
 //                                               location named, confidence, false alarms on
 //                                               controls, residual before / calibrated /
@@ -23,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -158,17 +161,31 @@ int run(const std::vector<std::string>& dirs, const std::string& exe, const std:
   std::vector<Row> rows;
   for (const std::string& dir : dirs) {
     std::vector<fs::path> cases;
+    // A case's truth: <case>/truth.json (the lumped generator's) or <dir>/truth/<case>.json
+    // (the truth synthesizer's, kept out of the bundle).
+    auto truth_of = [&](const fs::path& c) {
+      const fs::path beside = c / "truth.json";
+      return fs::exists(beside) ? beside
+                                : fs::path(dir) / "truth" / (c.filename().string() + ".json");
+    };
     for (const auto& e : fs::directory_iterator(dir))
-      if (fs::exists(e.path() / "recording.json") && fs::exists(e.path() / "truth.json"))
+      if (fs::exists(e.path() / "recording.json") && fs::exists(truth_of(e.path())))
         cases.push_back(e.path());
     std::sort(cases.begin(), cases.end());
     for (const fs::path& c : cases) {
       Row r;
       r.id = c.filename().string();
-      std::ifstream tin(c / "truth.json");
+      std::ifstream tin(truth_of(c));
       const nlohmann::json truth = nlohmann::json::parse(tin);
       r.truth_effect = text_or_null(truth, "effect");
       r.truth_location = text_or_null(truth, "location");
+      // Planets and planet bearings are one location each in the contract ("planet", "pb").
+      for (const char* group : {"planet", "pb"}) {
+        const std::string g = group;
+        if (r.truth_location.size() > g.size() && r.truth_location.compare(0, g.size(), g) == 0 &&
+            std::isdigit(static_cast<unsigned char>(r.truth_location[g.size()])))
+          r.truth_location = g;
+      }
       r.control = r.truth_effect.empty();
       r.concealed = truth.value("concealed", false);
       const fs::path report = c / "diagnosis.json";

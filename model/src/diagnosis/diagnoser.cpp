@@ -624,6 +624,8 @@ void Diagnoser::step_locate() {
     m.peaks_hz = f->peaks_hz;
     m.signature = describe_feature(catalogue_, *f, w.ref_hz, w.pairs);
     m.share = f->share;
+    m.kinematic = f->family != kNoFamily || f->domain == FeatureDomain::kBand ||
+                  f->domain == FeatureDomain::kAverage;
     report_.mismatch.push_back(std::move(m));
   }
   // Candidates: the best-ranked hypotheses, the ones the model can switch on first.
@@ -661,6 +663,25 @@ bool Diagnoser::step_refit() {
   if (!w.tr && !w.holdout_pending) {
     // Set up the fit: the hypothesis's lines significant on half A.
     w.params = simulator_.parameters(h);
+    if (h.effect == Effect::kHousingResonance) {
+      // Start a resonance where locate fitted it: its frequency within −15 %/+18 %, its damping.
+      const ResidualFeature* band = nullptr;
+      for (const ResidualFeature& f : w.located.features)
+        if (f.domain == FeatureDomain::kBand && f.channel < w.pairs.size() &&
+            w.pairs[f.channel].location == h.location &&
+            (band == nullptr || f.fit_share * f.strength > band->fit_share * band->strength))
+          band = &f;
+      for (EffectParameter& p : w.params) {
+        if (band == nullptr) break;
+        if (p.name.find("frequency") != std::string::npos) {
+          p.lower = std::max(p.lower, band->resonance_hz / 1.18);
+          p.upper = std::min(p.upper, band->resonance_hz * 1.18);
+          p.initial = std::clamp(band->resonance_hz, p.lower, p.upper);
+        } else if (p.name.find("damping") != std::string::npos) {
+          p.initial = std::clamp(band->resonance_damping, p.lower, p.upper);
+        }
+      }
+    }
     w.lines.clear();
     const bool env = h.domain == Domain::kEnvelope;
     double rate = 0.0;
@@ -735,7 +756,10 @@ bool Diagnoser::step_refit() {
     calibration::TrustRegionConfig tc;
     tc.max_evaluations = config_.fit_evaluations;
     tc.restarts = false;
-    tc.initial_radius = 0.5;
+    // Severities are searched as logarithms and may lie decades from the term's default:
+    // long first steps (×e^1.5), up to ×e^3.
+    tc.initial_radius = 1.5;
+    tc.max_radius = 3.0;
     w.tr = std::make_unique<calibration::TrustRegionLeastSquares>(*map, tc);
     if (!w.tr->config_ok()) {
       c.verdict = "its fit does not fit the least-squares capacity";

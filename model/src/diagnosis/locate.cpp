@@ -14,12 +14,24 @@ bool excluded(double order, double revs, const std::vector<double>* exclude) {
     if (std::abs(order - o) * revs <= 2.0) return true;
   return false;
 }
+
+// Envelope peaks are sought off the mesh harmonics only: a shaft's harmonics there are an
+// impact once per revolution, which a family names (build_catalogue), not noise to skip.
+std::vector<double> mesh_harmonics(const Catalogue& catalogue) {
+  std::vector<double> out;
+  for (const PartRate& m : catalogue.meshes)
+    for (int h = 1; h <= 8; ++h) out.push_back(h * m.order);
+  return out;
+}
 }  // namespace
 
 std::vector<double> envelope_exclusions(const Catalogue& catalogue) {
   std::vector<double> out;
   for (const PartRate& m : catalogue.meshes)
     for (int h = 1; h <= 8; ++h) out.push_back(h * m.order);
+  for (const PartRate& s : catalogue.shafts)
+    if (s.id != "planet" && s.order >= kSynchronousShaftOrder)
+      for (int k = 1; k * s.order <= 60.0; ++k) out.push_back(k * s.order);
   return out;
 }
 
@@ -270,6 +282,7 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
                     const LocateConfig& cfg) {
   LocateResult result;
   const std::vector<double> sync = envelope_exclusions(cat);
+  const std::vector<double> meshes = mesh_harmonics(cat);
   result.spectrum_total.assign(channels.size(), 0.0);
   result.envelope_total.assign(channels.size(), 0.0);
   // Impulsiveness of each shaft's synchronous average, per channel: kurtosis excess.
@@ -288,7 +301,7 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
     if (!rec.envelope.amplitude.empty()) {
       const double env_top = static_cast<double>(rec.envelope.amplitude.size() - 1) /
                              static_cast<double>(rec.envelope.revolutions) * 0.9;
-      std::vector<Peak> ep = excess_peaks(rec.envelope, sim.envelope, env_top, cfg, &sync);
+      std::vector<Peak> ep = excess_peaks(rec.envelope, sim.envelope, env_top, cfg, &meshes);
       for (const Peak& p : ep) result.envelope_total[c] += p.line.excess;
       claim_families(cat, c, Domain::kEnvelope, FeatureDomain::kEnvelope, ep,
                      static_cast<double>(rec.envelope.revolutions), ref_hz,

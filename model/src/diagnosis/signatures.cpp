@@ -263,6 +263,21 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
     }
   }
 
+  // Envelope lines at a shaft's harmonics: an impact once per revolution (a cracked tooth,
+  // a rub), named so in the envelope; no hypothesis of their own (the crack's evidence is
+  // its sidebands and its shaft's synchronous average).
+  for (const PartRate& s : std::vector<PartRate>(cat.shafts)) {
+    if (s.id == "planet") continue;
+    std::vector<double> o, w;
+    for (int n = 1; n <= 10; ++n) {
+      o.push_back(n * s.order);
+      w.push_back(1.0);
+    }
+    b.family(Domain::kEnvelope,
+             "harmonics of the " + s.id + " speed: an impact once per " + s.id + " revolution",
+             s.order, o, w, 0.0);
+  }
+
   // Shafts: unbalance and misalignment on every shaft but the rotor's (the input of the
   // first stage), where a once-per-revolution force is lost in the rotor's own loads.
   const std::string rotor_shaft = d.stages.empty() ? "" : d.stages.front().input_shaft;

@@ -149,7 +149,7 @@ TEST(RunFaults, BusFaultsSetTheirBitsWhileTheyLastAndClearAfterwardsAndTheLoopKe
   EXPECT_NEAR(s.elapsed_s, kEnd, 1e-6) << "the ROM was not stepped in every cycle";
   EXPECT_TRUE(rec.all(4, 8, [](const Record& r) {
     return bit(r.status, res::kStatusRunning) && !bit(r.status, res::kStatusDegraded) &&
-           r.fault == 0 && r.source == TorqueSource::kMeasured;
+           r.fault == 0 && r.source == TorqueSource::kMeasuredTorque;
   })) << log.str();
   // SCADA silent: stale, held, then the steady state; the model still driven.
   EXPECT_TRUE(rec.any(8, 16, [](const Record& r) {
@@ -164,7 +164,7 @@ TEST(RunFaults, BusFaultsSetTheirBitsWhileTheyLastAndClearAfterwardsAndTheLoopKe
   for (const double from : {24.0, 40.0}) {
     EXPECT_TRUE(rec.any(from, from + 8, [](const Record& r) {
       return bit(r.fault, sup::kFaultInputRejected) && bit(r.status, res::kStatusDegraded) &&
-             r.source != TorqueSource::kMeasured;
+             r.source != TorqueSource::kMeasuredTorque;
     })) << from;
     EXPECT_GT(rec.at(from + 7.5).rejected, rec.at(from).rejected) << from;
   }
@@ -186,7 +186,7 @@ TEST(RunFaults, BusFaultsSetTheirBitsWhileTheyLastAndClearAfterwardsAndTheLoopKe
     EXPECT_TRUE(rec.all(in.to + 4, in.to + 8,
                         [](const Record& r) {
                           return r.fault == 0 && !bit(r.status, res::kStatusDegraded) &&
-                                 r.source == TorqueSource::kMeasured;
+                                 r.source == TorqueSource::kMeasuredTorque;
                         }))
         << "after the fault of " << in.from << " s: fault word " << rec.at(in.to + 7).fault
         << ", status " << rec.at(in.to + 7).status;

@@ -59,7 +59,7 @@ TEST(RunTwin, OnSimulatedBusesEveryPeriodRunsAndDamageAccumulates) {
   EXPECT_EQ(s.last.counters.overruns, 0u);
   EXPECT_GT(s.last.counters.cms_blocks, 0u);
   EXPECT_TRUE(s.last.status_word & app::results::kStatusRunning);
-  EXPECT_EQ(s.last.torque_source, app::loop::TorqueSource::kMeasured);
+  EXPECT_EQ(s.last.torque_source, app::loop::TorqueSource::kMeasuredTorque);
   EXPECT_NEAR(s.elapsed_s, 2.0, 1e-9);
   ASSERT_FALSE(s.damage.empty());
   EXPECT_GT(s.damage[0], 0.0);  // sun contact

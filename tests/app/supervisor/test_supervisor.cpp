@@ -50,7 +50,7 @@ TEST_F(SupervisorTest, MeasuredTorqueComesFirstThenPowerThenWind) {
   Supervisor s(d_, cfg_);
   // Measured torque (its magnitude) with the measured speed.
   SupervisorDecision r = s.update(hal::Timestamp{0}, scada(8.0, 12.0, 900.0, -600000.0), ok());
-  EXPECT_EQ(r.source, TorqueSource::kMeasured);
+  EXPECT_EQ(r.source, TorqueSource::kMeasuredTorque);
   EXPECT_DOUBLE_EQ(r.rom.input_torque_nm, 600000.0);
   EXPECT_DOUBLE_EQ(r.rom.rotor_speed_rpm, 12.0);
   // Power: T = P / (η ω), paper-2mw's η = 1: 900 kW at 12 rpm = 716 197 N·m.

@@ -150,7 +150,8 @@ struct MismatchEntry {
   double band_lo_hz = 0.0, band_hi_hz = 0.0;
   std::vector<double> peaks_hz;
   std::string signature;
-  double share = 0.0;  // of the channel's unexplained excess in its domain
+  double share = 0.0;     // of the channel's unexplained excess in its domain
+  bool kinematic = true;  // a kinematic family (or a resonance, an impulsive average) names it
 };
 
 struct CandidateResult {

@@ -111,8 +111,16 @@ LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& sim
                          double order, double tolerance, const LocateConfig& config,
                          const std::vector<double>* exclude = nullptr);
 
-/// The synchronous orders of the envelope: harmonics 1..8 of every mesh. No bearing line is
-/// read there (a defect line that falls exactly on one cannot be told from mesh modulation).
+/// Shafts at least this fast (in reference orders) have their harmonics excluded from
+/// bearing lines: their spacing is wide enough that ±2 lines around each leave a bearing's
+/// ±slip window almost whole, and an impact once per revolution (a cracked tooth) puts its
+/// envelope lines there.
+inline constexpr double kSynchronousShaftOrder = 0.2;
+
+/// The synchronous orders of the envelope: harmonics 1..8 of every mesh, and the harmonics
+/// (up to order 60) of every shaft of at least kSynchronousShaftOrder. No bearing line is
+/// read there (a defect line that falls exactly on one cannot be told from mesh modulation
+/// or a once-per-revolution impact).
 std::vector<double> envelope_exclusions(const Catalogue& catalogue);
 
 struct HypothesisScore {

@@ -158,13 +158,46 @@ struct MeasurementPoint {
   std::string direction;  // "radial"
 };
 
+/// Stages whose meshes carry a static transmission error (the paper-2mw topology: 3).
+inline constexpr std::size_t kTransmissionErrorStages = 3;
+/// Harmonics of the mesh frequency in each stage's static transmission error.
+inline constexpr std::size_t kTransmissionErrorHarmonics = 3;
+/// Measurement points whose bearing seat is modelled with housing modes.
+inline constexpr std::size_t kHousingPoints = 2;
+/// Housing modes per measurement point (in the sensor's direction).
+inline constexpr std::size_t kHousingModesPerPoint = 3;
+/// Knots of the frequency-dependent damping factor (DynamicsParameters::damping_band_factor).
+inline constexpr std::size_t kDampingKnots = 3;
+/// Frequencies of those knots [Hz]: log-spaced over the band the mesh harmonics of a
+/// multi-megawatt gearbox occupy (intermediate mesh ~70 Hz … 3 × hss mesh ~2 kHz).
+inline constexpr std::array<double, kDampingKnots> kDampingKnotsHz{100.0, 500.0, 2500.0};
+
 /// Parameters of the dynamics model that are not geometry; the calibrator moves these.
+/// Units as named; the physics of each is documented in model/dynamics/full_model.hpp.
 struct DynamicsParameters {
   double rayleigh_eta = 0.0;   // [1/s] mass-proportional damping η (C = ηM + ζK)
   double rayleigh_zeta = 0.0;  // [s] stiffness-proportional damping ζ
   std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};     // [-] per stage
   std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
   double bearing_stiffness_fluctuation = 0.1;                    // [-] k_θ / k_a
+  /// [-] per bearing b1..b6, on top of its shaft's bearing_stiffness_scale.
+  std::array<double, 6> bearing_stiffness_factor{1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  /// [-] multiplies the gearbox's modal damping ratio (Rayleigh's η/2ω + ζω/2) at the
+  /// knots kDampingKnotsHz, linear in log frequency between them, constant outside.
+  std::array<double, kDampingKnots> damping_band_factor{1.0, 1.0, 1.0};
+  /// [m] static transmission error of each stage's meshes: amplitude of harmonic h
+  /// (index stage·kTransmissionErrorHarmonics + h − 1) of the mesh frequency, along the
+  /// line of action; 0: no geometric excitation (only the stiffness variation).
+  std::array<double, kTransmissionErrorStages * kTransmissionErrorHarmonics> transmission_error_m{};
+  /// Housing modes seen at the bearing seat of each measurement point (index
+  /// point·kHousingModesPerPoint + mode). A point whose frequencies are all 0 keeps the
+  /// model's single seat mass on a spring (StructuralParameters).
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_frequency_hz{};   // [Hz]
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_damping_ratio{};  // [-]
+  /// [kg] the mode's effective mass at the seat (1/ψ_seat² of a mass-normalised mode)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_modal_mass_kg{};
+  /// [-] sensor over seat displacement in the mode (ψ_sensor/ψ_seat; 1: sensor on the seat)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_participation{};
 };
 
 struct Drivetrain {
