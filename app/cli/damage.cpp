@@ -401,7 +401,14 @@ void run(const DamageArgs& args) {
   std::printf("# bearing ratings C [kN] (the description's, else ISO 281:2007 from geometry):");
   bool assumed_rating = false;
   for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
-    const model::Bearing* desc = drivetrain.bearing(channels.bearing_id(b));
+    // A planet bearing's slots are its id with the planet's number ("pb" → pb1, pb2, ...).
+    const std::string& slot_id = channels.bearing_id(b);
+    const model::Bearing* desc = drivetrain.bearing(slot_id);
+    if (desc == nullptr) {
+      const std::string stem = slot_id.substr(0, slot_id.find_last_not_of("0123456789") + 1);
+      const model::Bearing* planet = drivetrain.bearing(stem);
+      if (planet != nullptr && planet->shaft == "planet") desc = planet;
+    }
     const bool from_geometry = desc == nullptr || !(desc->dynamic_rating_n > 0.0);
     assumed_rating |= from_geometry;
     std::printf(" %s %.0f%s", channels.bearing_id(b).c_str(),

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "hal/scada_csv.hpp"
@@ -396,14 +397,22 @@ void setup_synth_scada(CLI::App& sub) {
   auto args = std::make_shared<SynthArgs>();
   sub.add_option("--out", args->out, "Output CSV (bundle scada.csv columns)")->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--years", args->years, "Length [years of 365.25 days]")->capture_default_str();
-  sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
+  sub.add_option("--years", args->years, "Length [years of 365.25 days]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 100.0, "years", true));
+  sub.add_option("--period", args->period_s, "Row period [s]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 86400.0, "s", true));
   sub.add_option("--weibull-k", args->weibull_k, "Weibull shape k of the 10-min wind")
-      ->capture_default_str();
-  sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::positive());
+  sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")
+      ->capture_default_str()
+      ->check(app::cli::positive("m/s"));
   sub.add_option("--lag1", args->lag1,
                  "A single AR(1) with this lag-1 correlation per 10 minutes (the former model; "
-                 "default: two-scale persistence fitted to Kelmarsh)");
+                 "default: two-scale persistence fitted to Kelmarsh)")
+      ->check(app::cli::number_in(0.0, 1.0, "", true, true));
   sub.add_option("--slow-weight", args->persistence.slow_weight,
                  "Two-scale persistence: variance share of the slow component")
       ->capture_default_str();
@@ -414,8 +423,11 @@ void setup_synth_scada(CLI::App& sub) {
                  "Two-scale persistence: fast component's lag-1 correlation per 10 minutes")
       ->capture_default_str();
   sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
-  sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")->capture_default_str();
-  sub.add_option("--days", args->days, "Length [days]; overrides --years");
+  sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(app::cli::kInf * -1.0, app::cli::kInf));
+  sub.add_option("--days", args->days, "Length [days]; overrides --years")
+      ->check(app::cli::number_in(0.0, 36525.0, "days", true));
   sub.add_option("--turbulence", args->turbulence,
                  "Turbulent mode: IEC 61400-1 class A|B|C (I_ref 0.16/0.14/0.12; no default: "
                  "name it), or none (rotor model on the constant means). Rows every --resolution "

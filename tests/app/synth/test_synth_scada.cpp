@@ -233,6 +233,11 @@ TEST_F(SynthScada, BadInputsNamed) {
       {{"--turbulence", "A", "--mean-wind", "6.75", "--hub-height", "-5"}, {"hub height"}},
       {{"--turbulence", "A", "--mean-wind", "6.75", "--from-10min", p("neg.csv")},
        {"--from-10min excludes"}},
+      // Options refused while parsing (app/cli/options.hpp); `--days nan` used to be ignored
+      // and 11 years written.
+      {{"--days", "nan"}, {"--days: 'nan' is not a finite number"}},
+      {{"--years", "-1"}, {"--years: -1 is out of range"}},
+      {{"--lag1", "1"}, {"--lag1: 1 is out of range; expected a number in (0, 1)"}},
   };
   for (const Case& c : cases) {
     std::vector<std::string> args{"synth-scada", "--out", p("out.csv")};
