@@ -168,6 +168,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"housing_damping_ratio", &DynamicsParameters::housing_damping_ratio, Range::kNonNegative},
     {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
     {"housing_participation", &DynamicsParameters::housing_participation},
+    {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------

@@ -198,6 +198,9 @@ struct DynamicsParameters {
   std::array<double, kHousingPoints * kHousingModesPerPoint> housing_modal_mass_kg{};
   /// [-] sensor over seat displacement in the mode (ψ_sensor/ψ_seat; 1: sensor on the seat)
   std::array<double, kHousingPoints * kHousingModesPerPoint> housing_participation{};
+  /// [-] the mode's participation at the OTHER measured point's seat relative to its own
+  /// (housing modes are the whole housing's: cross-transmission between the points; 0: none)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_cross_participation{};
 };
 
 struct Drivetrain {
