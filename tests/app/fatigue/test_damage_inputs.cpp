@@ -156,17 +156,21 @@ TEST_F(DamageInputs, TorqueBeyondTheSpectrumIsCountedAndLeftOutNeverClamped) {
 }
 
 TEST_F(DamageInputs, BearingLivesFromAssumedRatingsSaySoAndCatalogueRatingsDoNot) {
-  // Arrange: paper-2mw gives no dynamic_rating_n (C from the geometry, ISO 281); a copy of
-  // it with a catalogue rating for every bearing.
+  // Arrange: a copy of paper-2mw without dynamic_rating_n (C from the geometry, ISO 281) and
+  // one with a catalogue rating for every bearing.
   const fs::path csv = write("rows.csv", std::string(kHeader) +
                                              "0,12,14,,,1230000\n"
                                              "600,12,14,,,1230000\n");
   std::string ratings = "base = \"paper-2mw\"\nname = \"rated\"\n";
-  for (const auto& b : model::paper_2mw().bearings)
+  std::string unrated = "base = \"paper-2mw\"\nname = \"unrated\"\n";
+  for (const auto& b : model::paper_2mw().bearings) {
     ratings += "[[bearings]]\nid = \"" + b.id + "\"\ndynamic_rating_n = 2.0e6\n";
+    unrated += "[[bearings]]\nid = \"" + b.id + "\"\ndynamic_rating_n = 0.0\n";
+  }
   const fs::path toml = write("rated.toml", ratings);
+  const fs::path toml_unrated = write("unrated.toml", unrated);
   // Act
-  const CliResult assumed = damage(csv);
+  const CliResult assumed = damage(csv, {"--drivetrain", toml_unrated.string()});
   const CliResult given = damage(csv, {"--drivetrain", toml.string()});
   // Assert
   ASSERT_EQ(assumed.exit_code, 0) << assumed.error;

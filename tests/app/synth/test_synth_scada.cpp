@@ -194,8 +194,8 @@ TEST_F(SynthScada, TenMinuteRowsCarryTheTwoScaleWindOrTheSingleAr1) {
   ASSERT_EQ(rows_two.size(), 288u);
   ASSERT_EQ(rows_one.size(), 288u);
   for (std::size_t i = 0; i < rows_two.size(); ++i) {
-    EXPECT_NEAR(rows_two[i].wind, two.next(), 5.1e-4) << "row " << i;
-    EXPECT_NEAR(rows_one[i].wind, one.next(), 5.1e-4) << "row " << i;
+    EXPECT_NEAR(rows_two[i].wind, two.next(rows_two[i].t), 5.1e-4) << "row " << i;
+    EXPECT_NEAR(rows_one[i].wind, one.next(rows_one[i].t), 5.1e-4) << "row " << i;
   }
   const SynthResult bad =
       run_synth({"synth-scada", "--days", "1", "--slow-weight", "0", "--out", p("bad.csv")});
