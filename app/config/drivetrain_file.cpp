@@ -145,6 +145,8 @@ const std::vector<Key<Bearing>> kBearingKeys{
     {"type", &Bearing::type},
     {"dynamic_rating_n", &Bearing::dynamic_rating_n, Range::kNonNegative},
     {"roller_effective_length_m", &Bearing::roller_effective_length_m, Range::kNonNegative},
+    {"static_rating_n", &Bearing::static_rating_n, Range::kNonNegative},
+    {"fatigue_load_limit_n", &Bearing::fatigue_load_limit_n, Range::kNonNegative},
     {"radial_stiffness_n_m", &Bearing::radial_stiffness_n_m, Range::kNonNegative},
 };
 const std::vector<Key<MeasurementPoint>> kPointKeys{
@@ -166,6 +168,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"housing_damping_ratio", &DynamicsParameters::housing_damping_ratio, Range::kNonNegative},
     {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
     {"housing_participation", &DynamicsParameters::housing_participation},
+    {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------

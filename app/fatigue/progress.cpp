@@ -46,11 +46,35 @@ void ProgressLine::draw(double done, double elapsed_s) {
     std::fprintf(out_, "\r%s: %.0f/%.0f %s  %5.1f %%  %.0f s", label_.c_str(), done, total_,
                  unit_.c_str(), 100.0 * f, elapsed_s);
     if (f > 0.0 && f < 1.0) std::fprintf(out_, ", ~%.0f s left", left);
-    std::fputs("   ", out_);  // wipes the tail of a longer previous line
+    std::fputs("   ", out_);   // wipes the tail of a longer previous line
+  } else if (unit_.empty()) {  // nothing counted: the time it has taken so far
+    std::fprintf(out_, "\r%s: %.0f s   ", label_.c_str(), elapsed_s);
   } else {
     std::fprintf(out_, "\r%s: %.0f %s  %.0f s   ", label_.c_str(), done, unit_.c_str(), elapsed_s);
   }
   std::fflush(out_);
+}
+
+ElapsedTicker::ElapsedTicker(bool enabled, std::string label, std::FILE* out)
+    : line_(enabled, std::move(label), "", 0.0, out) {
+  if (!enabled) return;
+  thread_ = std::thread([this] {
+    std::unique_lock<std::mutex> lock(mutex_);
+    while (!wake_.wait_for(lock, std::chrono::milliseconds(500), [this] { return stop_; }))
+      line_.update(0.0);
+  });
+}
+
+ElapsedTicker::~ElapsedTicker() {
+  if (thread_.joinable()) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      stop_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+  line_.finish();
 }
 
 }  // namespace app::fatigue

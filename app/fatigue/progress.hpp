@@ -12,8 +12,11 @@
 // Thread context: non-real-time command code (reads the steady clock).
 
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
+#include <mutex>
 #include <string>
+#include <thread>
 
 namespace app::fatigue {
 
@@ -47,6 +50,24 @@ class ProgressLine {
   double done_ = 0.0;
   bool drawn_ = false;
   bool finished_ = false;
+};
+
+/// For a call that cannot report its own progress (a model run): while it lives, a thread
+/// redraws "<label>: 12 s" every half second on the line; the destructor ends the line.
+/// Disabled, no thread is started and nothing is printed.
+class ElapsedTicker {
+ public:
+  ElapsedTicker(bool enabled, std::string label, std::FILE* out = stderr);
+  ~ElapsedTicker();
+  ElapsedTicker(const ElapsedTicker&) = delete;
+  ElapsedTicker& operator=(const ElapsedTicker&) = delete;
+
+ private:
+  ProgressLine line_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stop_ = false;
+  std::thread thread_;
 };
 
 }  // namespace app::fatigue

@@ -151,6 +151,7 @@ struct SeatDof {
   double sensor = 0.0;          // [-] weight in the sensor's reading
   double stiffness = 0.0;       // [N/m] spring to ground (housing modes: m_k ω_k²)
   double damping_ratio = -1.0;  // [-] a housing mode's own ξ_k; < 0: the gearbox's damping
+  int param = -1;               // a housing mode's index in DynamicsParameters' housing_*
 };
 struct SeatRef {
   std::string bearing;
@@ -903,10 +904,11 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     if (f == 0.0) continue;  // no mode in this slot
     if (!(f > 0.0) || !std::isfinite(f) || !(dp.housing_modal_mass_kg[i] > 0.0) ||
         !std::isfinite(dp.housing_modal_mass_kg[i]) || !(dp.housing_damping_ratio[i] >= 0.0) ||
-        !(dp.housing_damping_ratio[i] < 1.0) || !std::isfinite(dp.housing_participation[i])) {
+        !(dp.housing_damping_ratio[i] < 1.0) || !std::isfinite(dp.housing_participation[i]) ||
+        !std::isfinite(dp.housing_cross_participation[i])) {
       fail(error, "drivetrain '" + d.name + "': dynamics: housing mode " + std::to_string(i) +
                       ": frequency and modal mass must be finite and > 0, damping ratio in "
-                      "[0, 1), participation finite");
+                      "[0, 1), participations finite");
       return std::nullopt;
     }
   }
@@ -1108,6 +1110,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
         h.sensor = dp.housing_participation[i];
         h.stiffness = m * w * w;
         h.damping_ratio = dp.housing_damping_ratio[i];
+        h.param = static_cast<int>(i);
         as.spring({{h.dof, 1.0}}, h.stiffness);
         own_dampers.push_back({{{h.dof, 1.0}}, h.stiffness, h.damping_ratio});
         seat.dofs.push_back(h);
@@ -1153,6 +1156,25 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       own_dampers.push_back({dir, k, *resonance->parameter("damping_ratio")});
     }
     seats.push_back(seat);
+  }
+  // Housing modes are the housing's, not one seat's: mode k of point p also moves the other
+  // measured point's seat, by c_k·h_k along its sensor direction (housing_cross_participation,
+  // the mode's seat participation there relative to its own seat). Reciprocally that seat's
+  // bearing force drives h_k with c_k, and that point's sensor reads c_k·ḧ_k.
+  if (seats.size() == kHousingPoints) {
+    for (std::size_t p = 0; p < kHousingPoints; ++p) {
+      Seat& other = seats[1 - p];
+      for (const SeatDof& sd : std::vector<SeatDof>(seats[p].dofs)) {
+        if (sd.param < 0) continue;  // not a housing mode
+        const double c = dp.housing_cross_participation[static_cast<std::size_t>(sd.param)];
+        if (c == 0.0) continue;
+        SeatDof cross;
+        cross.dof = sd.dof;
+        cross.dir = c * sensor_dir;
+        cross.sensor = c;
+        other.dofs.push_back(cross);  // stiffness 0, damping_ratio < 0: not a spring of its own
+      }
+    }
   }
 
   // ---- generator ----------------------------------------------------------------------------

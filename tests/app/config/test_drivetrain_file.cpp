@@ -129,6 +129,8 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
   same_array(a.dynamics.housing_damping_ratio, b.dynamics.housing_damping_ratio, "housing xi");
   same_array(a.dynamics.housing_modal_mass_kg, b.dynamics.housing_modal_mass_kg, "housing m");
   same_array(a.dynamics.housing_participation, b.dynamics.housing_participation, "housing p");
+  same_array(a.dynamics.housing_cross_participation, b.dynamics.housing_cross_participation,
+             "housing c");
 }
 
 std::string error_of(const std::string& text, const std::string& source = "bad.toml") {

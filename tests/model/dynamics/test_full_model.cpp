@@ -570,3 +570,22 @@ TEST(FullModelBuild, ImpossibleHousingModeIsRejectedNamingTheKey) {
   EXPECT_FALSE(build_full_model(d, {}, &error));
   EXPECT_NE(error.find("housing mode 1"), std::string::npos) << error;
 }
+
+TEST(FullModelBuild, CrossParticipationCouplesTheOtherSeatReciprocally) {
+  // Point1's first housing mode with cross participation c at point2's seat: b3's direction
+  // gets −c·(sensor direction) on that mode's DOF (its force drives the mode with c) and
+  // point2's sensor reads c on it; without it both are 0.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.housing_cross_participation[0] = 0.4;
+  const FullModel m = paper_model(d);
+  const int h = m.dof("seat.b5.mode1");
+  ASSERT_GE(h, 0);
+  const VaryingStiffness& b3 = m.bearings[2];
+  ASSERT_EQ(b3.id, "b3");
+  EXPECT_NEAR(b3.directions(h, 1), -0.4, 1e-12);  // sensor direction +y
+  EXPECT_NEAR(b3.directions(h, 0), 0.0, 1e-12);
+  EXPECT_NEAR(m.sensors[1].row[h], 0.4, 1e-12);
+  const FullModel m0 = paper_model();
+  EXPECT_EQ(m0.bearings[2].directions(h, 1), 0.0);
+  EXPECT_EQ(m0.sensors[1].row[h], 0.0);
+}

@@ -141,10 +141,16 @@ struct Bearing {
   double pitch_diameter_m = 0.0;    // [m] Dp
   double contact_angle_rad = 0.0;   // [rad] φ
   BearingType type = BearingType::kRoller;
-  // [N] C, ISO 281; 0: computed from the geometry above (model/fatigue/bearing_rating.hpp).
+  // [N] C, ISO 281 (a catalogue figure; for a pair or two rows, the set's); 0: computed from the
+  // geometry above (model/fatigue/bearing_rating.hpp).
   double dynamic_rating_n = 0.0;
-  double roller_effective_length_m = 0.0;  // [m] L_we of a roller, for C from geometry
-  double radial_stiffness_n_m = 0.0;       // [N/m] mean radial stiffness k_a
+  double roller_effective_length_m = 0.0;  // [m] L_we of a roller, for C and C0 from geometry
+  // [N] C0, ISO 76 (for the fatigue load limit of the life modification factor); 0: from the
+  // geometry (radial roller bearings).
+  double static_rating_n = 0.0;
+  // [N] C_u, ISO 281:2007 §9.3; 0: from C0 by ISO 281:2007's approximation (bearing_life.hpp).
+  double fatigue_load_limit_n = 0.0;
+  double radial_stiffness_n_m = 0.0;  // [N/m] mean radial stiffness k_a
 };
 
 /// A CMS measurement channel: where the accelerometer sits.
@@ -194,6 +200,9 @@ struct DynamicsParameters {
   std::array<double, kHousingPoints * kHousingModesPerPoint> housing_modal_mass_kg{};
   /// [-] sensor over seat displacement in the mode (ψ_sensor/ψ_seat; 1: sensor on the seat)
   std::array<double, kHousingPoints * kHousingModesPerPoint> housing_participation{};
+  /// [-] the mode's participation at the OTHER measured point's seat relative to its own
+  /// (housing modes are the whole housing's: cross-transmission between the points; 0: none)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_cross_participation{};
 };
 
 struct Drivetrain {

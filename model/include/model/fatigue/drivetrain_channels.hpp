@@ -37,6 +37,7 @@
 #include <string>
 
 #include "model/drivetrain/description.hpp"
+#include "model/fatigue/bearing_life.hpp"
 #include "model/fatigue/gear_rating.hpp"
 #include "model/fatigue/sn_curve.hpp"
 
@@ -84,6 +85,19 @@ struct ChannelOptions {
   /// IEC 61400-4 gives for the planet count (planet_load_sharing_factor()). The dynamics
   /// spectrum does not use it: the dynamics model carries the sharing itself.
   double planet_load_sharing = 0.0;
+  Lubrication lubrication{};  // ISO 281 a_ISO of the bearings (bearing_life.hpp)
+};
+
+/// What a bearing slot's ISO 281 life modification factor is computed from (start-up values).
+struct BearingLifeTerms {
+  bool applied = false;          // a_ISO in use (lubrication enabled and C_u known), else 1
+  double ec_cu_n = 0.0;          // [N] e_C·C_u
+  double c0_n = 0.0;             // [N] C0 in use (description or ISO 76)
+  double cu_n = 0.0;             // [N] C_u in use (description or from C0)
+  double viscosity_mm2_s = 0.0;  // [mm²/s] ν at the operating temperature
+  double pitch_diameter_mm = 0.0;
+  double rev_per_rotor_rev = 0.0;  // [-] ring revolutions per rotor revolution
+  BearingType type = BearingType::kRoller;
 };
 
 /// IEC 61400-4:2012's planet load sharing factor K_γ for a planetary stage of `planets`
@@ -110,6 +124,13 @@ class ChannelSet {
   /// The bearing of `slot`; its dynamic_rating_n is the rating in use (the description's, or
   /// the one computed from the geometry when the description gives none).
   const Bearing& bearing(std::size_t slot) const { return bearings_[slot]; }
+  /// The inputs of the slot's a_ISO (applied == false: a_ISO = 1, and why is in life_note()).
+  const BearingLifeTerms& bearing_life(std::size_t slot) const { return life_[slot]; }
+  /// ISO 281:2007 a_ISO of a bearing slot at an equivalent load and rotor speed (1 when not
+  /// applied). Allocation-free.
+  double life_modification(std::size_t slot, double equivalent_load_n, double rotor_rpm) const;
+  /// Why a_ISO is not applied to some bearing ("" when it is applied to all or switched off).
+  const std::string& life_note() const { return life_note_; }
   const Channel& channel(std::size_t i) const { return channels_[i]; }
   const ChannelOptions& options() const { return options_; }
   /// K_γ the quasi-static loads apply to the planets (1 without a planetary stage).
@@ -139,6 +160,10 @@ class ChannelSet {
   std::array<double, kMaxBearings> torque_to_radial_per_nm_{};      // [1/m] F_r per rotor torque
   std::array<double, kMaxBearings> torque_to_axial_per_nm_{};       // [1/m] F_a per rotor torque
   std::array<double, kMaxBearings> bearing_quasi_static_factor_{};  // [-] K_γ for planet bearings
+  std::array<BearingLifeTerms, kMaxBearings> life_{};
+  std::string life_note_;
+  std::array<double, kMaxBearings> torque_to_radial_per_nm_{};  // [1/m] F_r per rotor torque
+  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};   // [1/m] F_a per rotor torque
   std::array<Channel, kMaxChannels> channels_{};
 };
 
