@@ -162,8 +162,6 @@ class ChannelSet {
   std::array<double, kMaxBearings> bearing_quasi_static_factor_{};  // [-] K_γ for planet bearings
   std::array<BearingLifeTerms, kMaxBearings> life_{};
   std::string life_note_;
-  std::array<double, kMaxBearings> torque_to_radial_per_nm_{};  // [1/m] F_r per rotor torque
-  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};   // [1/m] F_a per rotor torque
   std::array<Channel, kMaxChannels> channels_{};
 };
 
