@@ -28,6 +28,7 @@
 #include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
+#include "fatigue/bearing_report.hpp"
 #include "fatigue/damage_history.hpp"
 #include "fatigue/dynamics_spectrum.hpp"
 #include "fatigue/progress.hpp"
@@ -64,6 +65,8 @@ struct DamageArgs {
   double f_ma_factor = 1.0;
   double pinion_offset = 0.25;
   int accuracy_grade = 6;
+  model::fatigue::Lubrication lubrication{};  // ISO 281 a_ISO inputs (defaults: bearing_life.hpp)
+  bool basic_life = false;
   bool no_progress = false;
   bool no_cache = false;
   bool per_day = false;
@@ -179,6 +182,14 @@ void run(const DamageArgs& args) {
   options.rating.face_load.contact_pattern_verified = args.contact_pattern == "verified";
   options.rating.face_load.pinion_offset_ratio = args.pinion_offset;
   options.rating.accuracy_grade = args.accuracy_grade;
+  options.lubrication = args.lubrication;
+  options.lubrication.enabled = !args.basic_life;
+  if (!(args.lubrication.viscosity_100c_mm2_s < args.lubrication.viscosity_40c_mm2_s)) {
+    throw CommandError(
+        "--oil-viscosity-100: " + std::to_string(args.lubrication.viscosity_100c_mm2_s) +
+        " mm2/s is not below --oil-viscosity-40 (" +
+        std::to_string(args.lubrication.viscosity_40c_mm2_s) + " mm2/s): an oil thins as it warms");
+  }
   if (args.sn == "haibach") {
     options.branch = mf::KneeBranch::kHaibach;
   } else if (args.sn == "iso") {
@@ -242,13 +253,22 @@ void run(const DamageArgs& args) {
         source == mf::SpectrumSource::kDynamics
             ? app::fatigue::dynamics_simulator(drivetrain, channels, dynamics_settings, &sim_error)
             : mf::quasi_static_simulator(channels);
-    if (!cache_hit && source == mf::SpectrumSource::kDynamics && isatty(STDERR_FILENO)) {
-      std::fprintf(
-          stderr,
-          "building the load spectrum with the dynamics model (%u points, cached afterwards)...\n",
-          grid.torque_points * grid.speed_points);
-    }
-    spectrum = mf::build_load_spectrum(channels, grid, source, simulator, &error);
+    // The dynamics spectrum runs the ROM at every grid point (minutes): a progress line on
+    // a terminal, counted by wrapping the simulator.
+    const double points = static_cast<double>(grid.torque_points) * grid.speed_points;
+    app::fatigue::ProgressLine progress(
+        source == mf::SpectrumSource::kDynamics &&
+            app::fatigue::show_progress(args.no_progress, STDERR_FILENO),
+        "load spectrum (dynamics model, cached afterwards)", "points", points);
+    double simulated = 0.0;
+    const mf::LoadSimulator counted = [&](double torque_nm, double rotor_rpm,
+                                          mf::LoadSeries& series) {
+      const bool ok = simulator(torque_nm, rotor_rpm, series);
+      progress.update(++simulated);
+      return ok;
+    };
+    spectrum = mf::build_load_spectrum(channels, grid, source, counted, &error);
+    progress.finish();
     if (spectrum.channel_count == 0)
       throw CommandError(error + (sim_error.empty() ? "" : ": " + sim_error));
     if (!args.no_cache) (void)app::fatigue::store_cached_spectrum(cache_file, key, spectrum);
@@ -389,22 +409,8 @@ void run(const DamageArgs& args) {
     }
     std::printf("\n");
   }
-  std::printf("# bearing ratings C [kN] (the description's, else ISO 281:2007 from geometry):");
-  bool assumed_rating = false;
-  for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
-    const model::Bearing* desc = drivetrain.bearing(channels.bearing_id(b));
-    const bool from_geometry = desc == nullptr || !(desc->dynamic_rating_n > 0.0);
-    assumed_rating |= from_geometry;
-    std::printf(" %s %.0f%s", channels.bearing_id(b).c_str(),
-                channels.bearing(b).dynamic_rating_n / 1e3, from_geometry ? "*" : "");
-  }
-  std::printf("\n");
-  if (assumed_rating) {
-    std::printf(
-        "# * assumed: no dynamic_rating_n in the description, C computed from the bearing's "
-        "geometry (ISO 281 formula); a catalogue rating can be 2-3 x higher: these lives rest "
-        "on that assumption\n");
-  }
+  const auto bearing_rows = app::fatigue::bearing_rating_rows(drivetrain, channels);
+  std::printf("%s", app::fatigue::bearing_rating_text(channels, bearing_rows).c_str());
   std::printf(
       "# rows %zu: used %zu, rejected %zu (non-numeric %zu, time %zu, speed %zu, wind %zu, other "
       "range %zu, beyond the load spectrum %zu), no data %zu; gaps %zu (%.1f h missing)\n",
@@ -555,6 +561,7 @@ void run(const DamageArgs& args) {
     for (std::size_t b = 0; b < channels.bearing_count(); ++b) {
       j["rating"]["bearing_c_n"][channels.bearing_id(b)] = channels.bearing(b).dynamic_rating_n;
     }
+    j["rating"]["bearing_life"] = app::fatigue::bearing_rating_json(channels, bearing_rows);
     j["rows"] = {{"total", h.rows},
                  {"used", h.rows_used},
                  {"rejected", h.rows_rejected},
@@ -690,6 +697,25 @@ void setup_damage(CLI::App& sub) {
       ->capture_default_str()
       ->check(app::cli::integer_in(app::config::kMinAccuracyGrade, app::config::kMaxAccuracyGrade,
                                    "ISO 1328-1:2013 classes"));
+  sub.add_option("--oil-viscosity-40", args->lubrication.viscosity_40c_mm2_s,
+                 "Bearing oil's kinematic viscosity at 40 degC [mm2/s] (ISO 281 a_ISO)")
+      ->capture_default_str()
+      ->check(app::cli::number_in(1.0, 10000.0, "mm2/s", false, true));
+  sub.add_option("--oil-viscosity-100", args->lubrication.viscosity_100c_mm2_s,
+                 "... and at 100 degC [mm2/s]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(1.0, 10000.0, "mm2/s", false, true));
+  sub.add_option("--oil-temperature", args->lubrication.temperature_c,
+                 "Bearing operating temperature [degC] (ISO 281 a_ISO)")
+      ->capture_default_str()
+      ->check(app::cli::number_in(-40.0, 150.0, "degC"));
+  sub.add_option("--contamination", args->lubrication.contamination_factor,
+                 "ISO 281 contamination factor e_C (Table 13: normal cleanliness 0.6-0.8 for "
+                 "D_pw >= 100 mm)")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0));
+  sub.add_flag("--basic-life", args->basic_life,
+               "Bearings at their ISO 281 basic rating life L10 (no a_ISO)");
   sub.add_flag("--no-progress", args->no_progress, "No progress bar on a terminal");
   sub.add_flag("--per-day", args->per_day,
                "Distribution of the most damaged gear-contact channel's damage per full UTC day, "

@@ -22,6 +22,8 @@
 // or below 2.56 × the ROM's mode cut-off (modes above Nyquist) is refused.
 //
 // Host / start-up code: allocates, throws CommandError with the option or file named.
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -33,6 +35,7 @@
 #include "cli/command.hpp"
 #include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
+#include "fatigue/progress.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/simulate.hpp"
@@ -52,6 +55,7 @@ struct SimulateArgs {
   double run_in_s = -1.0;  // [s] < 0: auto
   std::size_t loads_every = 1;
   bool no_loads = false;
+  bool no_progress = false;
   std::string out;
   bool full = false;
 };
@@ -160,8 +164,17 @@ void run(const SimulateArgs& a) {
   if (!model::dynamics::check_simulation_inputs(op, s, &error)) throw CommandError(error);
 
   model::dynamics::SimulationOutputs out;
-  const bool ok = a.full ? model::dynamics::simulate_full(d, op, s, out, &error)
-                         : model::dynamics::simulate_rom(d, op, s, out, &error);
+  bool ok = false;
+  {
+    // The full model runs about a minute (the ROM seconds): the time so far, on a terminal.
+    char label[96];
+    std::snprintf(label, sizeof label, "simulating %.2f s with the %s model", s.seconds,
+                  a.full ? "full-order" : "reduced-order");
+    const app::fatigue::ElapsedTicker ticker(
+        app::fatigue::show_progress(a.no_progress, STDERR_FILENO), label);
+    ok = a.full ? model::dynamics::simulate_full(d, op, s, out, &error)
+                : model::dynamics::simulate_rom(d, op, s, out, &error);
+  }
   if (!ok) throw CommandError(error);
   const std::size_t total = out.hss_revolutions.size();
   if (first >= total) throw CommandError("simulation returned no samples after the run-in");
@@ -262,6 +275,7 @@ void setup_simulate(CLI::App& sub) {
                  "Write every N-th sample to loads.csv (default 1: ~5 MB per simulated second)")
       ->check(app::cli::integer_in(1, 1000000));
   sub.add_flag("--no-loads", args->no_loads, "Write no loads.csv");
+  sub.add_flag("--no-progress", args->no_progress, "No progress line on a terminal");
   sub.add_option("--out", args->out, "Output bundle directory")->required();
   sub.add_flag("--full", args->full,
                "Use the full-order reference model (slow) instead of the ROM");

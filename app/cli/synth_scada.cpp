@@ -4,11 +4,14 @@
 //
 // Wind: 10-minute mean wind speeds with a Weibull(k, c) marginal and two-scale persistence
 // (app/wind/synthetic_wind.hpp: a Gaussian copula over the sum of a slow and a fast AR(1)).
-// Defaults are fitted to the Kelmarsh turbine 1 10-minute data, January–June 2019
-// (shared/data/kelmarsh, Plumley 2022, CC-BY-4.0): k = 2.60, c = 6.73 m/s by the method of
-// moments (mean 5.98 m/s, standard deviation 2.48 m/s); the persistence by the correlation at
-// lags from 10 minutes to a day. These months are windier than the annual mean at that site;
-// pass --weibull-k/--weibull-c for other statistics, --lag1 for the former single AR(1).
+// An annual and a diurnal cycle multiply the Weibull scale (first harmonics, by the row's UTC
+// day of the year and hour of the day). Defaults are fitted to the Kelmarsh turbine 1
+// 10-minute data, days 1–6 of every month of 2019 (shared/data/kelmarsh/kelmarsh-t1-2019.csv,
+// Plumley 2022, CC-BY-4.0) by tools/wind_floor/fit_synthetic_wind.py: the cycles (±10.3 %
+// peaking late January, ±2.2 % peaking at 17 h UTC), then k = 2.666, c = 6.733 m/s by the
+// method of moments on the wind with the cycles divided out, the persistence by the
+// correlation at lags from 10 minutes to 3 days. Pass --weibull-k/--weibull-c and the cycle
+// options for other statistics, --lag1 for the former single AR(1).
 // Operating point: the turbine controller's steady state of the wind load model
 // (model/wind): rotor speed and rotor torque; power = T·ω·η. Rows carry 10-minute means
 // only: no turbulence within the 10 minutes, no stops other than below cut-in / above cut-out.
@@ -40,6 +43,7 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "hal/scada_csv.hpp"
@@ -60,8 +64,8 @@ struct SynthArgs {
   std::string drivetrain;
   double years = 11.0;
   double period_s = 600.0;
-  double weibull_k = 2.60;
-  double weibull_c = 6.73;
+  double weibull_k = app::wind::SyntheticWindParameters{}.weibull_k;
+  double weibull_c = app::wind::SyntheticWindParameters{}.weibull_c;
   double lag1 = -1.0;  // ≥ 0: a single AR(1) with this lag-1 correlation per 10 minutes
   app::wind::SyntheticWindParameters persistence;  // the two-scale defaults
   unsigned long long seed = 1;
@@ -97,7 +101,7 @@ app::wind::SyntheticWind make_synthetic_wind(const SynthArgs& a, double period_s
   const char* what = nullptr;
   if (!app::wind::valid_synthetic_wind(p, period_s, &what)) {
     throw CommandError(std::string("--weibull-k/--weibull-c/--slow-weight/--slow-time-constant/"
-                                   "--fast-lag1/--period: ") +
+                                   "--fast-lag1/--seasonal-*/--diurnal-*/--period: ") +
                        what);
   }
   return {p, period_s, a.seed};
@@ -118,12 +122,12 @@ void run_synth_steady(const SynthArgs& a) {
   const auto rows = static_cast<long long>(std::llround(length_s / a.period_s));
   const double eta = d.turbine.drivetrain_efficiency;
   for (long long i = 0; i < rows; ++i) {
-    const double v = wind_means.next();
+    const double t_s = a.start_s + static_cast<double>(i) * a.period_s;
+    const double v = wind_means.next(t_s);
     const model::wind::WindLoadOutput o = wind.steady_state(v);
     const double rpm = o.rotor_speed_rad_s * 60.0 / (2.0 * kPi);
     const double p_kw = o.torque_nm * o.rotor_speed_rad_s * eta / 1e3;
-    std::fprintf(f, "%.0f,%.3f,%.4f,%.3f,%.1f\n", a.start_s + static_cast<double>(i) * a.period_s,
-                 v, rpm, p_kw, o.torque_nm);
+    std::fprintf(f, "%.0f,%.3f,%.4f,%.3f,%.1f\n", t_s, v, rpm, p_kw, o.torque_nm);
   }
   if (std::fclose(f) != 0) throw CommandError("--out: write error on '" + a.out + "'");
   std::printf("wrote %lld rows (%.4g days of %.0f s) to %s\n", rows, length_s / 86400.0, a.period_s,
@@ -273,8 +277,9 @@ void run_synth_turbulent(const SynthArgs& a) {
     means.reserve(static_cast<std::size_t>(rows));
     app::wind::SyntheticWind wind_means = make_synthetic_wind(a, kSynthSegmentS);
     for (long long i = 0; i < rows; ++i) {
-      const double v = a.mean_wind_given ? a.mean_wind : wind_means.next();
-      means.push_back({a.start_s + static_cast<double>(i) * kSynthSegmentS, v});
+      const double t_s = a.start_s + static_cast<double>(i) * kSynthSegmentS;
+      const double v = a.mean_wind_given ? a.mean_wind : wind_means.next(t_s);
+      means.push_back({t_s, v});
     }
   }
 
@@ -396,14 +401,22 @@ void setup_synth_scada(CLI::App& sub) {
   auto args = std::make_shared<SynthArgs>();
   sub.add_option("--out", args->out, "Output CSV (bundle scada.csv columns)")->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--years", args->years, "Length [years of 365.25 days]")->capture_default_str();
-  sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
+  sub.add_option("--years", args->years, "Length [years of 365.25 days]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 100.0, "years", true));
+  sub.add_option("--period", args->period_s, "Row period [s]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 86400.0, "s", true));
   sub.add_option("--weibull-k", args->weibull_k, "Weibull shape k of the 10-min wind")
-      ->capture_default_str();
-  sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::positive());
+  sub.add_option("--weibull-c", args->weibull_c, "Weibull scale c [m/s]")
+      ->capture_default_str()
+      ->check(app::cli::positive("m/s"));
   sub.add_option("--lag1", args->lag1,
                  "A single AR(1) with this lag-1 correlation per 10 minutes (the former model; "
-                 "default: two-scale persistence fitted to Kelmarsh)");
+                 "default: two-scale persistence fitted to Kelmarsh)")
+      ->check(app::cli::number_in(0.0, 1.0, "", true, true));
   sub.add_option("--slow-weight", args->persistence.slow_weight,
                  "Two-scale persistence: variance share of the slow component")
       ->capture_default_str();
@@ -413,9 +426,24 @@ void setup_synth_scada(CLI::App& sub) {
   sub.add_option("--fast-lag1", args->persistence.fast_lag1_10min,
                  "Two-scale persistence: fast component's lag-1 correlation per 10 minutes")
       ->capture_default_str();
+  sub.add_option("--seasonal-amplitude", args->persistence.seasonal_amplitude,
+                 "Annual cycle: relative amplitude of the mean wind (0: none)")
+      ->capture_default_str();
+  sub.add_option("--seasonal-peak-day", args->persistence.seasonal_peak_day,
+                 "Annual cycle: windiest day [days since 1 January]")
+      ->capture_default_str();
+  sub.add_option("--diurnal-amplitude", args->persistence.diurnal_amplitude,
+                 "Diurnal cycle: relative amplitude of the mean wind (0: none)")
+      ->capture_default_str();
+  sub.add_option("--diurnal-peak-hour", args->persistence.diurnal_peak_hour,
+                 "Diurnal cycle: windiest hour [h UTC]")
+      ->capture_default_str();
   sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
-  sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")->capture_default_str();
-  sub.add_option("--days", args->days, "Length [days]; overrides --years");
+  sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(app::cli::kInf * -1.0, app::cli::kInf));
+  sub.add_option("--days", args->days, "Length [days]; overrides --years")
+      ->check(app::cli::number_in(0.0, 36525.0, "days", true));
   sub.add_option("--turbulence", args->turbulence,
                  "Turbulent mode: IEC 61400-1 class A|B|C (I_ref 0.16/0.14/0.12; no default: "
                  "name it), or none (rotor model on the constant means). Rows every --resolution "

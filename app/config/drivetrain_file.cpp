@@ -5,6 +5,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -42,7 +43,7 @@ enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLea
 template <class T>
 using Member =
     std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
-                 std::array<double, 3> T::*, std::array<double, 6> T::*,
+                 std::array<double, 3> T::*, std::array<double, 6> T::*, std::array<double, 9> T::*,
                  std::array<double, model::kCpTableKnots> T::*, StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
@@ -144,6 +145,8 @@ const std::vector<Key<Bearing>> kBearingKeys{
     {"type", &Bearing::type},
     {"dynamic_rating_n", &Bearing::dynamic_rating_n, Range::kNonNegative},
     {"roller_effective_length_m", &Bearing::roller_effective_length_m, Range::kNonNegative},
+    {"static_rating_n", &Bearing::static_rating_n, Range::kNonNegative},
+    {"fatigue_load_limit_n", &Bearing::fatigue_load_limit_n, Range::kNonNegative},
     {"radial_stiffness_n_m", &Bearing::radial_stiffness_n_m, Range::kNonNegative},
 };
 const std::vector<Key<MeasurementPoint>> kPointKeys{
@@ -158,6 +161,14 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
     {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
      Range::kNonNegative},
+    {"bearing_stiffness_factor", &DynamicsParameters::bearing_stiffness_factor, Range::kPositive},
+    {"damping_band_factor", &DynamicsParameters::damping_band_factor, Range::kPositive},
+    {"transmission_error_m", &DynamicsParameters::transmission_error_m},
+    {"housing_frequency_hz", &DynamicsParameters::housing_frequency_hz, Range::kNonNegative},
+    {"housing_damping_ratio", &DynamicsParameters::housing_damping_ratio, Range::kNonNegative},
+    {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
+    {"housing_participation", &DynamicsParameters::housing_participation},
+    {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------
@@ -281,6 +292,7 @@ class Reader {
             }
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, 9>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
@@ -322,11 +334,35 @@ class Reader {
       for (auto& item : items) {
         if (item.*id_member == *id) target = &item;
       }
-      if (target == nullptr) {
+      const bool added = target == nullptr;
+      if (added) {
         items.emplace_back();
         target = &items.back();
       }
       read(*table, *target, keys, item_path);
+      if (added) require_in_range(*table, *target, keys, item_path);
+    }
+  }
+
+  /// A new entry starts from the struct's defaults: a key it does not give must have a
+  /// default in its range, else the entry is refused as missing that key (it would be
+  /// written back by to_toml() as a value the reader refuses).
+  template <class T>
+  void require_in_range(const toml::table& table, const T& object, const std::vector<Key<T>>& keys,
+                        const std::string& path) const {
+    for (const auto& k : keys) {
+      if (table.contains(k.name)) continue;
+      bool ok = true;
+      std::visit(
+          [&](auto member) {
+            using Field = std::remove_cv_t<std::remove_reference_t<decltype(object.*member)>>;
+            if constexpr (std::is_same_v<Field, double> || std::is_same_v<Field, int>) {
+              ok = in_range(static_cast<double>(object.*member) / k.scale, k.range);
+            }
+          },
+          k.member);
+      if (!ok)
+        fail(&table, path + "." + k.name, "missing: a new entry needs it" + range_text(k.range));
     }
   }
 
@@ -558,11 +594,22 @@ std::string format_double(double v) {
   return s;
 }
 
+/// A TOML basic string: quotes, backslashes and control characters escaped (TOML 1.0
+/// allows none of them raw), so every string read back is the string written.
 std::string quote(const std::string& s) {
   std::string out = "\"";
   for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c;
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\u%04X", static_cast<unsigned>(u));
+      out += buf;
+    } else {
+      out += c;
+    }
   }
   return out + "\"";
 }
@@ -588,6 +635,7 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
             out << ']';
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
+                               std::is_same_v<Field, std::array<double, 9>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             out << '[';
             for (std::size_t i = 0; i < field.size(); ++i) {

@@ -6,9 +6,10 @@
 // 6336-6 and sums Palmgren–Miner damage per gear, failure mode and bearing. It prints the
 // sun gear's contact damage against the paper's one-day figure, where in the torque range
 // that damage comes from, and the components whose life goes fastest, with the remaining
-// life at this day's rate. `drivetwin damage builtin:kelmarsh-day.csv --torque-from
-// wind-steady` prints the full table (and `--spectrum dynamics` the dynamics-model spectrum).
-// Host / command code: allocates, throws CommandError.
+// life at this day's rate, and the bearings' catalogue ratings beside ISO 281's from the
+// geometry with the life modification a_ISO's inputs. `drivetwin damage builtin:kelmarsh-day.csv
+// --torque-from wind-steady` prints the full table (and `--spectrum dynamics` the dynamics-model
+// spectrum). Host / command code: allocates, throws CommandError.
 #include <algorithm>
 #include <cstdio>
 #include <string>
@@ -18,6 +19,7 @@
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
 #include "demo/demo.hpp"
+#include "fatigue/bearing_report.hpp"
 #include "fatigue/damage_history.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
@@ -96,6 +98,15 @@ void run_fatigue_stage(const app::demo::DemoContext& ctx) {
     std::fprintf(ctx.out, "  at ≥ 0.9 × rated torque: %.0f %% of the time, %.0f %% of the damage\n",
                  100.0 * time_near_rated / h.covered_s, 100.0 * damage_near_rated / h.damage[sun]);
   }
+
+  // The bearings' ratings: catalogue C beside ISO 281's from the geometry, and a_ISO's inputs.
+  std::string ratings = app::fatigue::bearing_rating_text(
+      channels, app::fatigue::bearing_rating_rows(drivetrain, channels));
+  for (std::size_t at = ratings.find("# "); at != std::string::npos; at = ratings.find("# ", at)) {
+    if (at == 0 || ratings[at - 1] == '\n') ratings.replace(at, 2, "");
+    ++at;
+  }
+  std::fprintf(ctx.out, "%s", ratings.c_str());
 
   // The gear channels and the bearings whose damage grows fastest.
   std::vector<std::size_t> gears, bearings;

@@ -58,7 +58,12 @@ std::uint64_t spectrum_key(const model::Drivetrain& d, const mf::ChannelSet& cs,
                          o.rating.rack.root_radius,
                          g.torque_max_nm,
                          g.speed_min_rpm,
-                         g.speed_max_rpm};
+                         g.speed_max_rpm,
+                         o.lubrication.enabled ? 1.0 : 0.0,
+                         o.lubrication.viscosity_40c_mm2_s,
+                         o.lubrication.viscosity_100c_mm2_s,
+                         o.lubrication.temperature_c,
+                         o.lubrication.contamination_factor};
   h = fnv1a(h, nums, sizeof nums);
   const int ints[] = {o.rating.accuracy_grade,
                       static_cast<int>(o.branch),

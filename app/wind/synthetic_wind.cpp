@@ -7,6 +7,8 @@ namespace app::wind {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTenMinutesS = 600.0;
+constexpr double kDayS = 86400.0;
+constexpr double kYearDays = 365.25;
 }  // namespace
 
 bool valid_synthetic_wind(const SyntheticWindParameters& p, double row_period_s,
@@ -22,6 +24,14 @@ bool valid_synthetic_wind(const SyntheticWindParameters& p, double row_period_s,
     bad = "slow_time_constant_s must be > 0";
   } else if (!(p.fast_lag1_10min >= 0.0 && p.fast_lag1_10min < 1.0)) {
     bad = "fast_lag1_10min must be in [0, 1)";
+  } else if (!(p.seasonal_amplitude >= 0.0 && p.seasonal_amplitude < 1.0)) {
+    bad = "seasonal_amplitude must be in [0, 1)";
+  } else if (!std::isfinite(p.seasonal_peak_day)) {
+    bad = "seasonal_peak_day must be finite";
+  } else if (!(p.diurnal_amplitude >= 0.0 && p.diurnal_amplitude < 1.0)) {
+    bad = "diurnal_amplitude must be in [0, 1)";
+  } else if (!std::isfinite(p.diurnal_peak_hour)) {
+    bad = "diurnal_peak_hour must be finite";
   } else if (!(row_period_s > 0.0) || !std::isfinite(row_period_s)) {
     bad = "the row period must be > 0";
   }
@@ -59,7 +69,15 @@ SyntheticWind::SyntheticWind(const SyntheticWindParameters& p, double period_s, 
       innov_fast_(std::sqrt(1.0 - phi_fast_ * phi_fast_)),
       normal_(seed) {}
 
-double SyntheticWind::next() {
+double SyntheticWind::cycle_factor(double t_s) const {
+  const double day = std::fmod(t_s / kDayS, kYearDays);  // days since 1 January (mean calendar)
+  const double hour = 24.0 * (t_s / kDayS - std::floor(t_s / kDayS));
+  return (1.0 +
+          p_.seasonal_amplitude * std::cos(2.0 * kPi * (day - p_.seasonal_peak_day) / kYearDays)) *
+         (1.0 + p_.diurnal_amplitude * std::cos(2.0 * kPi * (hour - p_.diurnal_peak_hour) / 24.0));
+}
+
+double SyntheticWind::next(double t_s) {
   if (!started_) {
     x_ = normal_.next();
     y_ = normal_.next();
@@ -70,7 +88,8 @@ double SyntheticWind::next() {
   }
   const double z = std::sqrt(p_.slow_weight) * x_ + std::sqrt(1.0 - p_.slow_weight) * y_;
   const double u = 0.5 * std::erfc(-z / std::sqrt(2.0));  // Φ(z)
-  return p_.weibull_c * std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / p_.weibull_k);
+  return p_.weibull_c * cycle_factor(t_s) *
+         std::pow(-std::log1p(-std::min(u, 1.0 - 1e-16)), 1.0 / p_.weibull_k);
 }
 
 }  // namespace app::wind

@@ -16,11 +16,19 @@ double reference_hz(const Kinematics& k, double rotor_rpm) {
   return f ? *f : 0.0;
 }
 
-dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics& k) {
+dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics& k,
+                                    const Drivetrain& d) {
   const double ref = reference_hz(k, 60.0);  // any speed: orders are ratios
   config.mesh_count = std::min(k.stage_count(), dsp::kMaxMeshes);
   for (std::size_t s = 0; s < config.mesh_count; ++s)
     config.mesh_orders[s] = ref > 0.0 ? k.mesh_hz(s, 60.0) / ref : 0.0;
+  // Every shaft's low harmonics are known lines the tone fit separates from the meshes'.
+  config.shaft_count = 0;
+  for (const Shaft& shaft : d.shafts) {
+    const std::optional<double> f = k.shaft_hz(shaft.id, 60.0);
+    if (f && ref > 0.0 && config.shaft_count < dsp::kMaxShafts)
+      config.shaft_orders[config.shaft_count++] = *f / ref;
+  }
   return config;
 }
 }  // namespace
@@ -75,7 +83,7 @@ Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetra
     : simulator_(simulator),
       kinematics_(drivetrain),
       config_(config),
-      features_(with_mesh_orders(features, kinematics_)) {
+      features_(with_mesh_orders(features, kinematics_, drivetrain)) {
   problem_.owner = this;
   feature_problem_.owner = this;
   const dsp::FeatureConfig& fc = features_.config();

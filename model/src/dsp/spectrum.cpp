@@ -73,6 +73,25 @@ void SpectrumAnalyzer::amplitude_spectrum(const double* x, double* out) {
   for (std::size_t k = 1; k < half; ++k) out[k] = std::abs(plan_->out[k]) * amplitude_gain_;
 }
 
+const std::complex<double>* SpectrumAnalyzer::complex_spectrum() const {
+  return valid() ? plan_->out.data() : nullptr;
+}
+
+std::complex<double> SpectrumAnalyzer::window_kernel(double delta_lines) const {
+  // Hann w[n] = ½ − ¼e^{i2πn/N} − ¼e^{−i2πn/N}: three shifted geometric sums
+  // G(δ) = Σ_{n<N} e^{i2πδn/N} = (1 − e^{i2πδ}) / (1 − e^{i2πδ/N}), N at δ ≡ 0.
+  const double n = static_cast<double>(nfft_);
+  auto geometric = [n](double d) {
+    const double r = d - n * std::round(d / n);  // periodic in N
+    if (std::abs(r) < 1e-12) return std::complex<double>(n, 0.0);
+    const std::complex<double> num = 1.0 - std::polar(1.0, 2.0 * std::numbers::pi * d);
+    const std::complex<double> den = 1.0 - std::polar(1.0, 2.0 * std::numbers::pi * d / n);
+    return num / den;
+  };
+  return 0.5 * geometric(delta_lines) - 0.25 * geometric(delta_lines + 1.0) -
+         0.25 * geometric(delta_lines - 1.0);
+}
+
 double SpectrumAnalyzer::tone_amplitude(const double* spectrum, double centre_line,
                                         std::size_t half_width) const {
   if (!valid() || !(centre_line >= 0.0)) return 0.0;

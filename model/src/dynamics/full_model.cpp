@@ -1,8 +1,12 @@
 #include "model/dynamics/full_model.hpp"
 
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/mesh_stiffness.hpp"
@@ -129,6 +133,57 @@ Eigen::VectorXd mesh_direction(int dofs, const Node& a, const Node& b, const Mes
   return u;
 }
 
+// Gearbox damping-ratio factor at f: damping_band_factor at the knots kDampingKnotsHz,
+// linear in log f between them, constant outside.
+double band_factor(const DynamicsParameters& dp, double f_hz) {
+  const auto& knots = kDampingKnotsHz;
+  const auto& factor = dp.damping_band_factor;
+  if (!(f_hz > knots.front())) return factor.front();
+  if (f_hz >= knots.back()) return factor.back();
+  std::size_t k = 0;
+  while (k + 2 < knots.size() && f_hz >= knots[k + 1]) ++k;
+  const double u = std::log(f_hz / knots[k]) / std::log(knots[k + 1] / knots[k]);
+  return factor[k] + u * (factor[k + 1] - factor[k]);
+}
+
+// C = MΦ diag(2ξ_iω_i) ΦᵀM over every mode (header comment): ξ_i mixes the gearbox's
+// ratio and the housing modes' own by the share of mode i's strain energy (ω_i²/2 for a
+// mass-normalised mode) stored in each housing spring, k_h φ_ih² / ω_i².
+bool assign_modal_damping(FullModel& model, const DynamicsParameters& dp,
+                          const std::vector<std::pair<int, std::pair<double, double>>>& housing,
+                          std::string* error) {
+  const Eigen::VectorXd inv_sqrt_m = model.mass.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd k_sym = inv_sqrt_m.asDiagonal() * model.stiffness * inv_sqrt_m.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym);
+  if (eig.info() != Eigen::Success || !(eig.eigenvalues()[0] > 0.0)) {
+    return fail(error, "dynamics: the model's stiffness is not positive definite");
+  }
+  const Eigen::MatrixXd phi = inv_sqrt_m.asDiagonal() * eig.eigenvectors();  // ΦᵀMΦ = I
+  const Eigen::Index n = phi.cols();
+  Eigen::VectorXd c_modal(n);
+  model.modal_damping_ratio.assign(static_cast<std::size_t>(n), 0.0);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double w2 = eig.eigenvalues()[i];
+    const double w = std::sqrt(w2);
+    const double gearbox = (model.rayleigh_eta / (2.0 * w) + 0.5 * model.rayleigh_zeta * w) *
+                           band_factor(dp, w / (2.0 * std::numbers::pi));
+    double share_total = 0.0;
+    double xi = 0.0;
+    for (const auto& [dof, kx] : housing) {
+      const double share = kx.first * phi(dof, i) * phi(dof, i) / w2;
+      share_total += share;
+      xi += share * kx.second;
+    }
+    xi += std::max(0.0, 1.0 - share_total) * gearbox;
+    model.modal_damping_ratio[static_cast<std::size_t>(i)] = xi;
+    c_modal[i] = 2.0 * xi * w;
+  }
+  const Eigen::MatrixXd mphi = model.mass.asDiagonal() * phi;
+  model.damping_matrix = mphi * c_modal.asDiagonal() * mphi.transpose();
+  model.damping_matrix = 0.5 * (model.damping_matrix + model.damping_matrix.transpose());
+  return true;
+}
+
 }  // namespace
 
 int FullModel::dof(std::string_view name) const {
@@ -138,10 +193,13 @@ int FullModel::dof(std::string_view name) const {
   return -1;
 }
 
-Eigen::MatrixXd FullModel::damping() const {
-  Eigen::MatrixXd c = rayleigh_zeta * stiffness;
-  c.diagonal() += rayleigh_eta * mass;
-  return c;
+Eigen::VectorXd FullModel::transmission_error_force(double rotor_revolutions) const {
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
+  for (const VaryingStiffness& v : meshes) {
+    const double e = v.transmission_error_m(rotor_revolutions);
+    if (e != 0.0) f += (v.stiffness_n_m(rotor_revolutions) * e) * v.directions.col(0);
+  }
+  return f;
 }
 
 Eigen::VectorXd FullModel::force(double rotor_revolutions, double input_torque_nm) const {
@@ -227,6 +285,43 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     if (!(dp.mesh_stiffness_scale[i] > 0.0) || !(dp.bearing_stiffness_scale[i] > 0.0)) {
       fail(error, "drivetrain '" + d.name + "': dynamics: stiffness scales must be > 0 (index " +
                       std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.bearing_stiffness_factor.size(); ++i) {
+    if (!(dp.bearing_stiffness_factor[i] > 0.0) || !std::isfinite(dp.bearing_stiffness_factor[i])) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: bearing_stiffness_factor must be finite and > 0 (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.damping_band_factor.size(); ++i) {
+    if (!(dp.damping_band_factor[i] > 0.0) || !std::isfinite(dp.damping_band_factor[i])) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: damping_band_factor must be finite and > 0 (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.transmission_error_m.size(); ++i) {
+    if (!std::isfinite(dp.transmission_error_m[i]) || std::abs(dp.transmission_error_m[i]) > 1e-3) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: transmission_error_m must be finite and within ±1 mm (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
+  }
+  for (std::size_t i = 0; i < dp.housing_frequency_hz.size(); ++i) {
+    const double f = dp.housing_frequency_hz[i];
+    if (f == 0.0) continue;  // no mode in this slot
+    if (!(f > 0.0) || !std::isfinite(f) || !(dp.housing_modal_mass_kg[i] > 0.0) ||
+        !std::isfinite(dp.housing_modal_mass_kg[i]) || !(dp.housing_damping_ratio[i] >= 0.0) ||
+        !(dp.housing_damping_ratio[i] < 1.0) || !std::isfinite(dp.housing_participation[i]) ||
+        !std::isfinite(dp.housing_cross_participation[i])) {
+      fail(error, "drivetrain '" + d.name + "': dynamics: housing mode " + std::to_string(i) +
+                      ": frequency and modal mass must be finite and > 0, damping ratio in "
+                      "[0, 1), participations finite");
       return std::nullopt;
     }
   }
@@ -379,12 +474,26 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   }
 
   // ---- housing seats under the measured bearings -----------------------------------------------
+  // A seat's displacement in the housing frame is Σ_d dir_d · x[dof_d]: the legacy seat
+  // has seat.x along x and seat.y along y; a modal housing has each mode's DOF along the
+  // sensor direction s and one seat DOF across it (t). The sensor reads Σ sensor_d·ẍ[dof_d].
+  struct SeatDof {
+    int dof = -1;
+    Eigen::Vector2d dir{0.0, 0.0};
+    double sensor = 0.0;          // [-] weight in the sensor's reading
+    double stiffness = 0.0;       // [N/m] spring to ground (housing modes: m_k ω_k²)
+    double damping_ratio = -1.0;  // [-] a housing mode's own ξ_k; < 0: the gearbox's damping
+    int param = -1;               // a housing mode's index in DynamicsParameters' housing_*
+  };
   struct Seat {
     std::string bearing;
-    int x = -1, y = -1;
+    std::vector<SeatDof> dofs;
   };
   std::vector<Seat> seats;
-  for (const MeasurementPoint& mp : d.measurement_points) {
+  const Eigen::Vector2d sensor_dir(std::cos(s.sensor_angle_rad), std::sin(s.sensor_angle_rad));
+  const Eigen::Vector2d across_dir(-sensor_dir.y(), sensor_dir.x());
+  for (std::size_t p = 0; p < d.measurement_points.size(); ++p) {
+    const MeasurementPoint& mp = d.measurement_points[p];
     bool known = false;
     for (int i = 0; i < 6; ++i) known = known || mp.location == bearing_ids[i];
     if (!known) {
@@ -395,11 +504,70 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
     Seat seat;
     seat.bearing = mp.location;
-    seat.x = as.add_dof("seat." + mp.location + ".x", s.housing_seat_mass_kg);
-    seat.y = as.add_dof("seat." + mp.location + ".y", s.housing_seat_mass_kg);
-    as.spring({{seat.x, 1.0}}, s.housing_seat_stiffness_n_m);
-    as.spring({{seat.y, 1.0}}, s.housing_seat_stiffness_n_m);
+    const std::string base = "seat." + mp.location;
+    bool modal = false;
+    if (p < kHousingPoints) {
+      for (std::size_t k = 0; k < kHousingModesPerPoint; ++k) {
+        const std::size_t i = p * kHousingModesPerPoint + k;
+        const double f = dp.housing_frequency_hz[i];
+        if (f <= 0.0) continue;
+        modal = true;
+        const double m = dp.housing_modal_mass_kg[i];
+        const double w = 2.0 * std::numbers::pi * f;
+        SeatDof h;
+        h.dof = as.add_dof(base + ".mode" + std::to_string(k + 1), m);
+        h.dir = sensor_dir;
+        h.sensor = dp.housing_participation[i];
+        h.stiffness = m * w * w;
+        h.damping_ratio = dp.housing_damping_ratio[i];
+        h.param = static_cast<int>(i);
+        as.spring({{h.dof, 1.0}}, h.stiffness);
+        seat.dofs.push_back(h);
+      }
+    }
+    if (modal) {
+      SeatDof t;
+      t.dof = as.add_dof(base + ".across", s.housing_seat_mass_kg);
+      t.dir = across_dir;
+      t.stiffness = s.housing_seat_stiffness_n_m;
+      as.spring({{t.dof, 1.0}}, t.stiffness);
+      seat.dofs.push_back(t);
+    } else {
+      SeatDof x;
+      x.dof = as.add_dof(base + ".x", s.housing_seat_mass_kg);
+      x.dir = Eigen::Vector2d(1.0, 0.0);
+      x.sensor = sensor_dir.x();
+      x.stiffness = s.housing_seat_stiffness_n_m;
+      SeatDof y;
+      y.dof = as.add_dof(base + ".y", s.housing_seat_mass_kg);
+      y.dir = Eigen::Vector2d(0.0, 1.0);
+      y.sensor = sensor_dir.y();
+      y.stiffness = s.housing_seat_stiffness_n_m;
+      as.spring({{x.dof, 1.0}}, x.stiffness);
+      as.spring({{y.dof, 1.0}}, y.stiffness);
+      seat.dofs.push_back(x);
+      seat.dofs.push_back(y);
+    }
     seats.push_back(seat);
+  }
+  // Housing modes are the housing's, not one seat's: mode k of point p also moves the other
+  // measured point's seat, by c_k·h_k along its sensor direction (housing_cross_participation,
+  // the mode's seat participation there relative to its own seat). Reciprocally that seat's
+  // bearing force drives h_k with c_k, and that point's sensor reads c_k·ḧ_k.
+  if (seats.size() == kHousingPoints) {
+    for (std::size_t p = 0; p < kHousingPoints; ++p) {
+      Seat& other = seats[1 - p];
+      for (const SeatDof& sd : std::vector<SeatDof>(seats[p].dofs)) {
+        if (sd.param < 0) continue;  // not a housing mode
+        const double c = dp.housing_cross_participation[static_cast<std::size_t>(sd.param)];
+        if (c == 0.0) continue;
+        SeatDof cross;
+        cross.dof = sd.dof;
+        cross.dir = c * sensor_dir;
+        cross.sensor = c;
+        other.dofs.push_back(cross);  // stiffness 0, damping_ratio < 0: not a spring of its own
+      }
+    }
   }
 
   // ---- generator ----------------------------------------------------------------------------
@@ -418,7 +586,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       BearingSite{&(*hss)[kB5Node], 2},       BearingSite{&(*hss)[kB6Node], 2}};
   for (int i = 0; i < 6; ++i) {
     const double ka = br[i]->radial_stiffness_n_m * br[i]->rows *
-                      dp.bearing_stiffness_scale[sites[i].shaft_group];
+                      dp.bearing_stiffness_scale[sites[i].shaft_group] *
+                      dp.bearing_stiffness_factor[i];
     as.spring({{sites[i].node->z, 1.0}}, s.bearing_axial_ratio * ka);
   }
 
@@ -458,6 +627,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       v.shape = k_sp.shape;
       v.order = planetary_order;
       v.phase_cycles = sun_planet_phase(sun.teeth, psi[n]);
+      v.transmission_error =
+          transmission_error_table(&dp.transmission_error_m[0], kTransmissionErrorHarmonics);
       model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n,
                                  sp_geo.base_radius1_m, sun_torque_ratio, 0.0, ps.planets});
       add_varying(model.meshes, std::move(v));
@@ -477,6 +648,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.order = planetary_order;
     const double gamma = ring_planet_phase(ring.teeth, psi[n]) + gamma_rs;
     v.phase_cycles = gamma - std::floor(gamma);
+    v.transmission_error =
+        transmission_error_table(&dp.transmission_error_m[0], kTransmissionErrorHarmonics);
     // Ring reaction torque = T_in − T_sun.
     model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n,
                                rp_geo.base_radius2_m, 1.0 - sun_torque_ratio, 0.0, ps.planets});
@@ -488,7 +661,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   // A's surface velocity and away from A: n_t = spin·cos α_t·w + sin α_t·u, u from A to B.
   auto parallel_mesh = [&](const char* id, const Node& a, const Node& b, const MeshGeometry& geo,
                            double spin, double order, double scale, const GearPair& pair,
-                           double torque_ratio) {
+                           double torque_ratio, std::size_t stage) {
     const Eigen::Vector2d ab = b.centre - a.centre;
     const Eigen::Vector2d u = ab.normalized();
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -504,6 +677,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = k.shape;
     v.order = order;
     v.phase_cycles = 0.0;
+    v.transmission_error = transmission_error_table(
+        &dp.transmission_error_m[stage * kTransmissionErrorHarmonics], kTransmissionErrorHarmonics);
     model.mesh_info.push_back({a.centre, b.centre, pitch, mv.n, geo.base_radius1_m, torque_ratio,
                                geo.base_helix_angle_rad, 1});
     add_varying(model.meshes, std::move(v));
@@ -512,9 +687,9 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const double ims_torque_ratio = sun_torque_ratio / kin.stage_ratio(1);
   const double hss_torque_ratio = ims_torque_ratio / kin.stage_ratio(2);
   parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0,
-                kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio);
+                kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio, 1);
   parallel_mesh("high_speed", (*ims)[kG3Node], (*hss)[kG4Node], hs_geo, -1.0, kin.mesh_hz(2, 60.0),
-                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio);
+                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, 2);
 
   // ---- bearings b1..b6
   // ---------------------------------------------------------------------------
@@ -527,12 +702,14 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.directions(node.x, 0) = 1.0;
     v.directions(node.y, 1) = 1.0;
     for (const Seat& seat : seats) {
-      if (seat.bearing == b.id) {
-        v.directions(seat.x, 0) = -1.0;
-        v.directions(seat.y, 1) = -1.0;
+      if (seat.bearing != b.id) continue;
+      for (const SeatDof& sd : seat.dofs) {
+        v.directions(sd.dof, 0) -= sd.dir.x();
+        v.directions(sd.dof, 1) -= sd.dir.y();
       }
     }
-    v.mean_n_m = b.radial_stiffness_n_m * b.rows * dp.bearing_stiffness_scale[sites[i].shaft_group];
+    v.mean_n_m = b.radial_stiffness_n_m * b.rows *
+                 dp.bearing_stiffness_scale[sites[i].shaft_group] * dp.bearing_stiffness_factor[i];
     v.shape = PeriodicTable::cosine(dp.bearing_stiffness_fluctuation);
     const std::optional<BearingFrequencies> f = kin.bearing_hz(b.id, 60.0);
     if (!f) {
@@ -558,10 +735,19 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     sensor.channel = d.measurement_points[i].channel;
     sensor.location = seats[i].bearing;
     sensor.row = Eigen::VectorXd::Zero(n_dof);
-    sensor.row[seats[i].x] = std::cos(s.sensor_angle_rad);
-    sensor.row[seats[i].y] = std::sin(s.sensor_angle_rad);
+    for (const SeatDof& sd : seats[i].dofs) sensor.row[sd.dof] = sd.sensor;
     model.sensors.push_back(sensor);
   }
+
+  // ---- damping: modal, strain-energy mix of the gearbox's and the housing modes' ratios -------
+  std::vector<std::pair<int, std::pair<double, double>>> housing_springs;  // dof, (k, ξ)
+  for (const Seat& seat : seats) {
+    for (const SeatDof& sd : seat.dofs) {
+      if (sd.damping_ratio >= 0.0)
+        housing_springs.push_back({sd.dof, {sd.stiffness, sd.damping_ratio}});
+    }
+  }
+  if (!assign_modal_damping(model, dp, housing_springs, error)) return std::nullopt;
   return model;
 }
 

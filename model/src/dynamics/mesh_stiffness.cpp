@@ -120,3 +120,42 @@ double ring_planet_phase(int z_ring, double psi_rad) {
 double ring_sun_phase(int z_planet) { return frac(0.5 * (z_planet - 1)); }
 
 }  // namespace model::dynamics
+
+namespace model::dynamics {
+
+double iso1328_profile_form_tolerance_um(double normal_module_m, double reference_diameter_m,
+                                         int grade) {
+  const double m_mm = normal_module_m * 1e3;
+  const double d_mm = reference_diameter_m * 1e3;
+  const double grade5 = 2.5 * std::sqrt(m_mm) + 0.17 * std::sqrt(d_mm) + 0.5;
+  return grade5 * std::pow(std::sqrt(2.0), grade - 5);
+}
+
+double transmission_error_prior_m(const GearPair& pair, int grade, int harmonic) {
+  if (harmonic < 1) return 0.0;
+  const MeshGeometry g = mesh_geometry(pair);
+  const double cos_beta = std::cos(pair.helix_angle_rad);
+  const double d1 = pair.z1 * pair.normal_module_m / cos_beta;
+  const double d2 = pair.z2 * pair.normal_module_m / cos_beta;
+  const double f1 = iso1328_profile_form_tolerance_um(pair.normal_module_m, d1, grade);
+  const double f2 = iso1328_profile_form_tolerance_um(pair.normal_module_m, d2, grade);
+  const double f_pair_m = std::sqrt(f1 * f1 + f2 * f2) * 1e-6;
+  const double h = harmonic;
+  const double helical =
+      g.overlap_ratio > 0.0 ? std::min(1.0, 1.0 / (std::numbers::pi * h * g.overlap_ratio)) : 1.0;
+  return 0.25 * f_pair_m / h * helical;
+}
+
+PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count) {
+  PeriodicTable t = PeriodicTable::constant(0.0);
+  for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
+    const double x = static_cast<double>(i) / static_cast<double>(PeriodicTable::kSize);
+    double e = 0.0;
+    for (std::size_t h = 1; h <= count; ++h)
+      e += amplitudes_m[h - 1] * std::cos(2.0 * std::numbers::pi * static_cast<double>(h) * x);
+    t.values[i] = e;
+  }
+  return t;
+}
+
+}  // namespace model::dynamics

@@ -16,13 +16,12 @@ NewmarkIntegrator::NewmarkIntegrator(const FullModel& model, double dt_s) : m_(m
       for (int k = 0; k < v.directions.cols(); ++k) u_.col(c++) = v.directions.col(k);
     }
   }
-  Eigen::MatrixXd s = (0.25 * dt_ * dt_ + 0.5 * dt_ * m_.rayleigh_zeta) * m_.stiffness;
-  s.diagonal() += (1.0 + 0.5 * dt_ * m_.rayleigh_eta) * m_.mass;
+  Eigen::MatrixXd s = (0.25 * dt_ * dt_) * m_.stiffness + (0.5 * dt_) * m_.damping();
+  s.diagonal() += m_.mass;
   s_bar_.compute(s);
   z_ = s_bar_.solve(u_);
   g_ = u_.transpose() * z_;
   dk_ = Eigen::VectorXd::Zero(rank);
-  c_diag_ = m_.rayleigh_eta * m_.mass;
   small_.resize(rank, rank);
   x_ = v_ = a_ = rhs_ = tmp_ = Eigen::VectorXd::Zero(n);
 }
@@ -38,11 +37,11 @@ void NewmarkIntegrator::fill_delta_k(double revs) {
 }
 
 void NewmarkIntegrator::accelerations_from_equilibrium() {
-  // M a = f − C v − K(t) x
+  // M a = f + f_TE − C v − K(t) x
   fill_delta_k(revs_);
-  rhs_ = m_.force(revs_, op_.input_torque_nm);
-  rhs_.noalias() -= m_.stiffness * (x_ + m_.rayleigh_zeta * v_);
-  rhs_.array() -= c_diag_.array() * v_.array();
+  rhs_ = m_.force(revs_, op_.input_torque_nm) + m_.transmission_error_force(revs_);
+  rhs_.noalias() -= m_.stiffness * x_;
+  rhs_.noalias() -= m_.damping() * v_;
   rhs_.noalias() -= u_ * (dk_.asDiagonal() * (u_.transpose() * x_));
   a_ = rhs_.array() / m_.mass.array();
 }
@@ -67,10 +66,11 @@ void NewmarkIntegrator::step() {
   // Predictors (Newmark, γ = 1/2, β = 1/4).
   tmp_ = x_ + dt_ * v_ + (0.25 * dt_ * dt_) * a_;  // x̃
   const Eigen::VectorXd v_pred = v_ + (0.5 * dt_) * a_;
-  // r = f − C ṽ − K(t) x̃ = f − ηM ṽ − K̄ (x̃ + ζ ṽ) − U Δk Uᵀ x̃
-  rhs_ = m_.force(revs_next, op_.input_torque_nm);
-  rhs_.noalias() -= m_.stiffness * (tmp_ + m_.rayleigh_zeta * v_pred);
-  rhs_.array() -= c_diag_.array() * v_pred.array();
+  // r = f + f_TE − C ṽ − K(t) x̃ = f + f_TE − C ṽ − K̄ x̃ − U Δk Uᵀ x̃; f_TE = Σ k(t)e(t)u, the
+  // meshes' transmission-error forces (known at t_{n+1}: e and k are tables of the angle).
+  rhs_ = m_.force(revs_next, op_.input_torque_nm) + m_.transmission_error_force(revs_next);
+  rhs_.noalias() -= m_.stiffness * tmp_;
+  rhs_.noalias() -= m_.damping() * v_pred;
   rhs_.noalias() -= u_ * (dk_.asDiagonal() * (u_.transpose() * tmp_));
   // (S̄ + U A Uᵀ) a = r, A = Δt²/4 Δk: a = y − Z (I + A G)⁻¹ A Uᵀ y, y = S̄⁻¹ r.
   const Eigen::VectorXd y = s_bar_.solve(rhs_);
@@ -89,7 +89,7 @@ void NewmarkIntegrator::step() {
 
 double NewmarkIntegrator::mesh_force_n(std::size_t i) const {
   const VaryingStiffness& v = m_.meshes[i];
-  return v.stiffness_n_m(revs_) * v.directions.col(0).dot(x_);
+  return v.stiffness_n_m(revs_) * (v.directions.col(0).dot(x_) - v.transmission_error_m(revs_));
 }
 
 double NewmarkIntegrator::bearing_force_n(std::size_t i, int c) const {

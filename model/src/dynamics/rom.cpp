@@ -29,7 +29,7 @@ bool fail(std::string* error, std::string message) {
 }
 
 RomStiffnessTerm to_rom(const VaryingStiffness& v) {
-  return {v.mean_n_m, v.order, v.phase_cycles, v.shape};
+  return {v.mean_n_m, v.order, v.phase_cycles, v.shape, v.transmission_error};
 }
 
 }  // namespace
@@ -162,10 +162,14 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (int j = 0; j < d.mesh_count; ++j) set_id(d.mesh_ids[j], m.meshes[j].id);
   for (int j = 0; j < d.bearing_count; ++j) set_id(d.bearing_ids[j], m.bearings[j].id);
   for (int j = 0; j < d.sensor_count; ++j) set_id(d.sensor_ids[j], m.sensors[j].channel);
+  // Modal damping φ_iᵀCφ_i: exact for the retained modes (C is modal in the full model's
+  // modes), the diagonal of the projection for the correction vectors' Ritz modes.
+  const Eigen::VectorXd c_modal =
+      (phi_r.transpose() * m.damping() * phi_r).diagonal().cwiseMax(0.0);
   for (int i = 0; i < total; ++i) {
     const double om2 = w2[i];
     const double om = std::sqrt(om2);
-    const double c = m.rayleigh_eta + m.rayleigh_zeta * om2;
+    const double c = c_modal[i];
     d.omega_rad_s[i] = om;
     d.omega2[i] = om2;
     d.damping_1_s[i] = c;
@@ -233,6 +237,11 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     set_term(kRomMeshes + kRomBearings + j, f.order, f.phase_cycles,
              f.per_newton_metre ? 0.0 : f.amplitude, f.per_newton_metre ? f.amplitude : 0.0,
              f.shape);
+  }
+  for (int j = 0; j < kRomMeshes; ++j) {
+    const RomStiffnessTerm& t = d.meshes[j];
+    set_term(kRomMeshes + kRomBearings + kRomForces + j, t.order, t.phase_cycles, 1.0, 0.0,
+             t.transmission_error);
   }
   // Explicit bearing fluctuation: each mode's share of the fluctuating stiffness must stay
   // below its own stiffness (see the stability note in rom.hpp).
@@ -343,10 +352,13 @@ void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, dou
     fb[2 * j] = dk * z_bearing_[2 * j];
     fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
   }
+  // Mesh terms at this angle: −Δk·δ + k·e (the transmission-error force).
   Eigen::Matrix<double, kRomMeshes, 1> fm;
   for (int j = 0; j < kRomMeshes; ++j) {
     const RomStiffnessTerm& mt = d.meshes[j];
-    fm[j] = mt.mean_n_m * (mt.shape.value(phase(j, mt.order)) - 1.0) * z_mesh_[j];
+    const double x = phase(j, mt.order);
+    const double k = mt.mean_n_m * mt.shape.value(x);
+    fm[j] = (k - mt.mean_n_m) * z_mesh_[j] - k * mt.transmission_error.value(x);
   }
   g_ = f_now;
   g_.noalias() -= d.w_bearing * fb;

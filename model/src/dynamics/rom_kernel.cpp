@@ -154,12 +154,12 @@ __attribute__((target("default"))) void lookup_shapes(const RomKernelModel& m, d
 __attribute__((target("arch=x86-64-v4"))) void lookup_shapes(const RomKernelModel& m, double revs,
                                                              double* shape) noexcept {
   constexpr int kTable = kKernelTableSize;
-  static_assert(kKernelTerms == 16, "two vectors of 8 terms");
+  static_assert(kKernelTerms % 8 == 0, "whole vectors of 8 terms");
   const __m512d rev = _mm512_set1_pd(revs);
   const __m512d size = _mm512_set1_pd(static_cast<double>(kTable));
   const __m256i mask = _mm256_set1_epi32(kTable - 1);
   const __m256i one = _mm256_set1_epi32(1);
-  for (int h = 0; h < 2; ++h) {
+  for (int h = 0; h < kKernelTerms / 8; ++h) {
     const __m512d x = _mm512_fmadd_pd(_mm512_loadu_pd(m.term_order + 8 * h), rev,
                                       _mm512_loadu_pd(m.term_phase_cycles + 8 * h));
     const __m512d fl = _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -219,6 +219,11 @@ namespace {
     const int t = kM + kKernelBearings + j;
     force[j] = (m.term_scale[t] + m.term_scale_per_nm[t] * input_torque_nm) * shape[t];
   }
+  // Transmission-error forces s = k_mesh(t_{n+1}) ∘ e(t_{n+1}) along the mesh lines: a known
+  // force at t_{n+1}, applied below through the mesh read-out (no extra pass over the modes).
+  constexpr int kTe = kM + kKernelBearings + kKernelForces;
+  Mesh8 te;
+  for (int j = 0; j < kM; ++j) te[j] = (m.term_scale[j] + dk[j]) * shape[kTe + j];
 
   // The factors of I + A G first: they depend on the stiffness coefficients only.
   Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + Δk_i G_ij
@@ -265,6 +270,18 @@ namespace {
     z_sum[k] = (z_sets[0][k] + z_sets[2][k]) + (z_sets[1][k] + z_sets[3][k]);
   Mesh8 z[kZv];
   __builtin_memcpy(z, z_sum, sizeof z);
+  // The predictor without the transmission-error force is r'; with it r = r' + b1q ∘ W s,
+  // whose read-out is [W W_b]ᵀr = z' + [G; H] s (H = W_bᵀ diag(b1q) W).
+  double tes[kM];
+  __builtin_memcpy(tes, &te, sizeof tes);
+  for (int j = 0; j < kM; ++j) {
+    const double* column = m.readout_correction + j * kZpad;
+    for (int b = 0; b < kZv; ++b) {
+      Mesh8 cb;
+      __builtin_memcpy(&cb, column + b * kM, sizeof cb);
+      z[b] += cb * tes[j];
+    }
+  }
 
   // Implicit mesh fluctuation (Woodbury): y = (I + A G)⁻¹ A Wᵀ r, A = diag(Δk_mesh(t_{n+1})).
   // A non-physical table (a non-positive pivot) falls back to the explicit estimate A Wᵀ r.
@@ -273,8 +290,13 @@ namespace {
   if (invertible) {
     solve_mesh_system(fac, y);
   }
-  double ys[kM];  // y in memory: the loops below broadcast its elements from there
-  __builtin_memcpy(ys, &y, sizeof ys);
+  // The corrector and the deflections use W (y − s): q⁺ = r' − b1q ∘ W (y − s),
+  // g⁺ = h − W (y − s) (h without the TE force), z⁺ = z − [G; H] y.
+  const Mesh8 y_eff = y - te;
+  double ys[kM];  // y − s in memory: the loops below broadcast its elements from there
+  __builtin_memcpy(ys, &y_eff, sizeof ys);
+  double yd[kM];  // y itself, for the deflections
+  __builtin_memcpy(yd, &y, sizeof yd);
 
   // Corrector: g⁺ = h − W y, q⁺ = r − b1q ⊙ W y, v⁺ from the propagators; the seat
   // accelerations S q̈⁺ = S (g⁺ − c ⊙ v⁺ − ω² ⊙ q⁺) in the same pass.
@@ -308,7 +330,7 @@ namespace {
     for (int b = 0; b < kZv; ++b) {
       Mesh8 cb;
       __builtin_memcpy(&cb, column + b * kM, sizeof cb);
-      z[b] -= cb * ys[j];
+      z[b] -= cb * yd[j];
     }
   }
   double z_next[kZpad];
@@ -316,8 +338,8 @@ namespace {
   for (int k = 0; k < kM; ++k) s.z_mesh[k] = z_next[k];
   for (int k = 0; k < kB; ++k) s.z_bearing[k] = z_next[kM + k];
 
-  // Forces at t_{n+1}: k(t_{n+1}) times the deflection.
-  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = (m.term_scale[j] + dk[j]) * z_next[j];
+  // Forces at t_{n+1}: k(t_{n+1}) times the deflection (a mesh's less its transmission error).
+  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = (m.term_scale[j] + dk[j]) * z_next[j] - te[j];
   for (int j = 0; j < kKernelBearings; ++j) {
     out.bearing_force_x_n[j] = k_bearing[j] * z_next[kM + 2 * j];
     out.bearing_force_y_n[j] = k_bearing[j] * z_next[kM + 2 * j + 1];

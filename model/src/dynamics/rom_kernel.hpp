@@ -17,7 +17,7 @@
 namespace model::dynamics::detail {
 
 // Capacities (equal to kRomDofs etc. in rom.hpp; rom.cpp static_asserts that).
-inline constexpr int kKernelDofs = 64;
+inline constexpr int kKernelDofs = 72;
 inline constexpr int kKernelMeshes = 8;
 inline constexpr int kKernelBearings = 6;
 inline constexpr int kKernelBearingRank = 2 * kKernelBearings;
@@ -26,8 +26,9 @@ inline constexpr int kKernelSensors = 2;
 /// Rows of the read-out [W W_b]ᵀ as the kernel stores it: the 8 + 12 rows padded with
 /// zeros to a multiple of 8 (whole vectors).
 inline constexpr int kKernelReadoutRows = 24;
-/// Time-varying terms: kKernelMeshes meshes, kKernelBearings bearings, kKernelForces forces.
-inline constexpr int kKernelTerms = kKernelMeshes + kKernelBearings + kKernelForces;
+/// Time-varying terms: kKernelMeshes meshes, kKernelBearings bearings, kKernelForces forces,
+/// then kKernelMeshes transmission errors (one per mesh).
+inline constexpr int kKernelTerms = kKernelMeshes + kKernelBearings + kKernelForces + kKernelMeshes;
 /// Samples per term table (PeriodicTable::kSize), a power of two.
 inline constexpr int kKernelTableSize = 256;
 
@@ -52,10 +53,10 @@ struct RomKernelModel {
   const double* g_mesh;  // [kKernelMeshes][kKernelMeshes], column-major
   const double* readout_correction;  // [kKernelMeshes][kKernelReadoutRows]: [G; H; 0] by columns
   const double* sensor_rows;         // [kKernelSensors][kKernelDofs]
-  // The time-varying terms (RomData::term_*): meshes, bearings, forces in that order.
+  // The time-varying terms (RomData::term_*): meshes, bearings, forces, transmission errors.
   const double* term_order;         // [kKernelTerms] [cycles/rev]
   const double* term_phase_cycles;  // [kKernelTerms] [cycles]
-  const double* term_scale;         // [kKernelTerms] mean stiffness [N/m] / fixed amplitude [N]
+  const double* term_scale;  // [kKernelTerms] mean stiffness [N/m] / fixed amplitude [N] / 1 (TE)
   const double* term_scale_per_nm;  // [kKernelTerms] amplitude per N·m of input torque
   const double* term_values;        // [kKernelTerms][kKernelTableSize] shape tables
 };

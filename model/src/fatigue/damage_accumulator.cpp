@@ -34,6 +34,11 @@ DamageAccumulator::DamageAccumulator(const ChannelSet& channels, const Accumulat
     h = fnv(h, &ch.mode, sizeof ch.mode);
     h = fnv(h, &fs, sizeof fs);
   }
+  const Lubrication& lub = channels.options().lubrication;
+  const double lub_values[] = {lub.enabled ? 1.0 : 0.0, lub.viscosity_40c_mm2_s,
+                               lub.viscosity_100c_mm2_s, lub.temperature_c,
+                               lub.contamination_factor};
+  h = fnv(h, lub_values, sizeof lub_values);
   config_hash_ = h;
   for (std::size_t c = 0; c < channels.channel_count(); ++c) {
     const SnCurve& sn = channels.channel(c).curve;
@@ -155,7 +160,11 @@ StepResult DamageAccumulator::step(const LoadSample& loads, double rotor_speed_r
       const double ln_sigma = std::log(sigma);
       double ln_n = k.ln_n1 - k.k1 * ln_sigma;
       if (ln_n > k.ln_knee) ln_n = k.ln_n2 - k.k2 * ln_sigma;
-      const double inc = revs * src.cycles_per_rotor_rev * std::exp(-ln_n);
+      double inc = revs * src.cycles_per_rotor_rev * std::exp(-ln_n);
+      // ISO 281: L_nm = a_ISO·L10 (a1 = 1), so each revolution costs 1/a_ISO of the basic damage.
+      if (ch.mode == FailureMode::kBearing) {
+        inc /= cs.life_modification(src.slot, sigma, rotor_speed_rpm);
+      }
       // Neumaier compensated summation.
       const double sum = s.damage[c];
       const double t = sum + inc;

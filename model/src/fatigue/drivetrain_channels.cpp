@@ -303,6 +303,22 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
         break;
       }
       bearings_[slot].dynamic_rating_n = rating.c_n;
+      // ISO 281:2007 a_ISO inputs (bearing_life.hpp).
+      BearingLifeTerms& life = life_[slot];
+      life.type = b.type;
+      life.c0_n = effective_static_rating_n(b);
+      life.cu_n = effective_fatigue_load_limit_n(b);
+      life.pitch_diameter_mm = b.pitch_diameter_m * 1e3;
+      life.rev_per_rotor_rev = rev;
+      const Lubrication& lub = options.lubrication;
+      life.viscosity_mm2_s = kinematic_viscosity_mm2_s(lub.viscosity_40c_mm2_s,
+                                                       lub.viscosity_100c_mm2_s, lub.temperature_c);
+      life.ec_cu_n = lub.contamination_factor * life.cu_n;
+      life.applied = lub.enabled && life.cu_n > 0.0 && life.viscosity_mm2_s > 0.0;
+      if (lub.enabled && !life.applied && k == 0) {
+        life_note_ += (life_note_.empty() ? "" : "; ") + b.id +
+                      ": no C_u (give static_rating_n or fatigue_load_limit_n), a_ISO = 1";
+      }
       Channel c{bearing_ids_[slot], "", FailureMode::kBearing, {}, {}, 1, 0.0};
       c.curve.m = iso281_exponent(b.type);
       c.curve.c = rating.c_n;
@@ -323,6 +339,16 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       channels_[c].stress_full_scale = s > 0.0 ? s : 1.0;
     }
   }
+}
+
+double ChannelSet::life_modification(std::size_t slot, double p_n, double rotor_rpm) const {
+  const BearingLifeTerms& t = life_[slot];
+  if (!t.applied || !(p_n > 0.0)) return 1.0;
+  const double nu1 =
+      rated_viscosity_mm2_s(std::abs(rotor_rpm) * t.rev_per_rotor_rev, t.pitch_diameter_mm);
+  // At standstill no film forms: the lowest curve (κ = 0.1) of the standard.
+  const double kappa = nu1 > 0.0 ? t.viscosity_mm2_s / nu1 : 0.0;
+  return life_modification_factor(t.type, kappa, t.ec_cu_n / p_n);
 }
 
 double ChannelSet::stress(std::size_t c, std::size_t s, const LoadSample& loads) const {

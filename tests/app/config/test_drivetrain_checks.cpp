@@ -7,9 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <string>
+#include <vector>
 
+#include "cli/run.hpp"
 #include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "model/drivetrain/description.hpp"
@@ -155,6 +159,39 @@ TEST(DrivetrainChecks, MaterialsOutsideIso6336RangesAreRefused) {
   EXPECT_NE(e.find("materials[0].sigma_hlim_mpa': 1.5e+04; expected 200 to 2000 MPa"),
             std::string::npos)
       << e;
+}
+
+TEST(DrivetrainChecks, EveryCommandRefusesTheImpossibleGearboxWritingNothing) {
+  // Arrange: the 22-tooth sun in a file, as a user passes it with --drivetrain.
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "drivetwin_checks_cli";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path toml = dir / "sun22.toml";
+  std::ofstream(toml) << variant("[[gears]]\nid = \"sun\"\nteeth = 22\n");
+  const fs::path csv = dir / "rows.csv";
+  std::ofstream(csv) << "t_s,wind_speed_mps,rotor_speed_rpm,torque_nm\n0,12,14,1230000\n";
+  const std::vector<std::vector<std::string>> commands{
+      {"drivetrain", "--drivetrain", toml.string()},
+      {"damage", csv.string(), "--drivetrain", toml.string(), "--json", (dir / "d.json").string(),
+       "--cache-dir", (dir / "cache").string()},
+      {"simulate", "--drivetrain", toml.string(), "--rpm", "8.33", "--torque", "361747", "--out",
+       (dir / "sim").string()}};
+  for (const auto& args : commands) {
+    // Act
+    testing::internal::CaptureStdout();
+    const app::cli::RunResult r = app::cli::run(args);
+    const std::string out = testing::internal::GetCapturedStdout();
+    // Assert: refused at the key, non-zero, nothing printed as a result, nothing written.
+    EXPECT_EQ(r.exit_code, 1) << args[0];
+    EXPECT_NE(r.error.find("sun22.toml"), std::string::npos) << args[0] << ": " << r.error;
+    EXPECT_NE(r.error.find("key 'stages[0].gears': the planets cannot mesh"), std::string::npos)
+        << args[0] << ": " << r.error;
+    EXPECT_EQ(out.find("[turbine]"), std::string::npos) << args[0];
+  }
+  EXPECT_FALSE(fs::exists(dir / "d.json"));
+  EXPECT_FALSE(fs::exists(dir / "sim"));
+  fs::remove_all(dir);
 }
 
 }  // namespace

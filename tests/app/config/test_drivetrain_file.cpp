@@ -118,6 +118,19 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
   }
   expect_same(a.dynamics.bearing_stiffness_fluctuation, b.dynamics.bearing_stiffness_fluctuation,
               "fluctuation");
+  const auto same_array = [&](const auto& x, const auto& y, const char* what) {
+    for (std::size_t i = 0; i < x.size(); ++i) expect_same(x[i], y[i], what);
+  };
+  same_array(a.dynamics.bearing_stiffness_factor, b.dynamics.bearing_stiffness_factor,
+             "bearing factor");
+  same_array(a.dynamics.damping_band_factor, b.dynamics.damping_band_factor, "band factor");
+  same_array(a.dynamics.transmission_error_m, b.dynamics.transmission_error_m, "TE");
+  same_array(a.dynamics.housing_frequency_hz, b.dynamics.housing_frequency_hz, "housing f");
+  same_array(a.dynamics.housing_damping_ratio, b.dynamics.housing_damping_ratio, "housing xi");
+  same_array(a.dynamics.housing_modal_mass_kg, b.dynamics.housing_modal_mass_kg, "housing m");
+  same_array(a.dynamics.housing_participation, b.dynamics.housing_participation, "housing p");
+  same_array(a.dynamics.housing_cross_participation, b.dynamics.housing_cross_participation,
+             "housing c");
 }
 
 std::string error_of(const std::string& text, const std::string& source = "bad.toml") {
@@ -217,6 +230,25 @@ TEST(DrivetrainFile, BadListEntryNamesItsIndexAndKey) {
       "base = \"paper-2mw\"\n[[gears]]\nid = \"sun\"\n[[gears]]\nid = \"g9\"\nteeth = 0\n");
   EXPECT_NE(e.find("key 'gears[1].teeth': expected an integer >= 1, got 0"), std::string::npos)
       << e;
+}
+
+TEST(DrivetrainFile, ANewEntryMissingARequiredKeyIsRefusedNotWrittenBackAsAnError) {
+  // A new gear starts from Gear{}'s defaults: face_width_m = 0 is outside its range, and
+  // to_toml() would have written a file the reader refuses (found by fuzz_drivetrain_toml).
+  const std::string e =
+      error_of("base = \"paper-2mw\"\n[[gears]]\nid = \"g9\"\nteeth = 21\nprofile_shift = 0.2\n");
+  EXPECT_NE(e.find("key 'gears[0].face_width_m': missing: a new entry needs it > 0"),
+            std::string::npos)
+      << e;
+}
+
+TEST(DrivetrainFile, ControlCharactersInAStringSurviveTheRoundTrip) {
+  // TOML forbids raw control characters in a basic string; to_toml() must escape them.
+  const model::Drivetrain d =
+      parse_drivetrain("base = \"paper-2mw\"\nname = \"a\\nb\\u0001\"\n", "ctl.toml");
+  ASSERT_EQ(d.name, std::string("a\nb\x01"));
+  const model::Drivetrain again = parse_drivetrain(app::config::to_toml(d), "written.toml");
+  EXPECT_EQ(again.name, d.name);
 }
 
 TEST(DrivetrainFile, EntryWithoutIdIsRejected) {

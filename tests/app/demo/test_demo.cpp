@@ -154,6 +154,11 @@ TEST(DemoFatigueStage, ReadsTheWholeBuiltInDayAndAgreesWithTheDamageCommand) {
   listed >> word >> word >> d_listed >> rul_years;
   EXPECT_NEAR(rul_years, (1.0 - damage) / damage / 365.25, 0.01 * rul_years);
 
+  // The bearings at the reference's catalogue C, ISO 281's rating from the geometry beside it
+  // (b1: 1 700 kN; by hand 1 194.7 kN, tests/app/fatigue/test_damage_cli.cpp).
+  EXPECT_NE(r.out.find("b1 1700 (1195)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("life modification a_ISO"), std::string::npos) << r.out;
+
   // As the paper observes, the damage concentrates near rated torque.
   const auto near = r.out.find("of the time, ");
   ASSERT_NE(near, std::string::npos) << r.out;

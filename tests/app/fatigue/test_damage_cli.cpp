@@ -87,8 +87,15 @@ TEST_F(DamageCli, JsonSummaryAgreesWithTheTextTableAndTheHandValue) {
   EXPECT_DOUBLE_EQ(j["covered_s"].get<double>(), 288 * 600.0);
   EXPECT_EQ(j["rating"]["k_h_beta"], "iso6336-1-method-c");
   EXPECT_EQ(j["rating"]["contact_pattern"], "unverified");
-  // b1 rated from its geometry (hand calculation: tests/model/fatigue/test_bearing_rating.cpp).
-  EXPECT_NEAR(j["rating"]["bearing_c_n"]["b1"].get<double>(), 871564.5, 1.0);
+  // b1 at the reference's catalogue C (1 700 kN), ISO 281's rating from its geometry beside it:
+  // the hand calculation of tests/model/fatigue/test_bearing_rating.cpp (871 564.5 N at L_we =
+  // 40 mm) times (60/40)^(7/9) for the reference's L_we = 60 mm = 1 194 701.5 N.
+  EXPECT_NEAR(j["rating"]["bearing_c_n"]["b1"].get<double>(), 1.7e6, 1e-6);
+  const nlohmann::json& b1 = j["rating"]["bearing_life"]["bearings"]["b1"];
+  EXPECT_EQ(b1["c_source"], "description");
+  EXPECT_NEAR(b1["c_iso281_geometry_n"].get<double>(), 1194701.5, 1.0);
+  EXPECT_EQ(j["rating"]["bearing_life"]["life_modification"]["enabled"], true);
+  EXPECT_GT(b1["a_iso_at_rated"].get<double>(), 0.0);
   const nlohmann::json* sun = nullptr;
   for (const auto& c : j["channels"]) {
     if (c["component"] == "sun" && c["mode"] == "contact") sun = &c;

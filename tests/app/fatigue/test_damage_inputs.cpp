@@ -155,6 +155,34 @@ TEST_F(DamageInputs, TorqueBeyondTheSpectrumIsCountedAndLeftOutNeverClamped) {
   EXPECT_NE(ten.out.find("rejected 1"), std::string::npos) << ten.out;
 }
 
+TEST_F(DamageInputs, BearingLivesFromAssumedRatingsSaySoAndCatalogueRatingsDoNot) {
+  // Arrange: a copy of paper-2mw without dynamic_rating_n (C from the geometry, ISO 281) and
+  // one with a catalogue rating for every bearing.
+  const fs::path csv = write("rows.csv", std::string(kHeader) +
+                                             "0,12,14,,,1230000\n"
+                                             "600,12,14,,,1230000\n");
+  std::string ratings = "base = \"paper-2mw\"\nname = \"rated\"\n";
+  std::string unrated = "base = \"paper-2mw\"\nname = \"unrated\"\n";
+  for (const auto& b : model::paper_2mw().bearings) {
+    ratings += "[[bearings]]\nid = \"" + b.id + "\"\ndynamic_rating_n = 2.0e6\n";
+    unrated += "[[bearings]]\nid = \"" + b.id + "\"\ndynamic_rating_n = 0.0\n";
+  }
+  const fs::path toml = write("rated.toml", ratings);
+  const fs::path toml_unrated = write("unrated.toml", unrated);
+  // Act
+  const CliResult assumed = damage(csv, {"--drivetrain", toml_unrated.string()});
+  const CliResult given = damage(csv, {"--drivetrain", toml.string()});
+  // Assert
+  ASSERT_EQ(assumed.exit_code, 0) << assumed.error;
+  EXPECT_NE(assumed.out.find("# * assumed: no dynamic_rating_n in the description"),
+            std::string::npos)
+      << assumed.out;
+  ASSERT_EQ(given.exit_code, 0) << given.error;
+  EXPECT_EQ(given.out.find("assumed"), std::string::npos) << given.out;
+  EXPECT_NE(given.out.find(model::paper_2mw().bearings.front().id + " 2000 "), std::string::npos)
+      << given.out;
+}
+
 TEST_F(DamageInputs, AComponentPastItsLifeSaysExceededSinceTheDateItsDamageReachedOne) {
   // Arrange: daily rows (period 1 day) at rated torque and 14 rpm from 2020-01-01. Hand value
   // of the sun's contact damage per day, independent of the history code: 86 400·14/60 rotor

@@ -6,6 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <string>
+#include <thread>
 #include <vector>
 
 #include "fatigue/damage_history.hpp"
@@ -86,6 +91,52 @@ TEST(ProgressBar, IsDrawnOnATerminalButNotIntoAPipeOrWhenSwitchedOff) {
   ::close(master);
   ::close(pipe_fds[0]);
   ::close(pipe_fds[1]);
+}
+
+TEST(ProgressLine, RedrawsOneLineWithCountAndShareAndEndsItOnceOrStaysSilent) {
+  // Arrange: a temporary file stands for the terminal.
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  {
+    app::fatigue::ProgressLine line(true, "load spectrum", "points", 8.0, out);
+    line.update(2.0);  // the first update draws at once
+    line.update(8.0);  // within 0.25 s: not drawn, but finish() draws the final count
+    line.finish();
+    line.finish();  // a second finish (and the destructor) add nothing
+  }
+  app::fatigue::ProgressLine silent(false, "off", "rows", 8.0, out);
+  silent.update(4.0);
+  silent.finish();
+  // Assert
+  std::rewind(out);
+  std::string text(512, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), out));
+  std::fclose(out);
+  EXPECT_NE(text.find("\rload spectrum: 2/8 points   25.0 %"), std::string::npos) << text;
+  EXPECT_NE(text.find("\rload spectrum: 8/8 points  100.0 %"), std::string::npos) << text;
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_EQ(text.back(), '\n');
+  EXPECT_EQ(text.find("off"), std::string::npos) << text;
+}
+
+TEST(ElapsedTicker, DrawsTheElapsedTimeWhileItLivesAndNothingWhenDisabled) {
+  std::FILE* out = std::tmpfile();
+  ASSERT_NE(out, nullptr);
+  {
+    const app::fatigue::ElapsedTicker ticker(true, "simulating", out);
+    // The first tick comes after 0.5 s; wait for it (a loaded machine may delay it).
+    for (int i = 0; i < 400 && std::ftell(out) <= 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  { const app::fatigue::ElapsedTicker silent(false, "off", out); }
+  std::rewind(out);
+  std::string text(512, '\0');
+  text.resize(std::fread(text.data(), 1, text.size(), out));
+  std::fclose(out);
+  EXPECT_EQ(text.rfind("\rsimulating: ", 0), 0u) << text;
+  EXPECT_NE(text.find(" s   \n"), std::string::npos) << text;  // the last draw, then the end
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << text;
+  EXPECT_EQ(text.find("off"), std::string::npos) << text;
 }
 
 }  // namespace

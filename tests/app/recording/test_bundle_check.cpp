@@ -18,6 +18,7 @@
 #include <random>
 #include <string>
 
+#include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
 #include "recording/bundle_check.hpp"
 
@@ -127,6 +128,28 @@ TEST(BundleCheck, RefusesAMetadataSpeedTheTachoAndMeshLinesContradict) {
   EXPECT_NE(e.find("recording.json: operating_point.rotor_speed_rpm: 14 rpm"), std::string::npos)
       << e;
   EXPECT_NE(e.find("both say 8.33"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
+TEST(BundleCheck, CalibrateAndDiagnoseRefuseTheContradictedSpeedExitingNonZeroWritingNothing) {
+  // Arrange: the same bundle, through the two commands that read bundles.
+  hal::Recording rec = synthesize({});
+  rec.operating_point.rotor_speed_rpm = 14.0;
+  const fs::path dir = write("wrong-speed-cli", rec);
+  const fs::path json = dir.string() + ".json";
+  for (const char* command : {"calibrate", "diagnose"}) {
+    // Act
+    testing::internal::CaptureStdout();
+    const app::cli::RunResult r = app::cli::run({command, dir.string(), "--json", json.string()});
+    const std::string out = testing::internal::GetCapturedStdout();
+    // Assert
+    EXPECT_EQ(r.exit_code, 1) << command;
+    EXPECT_NE(r.error.find("recording.json: operating_point.rotor_speed_rpm: 14 rpm"),
+              std::string::npos)
+        << command << ": " << r.error;
+    EXPECT_EQ(out.find("CALIBRATED"), std::string::npos) << command << ": " << out;
+    EXPECT_FALSE(fs::exists(json)) << command;
+  }
   fs::remove_all(dir);
 }
 

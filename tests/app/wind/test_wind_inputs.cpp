@@ -104,6 +104,23 @@ TEST_F(WindInputs, FitCpRefusesASurfaceAboveTheBetzLimitAndWritesNothing) {
   EXPECT_EQ(slurp(desc), before);
 }
 
+TEST_F(WindInputs, FitCpSaysAFittedMaximumAtTheBetzLimitRestsOnSuspectRows) {
+  // Arrange: 1.175 × the power of paper-2mw's rows: the fit (c1, lambda_scale) reaches
+  // Cp_max 0.580, below 16/27 = 0.5926 (1.2 ×: 0.663, refused) but within 3 % of it. No
+  // real rotor gets there, so the fit is printed and flagged; the rows' own power is not.
+  const std::string csv = write("high.csv", tracking_rows(1.175));
+  // Act
+  const CliResult r = run_cli({"fit-cp", csv, "--free", "none"});
+  const CliResult plain =
+      run_cli({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
+  // Assert
+  ASSERT_EQ(r.exit_code, 0) << r.error;
+  EXPECT_NE(r.out.find("# NOTE: the fitted Cp_max 0.5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("is at the Betz limit 0.5926"), std::string::npos) << r.out;
+  ASSERT_EQ(plain.exit_code, 0) << plain.error;
+  EXPECT_EQ(plain.out.find("Betz limit"), std::string::npos) << plain.out;
+}
+
 TEST_F(WindInputs, ARowWithoutWindButATurningRotorIsNotBelowCutIn) {
   // Arrange: an empty wind cell with the rotor at 10 rpm, then a row at the paper's point.
   const std::string csv =

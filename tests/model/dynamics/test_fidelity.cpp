@@ -8,9 +8,11 @@
 #include <map>
 #include <vector>
 
+#include "frequency_response.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/harmonics.hpp"
+#include "model/dynamics/newmark.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/dynamics/simulate.hpp"
 
@@ -30,7 +32,11 @@ const Pair& runs(double rpm, double torque) {
   if (it != cache.end()) return it->second;
   Pair p;
   std::string error;
-  const SimulationSettings s{2.0, kRate, 2, kRomDefaultCutoffHz};
+  // 4 Newmark substeps per sample: the housing mode near 1.8 kHz makes the third rated hss
+  // harmonic (1982 Hz) sensitive to Newmark's period error (ωΔt)²/12 — with 2 substeps the
+  // full model's point2 line there is 6 % below its converged value (4 and 6 substeps agree
+  // within 1 %), which is the reference's error, not the ROM's.
+  const SimulationSettings s{2.0, kRate, 4, kRomDefaultCutoffHz};
   EXPECT_TRUE(simulate_full(model::paper_2mw(), {rpm, torque}, s, p.full, &error)) << error;
   EXPECT_TRUE(simulate_rom(model::paper_2mw(), {rpm, torque}, s, p.rom, &error)) << error;
   return cache.emplace(rpm, std::move(p)).first->second;
@@ -110,13 +116,66 @@ TEST(SpectrumKinematics, IntermediateMeshIsClearlyPresentAtPoint2) {
 
 TEST(SpectrumKinematics, PlanetaryMeshAndItsHarmonicsDominateTheSunPlanetMeshForce) {
   // Planetary mesh at 8.33 rpm = 13.745 Hz; its 5th harmonic (68.7 Hz) lies near the
-  // first planetary modes (77–93 Hz) and may be the strongest line.
+  // first planetary modes (77–93 Hz) and may be the strongest line. The sun shaft also
+  // carries g1, whose mesh (72.987 Hz) is excited by its own transmission error and
+  // reaches the sun–planet force through the shaft's torsion: the strongest line is a
+  // harmonic of one of the sun shaft's two meshes, and without the intermediate stage's
+  // transmission error (a ROM run, same kinematics) one of the planetary mesh.
   const Pair& p = runs(8.33, 361747.0);
   const std::vector<double>& f = p.full.mesh_force_n[0];  // sun_planet_1
   const Spectrum s = spectrum(f, 5.0, 100.0);
   const double k = s.strongest_hz() / 13.745;
-  EXPECT_NEAR(k, std::round(k), 0.5 / 13.745) << "strongest line " << s.strongest_hz() << " Hz";
+  const bool planetary = std::abs(k - std::round(k)) < 0.5 / 13.745;
+  const bool intermediate = std::abs(s.strongest_hz() - 72.987) < 0.5;
+  EXPECT_TRUE(planetary || intermediate) << "strongest line " << s.strongest_hz() << " Hz";
   EXPECT_GT(line_amplitude(f, kRate, 13.745), 10.0 * s.median());
+
+  model::Drivetrain d = model::paper_2mw();
+  for (std::size_t h = 0; h < model::kTransmissionErrorHarmonics; ++h)
+    d.dynamics.transmission_error_m[model::kTransmissionErrorHarmonics + h] = 0.0;
+  SimulationOutputs rom;
+  std::string error;
+  ASSERT_TRUE(simulate_rom(d, {8.33, 361747.0}, {2.0, kRate, 2, kRomDefaultCutoffHz}, rom, &error))
+      << error;
+  const Spectrum s0 = spectrum(rom.mesh_force_n[0], 5.0, 100.0);
+  const double k0 = s0.strongest_hz() / 13.745;
+  EXPECT_NEAR(k0, std::round(k0), 0.5 / 13.745) << "strongest line " << s0.strongest_hz() << " Hz";
+}
+
+TEST(FullModelExcitation, TransmissionErrorDrivesTheSensorsAsTheFrequencyResponsePredicts) {
+  // As the ROM's test (test_rom.cpp) for the full model's Newmark integrator: constant
+  // stiffness, one harmonic of the hss mesh's transmission error, steady state against the
+  // frequency response (K̄ − ω²M + iωC)⁻¹. Newmark's period error at 372 Hz with 2 substeps
+  // is 1e-4: tolerance 1 %.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.transmission_error_m.fill(0.0);
+  d.dynamics.transmission_error_m[2 * model::kTransmissionErrorHarmonics] = 2e-6;
+  d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  std::string error;
+  auto m = build_full_model(d, {}, &error);
+  ASSERT_TRUE(m) << error;
+  for (auto& v : m->meshes) v.shape = PeriodicTable::constant(1.0);
+  NewmarkIntegrator integ(*m, 1.0 / (2 * kRate));
+  integ.reset_static({8.33, 0.0});
+  std::vector<double> p1;
+  std::vector<double> p2;
+  for (int i = 0; i < 25600; ++i) {
+    integ.step();
+    integ.step();
+    if (i >= 12800) {
+      p1.push_back(integ.sensor_m_s2(0));
+      p2.push_back(integ.sensor_m_s2(1));
+    }
+  }
+  const VaryingStiffness& hss = m->meshes[7];
+  ASSERT_EQ(hss.id, "high_speed");
+  const double f = hss.order * 8.33 / 60.0;
+  for (int s = 0; s < 2; ++s) {
+    const double expect =
+        frequency_response::sensor_response(*m, hss.directions.col(0), hss.mean_n_m * 2e-6, f, s);
+    const double got = line_amplitude(s == 0 ? p1 : p2, kRate, f);
+    EXPECT_NEAR(got / expect, 1.0, 0.01) << "sensor " << s << ": " << got << " vs " << expect;
+  }
 }
 
 }  // namespace

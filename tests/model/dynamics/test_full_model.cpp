@@ -214,6 +214,8 @@ TEST(FullModelIntegrator, UndampedFreeVibrationConservesEnergy) {
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.rayleigh_eta = 0.0;
   d.dynamics.rayleigh_zeta = 0.0;
+  d.dynamics.housing_damping_ratio.fill(0.0);  // the housing modes stay, undamped
+  d.dynamics.transmission_error_m.fill(0.0);   // free vibration: no mesh excitation
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = model::dynamics::PeriodicTable::constant(1.0);
@@ -239,9 +241,13 @@ TEST(FullModelIntegrator, TorqueStepRingsDownAtTheRayleighDampingRate) {
   // Arrange: constant stiffness (mean tables) so the modes decouple exactly under
   // C = ηM + ζK; a step from the paper's torque to rated torque excites the torsional
   // mode near 50 Hz, whose modal coordinate q = φᵀM(x − x_final) must then follow
-  // q(t) = q0·e^(−ξωt)(cos ω_d t + ξ/√(1−ξ²) sin ω_d t), ξ = η/(2ω) + ζω/2.
+  // q(t) = q0·e^(−ξωt)(cos ω_d t + ξ/√(1−ξ²) sin ω_d t), ξ = η/(2ω) + ζω/2. Without housing
+  // modes (a single seat mass per point) and with unit band factors the modal damping the
+  // model builds is exactly Rayleigh's, which this checks against the formula.
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.housing_frequency_hz.fill(0.0);
+  d.dynamics.transmission_error_m.fill(0.0);
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = model::dynamics::PeriodicTable::constant(1.0);
   const Modes full = modes_of(m);
@@ -303,3 +309,168 @@ TEST(SimulationInputs, NonPositiveSpeedIsRejectedWithTheFieldName) {
 }
 
 }  // namespace
+
+namespace {
+
+// paper-2mw without housing modes (one seat mass per point) and without transmission error.
+model::Drivetrain bare_paper() {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.housing_frequency_hz.fill(0.0);
+  d.dynamics.transmission_error_m.fill(0.0);
+  return d;
+}
+
+}  // namespace
+
+TEST(FullModelDamping, WithoutHousingModesAndBandFactorsTheDampingIsRayleighs) {
+  // Modal damping ξ_i = η/(2ω_i) + ζω_i/2 over every mode is C = ηM + ζK̄ exactly
+  // (ΦᵀMΦ = I, ΦᵀK̄Φ = Ω²): the model's C against that closed form.
+  const FullModel m = paper_model(bare_paper());
+  Eigen::MatrixXd rayleigh = m.rayleigh_zeta * m.stiffness;
+  rayleigh.diagonal() += m.rayleigh_eta * m.mass;
+  EXPECT_LT((m.damping() - rayleigh).norm(), 1e-9 * rayleigh.norm());
+}
+
+TEST(FullModelDamping, BandFactorScalesTheGearboxRatioBelowTheFirstKnot) {
+  // A factor f at the first knot (100 Hz) multiplies the ratio of every mode below it by f
+  // and leaves the modes above the last knot (2.5 kHz) alone (factor 1 there).
+  model::Drivetrain d = bare_paper();
+  d.dynamics.damping_band_factor = {2.0, 1.0, 1.0};
+  const FullModel m = paper_model(d);
+  const Modes modes = modes_of(m);
+  int below = 0;
+  int above = 0;
+  for (Eigen::Index i = 0; i < modes.hz.size(); ++i) {
+    const double w = 2 * kPi * modes.hz[i];
+    const double rayleigh = m.rayleigh_eta / (2 * w) + m.rayleigh_zeta * w / 2;
+    const double xi = m.modal_damping_ratio[static_cast<std::size_t>(i)];
+    if (modes.hz[i] < 100.0) {
+      EXPECT_NEAR(xi / rayleigh, 2.0, 1e-6) << modes.hz[i] << " Hz";
+      ++below;
+    } else if (modes.hz[i] > 2500.0) {
+      EXPECT_NEAR(xi / rayleigh, 1.0, 1e-6) << modes.hz[i] << " Hz";
+      ++above;
+    }
+  }
+  EXPECT_GT(below, 3);
+  EXPECT_GT(above, 3);
+}
+
+TEST(FullModelDamping, AModeLivingInAHousingSpringTakesTheHousingsRatio) {
+  // No gearbox damping: every mode's ratio is Σ (strain-energy share in a housing spring) ×
+  // that housing mode's ratio. The mode nearest the first housing mode of point1 keeps most
+  // of its strain energy there, so its ratio approaches the housing's 0.05.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.rayleigh_eta = 0.0;
+  d.dynamics.rayleigh_zeta = 0.0;
+  d.dynamics.housing_damping_ratio.fill(0.05);
+  const FullModel m = paper_model(d);
+  const Modes modes = modes_of(m);
+  // Housing springs m_k·(2πf_k)² from the parameters, in the order of housing_frequency_hz.
+  const std::array<const char*, 6> names{"seat.b5.mode1", "seat.b5.mode2", "seat.b5.mode3",
+                                         "seat.b3.mode1", "seat.b3.mode2", "seat.b3.mode3"};
+  std::array<double, 6> k{};
+  for (std::size_t j = 0; j < 6; ++j) {
+    k[j] = d.dynamics.housing_modal_mass_kg[j] *
+           std::pow(2 * kPi * d.dynamics.housing_frequency_hz[j], 2);
+    ASSERT_GE(m.dof(names[j]), 0) << names[j];
+  }
+  const int h = m.dof("seat.b5.mode1");
+  double best_share = 0.0;
+  double best_xi = 0.0;
+  for (Eigen::Index i = 0; i < modes.hz.size(); ++i) {
+    const double w2 = std::pow(2 * kPi * modes.hz[i], 2);
+    double share = 0.0;
+    for (std::size_t j = 0; j < 6; ++j) {
+      const int dof = m.dof(names[j]);
+      share += k[j] * modes.phi(dof, i) * modes.phi(dof, i) / w2;
+    }
+    const double k_h = k[0];
+    const double xi = m.modal_damping_ratio[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(xi, 0.05 * share, 1e-9) << modes.hz[i] << " Hz";
+    const double own = k_h * modes.phi(h, i) * modes.phi(h, i) / w2;
+    if (own > best_share) {
+      best_share = own;
+      best_xi = xi;
+    }
+  }
+  EXPECT_GT(best_share, 0.5);
+  EXPECT_GT(best_xi, 0.025);
+}
+
+TEST(TransmissionError, PriorFollowsIso1328ByHand) {
+  // Sun–planet pair of paper-2mw, spur (ε_β = 0): m_n = 17 mm, d_sun = 357 mm, d_planet =
+  // 663 mm. ISO 1328-1:1995 grade 5: f_fα = 2.5√17 + 0.17√d + 0.5 = 14.02 µm (sun),
+  // 15.19 µm (planet); grade 6: × √2. a_1 = ¼·√(14.02² + 15.19²)·√2 µm = 7.306 µm, a_h = a_1/h.
+  const GearPair sp{21, 39, false, 0.017, 20.0 * kPi / 180.0, 0.0, 0.37, 0.0, 0.0};
+  EXPECT_NEAR(iso1328_profile_form_tolerance_um(0.017, 0.357, 5), 14.02, 0.01);
+  EXPECT_NEAR(transmission_error_prior_m(sp, 6, 1), 7.306e-6, 0.005e-6);
+  EXPECT_NEAR(transmission_error_prior_m(sp, 6, 2), 7.306e-6 / 2, 0.005e-6);
+  // Helical hss pair: ε_β = 0.170·sin 10°/(π·0.014) = 0.671, so harmonic 1 is × 1/(π·0.671).
+  const GearPair hs{26, 107, false, 0.014, 20.0 * kPi / 180.0, 10.0 * kPi / 180.0, 0.17, 0, 0};
+  const double d4 = 26 * 0.014 / std::cos(10.0 * kPi / 180.0);
+  const double d3 = 107 * 0.014 / std::cos(10.0 * kPi / 180.0);
+  const double f4 = 2.5 * std::sqrt(14.0) + 0.17 * std::sqrt(d4 * 1e3) + 0.5;
+  const double f3 = 2.5 * std::sqrt(14.0) + 0.17 * std::sqrt(d3 * 1e3) + 0.5;
+  const double expect = 0.25 * std::hypot(f3, f4) * std::sqrt(2.0) * 1e-6 / (kPi * 0.6709);
+  EXPECT_NEAR(transmission_error_prior_m(hs, 6, 1), expect, 1e-3 * expect);
+}
+
+TEST(TransmissionError, PaperDefaultsAreTheGrade6Prior) {
+  const model::Drivetrain d = model::paper_2mw();
+  const auto& g = [&](const char* id) { return *d.gear(id); };
+  const auto& st = d.stages;
+  const std::array<GearPair, 3> pairs{
+      GearPair{g("sun").teeth, g("planet").teeth, false, st[0].normal_module_m,
+               st[0].pressure_angle_rad, 0.0, 0.37, 0.0, 0.0},
+      GearPair{g("g2").teeth, g("g1").teeth, false, st[1].normal_module_m, st[1].pressure_angle_rad,
+               st[1].helix_angle_rad, 0.30, 0.0, 0.0},
+      GearPair{g("g4").teeth, g("g3").teeth, false, st[2].normal_module_m, st[2].pressure_angle_rad,
+               st[2].helix_angle_rad, 0.17, 0.0, 0.0}};
+  for (std::size_t s = 0; s < 3; ++s) {
+    for (std::size_t h = 1; h <= model::kTransmissionErrorHarmonics; ++h) {
+      const double prior = transmission_error_prior_m(pairs[s], 6, static_cast<int>(h));
+      EXPECT_NEAR(d.dynamics.transmission_error_m[s * model::kTransmissionErrorHarmonics + h - 1],
+                  prior, 1e-3 * prior)
+          << "stage " << s << " harmonic " << h;
+    }
+  }
+}
+
+TEST(FullModelBuild, PerBearingFactorMultipliesItsShaftScale) {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.bearing_stiffness_scale = {1.0, 1.0, 1.5};
+  d.dynamics.bearing_stiffness_factor[4] = 2.0;  // b5
+  const FullModel m = paper_model(d);
+  const model::Bearing& b5 = *d.bearing("b5");
+  const model::Bearing& b6 = *d.bearing("b6");
+  EXPECT_NEAR(m.bearings[4].mean_n_m, b5.radial_stiffness_n_m * b5.rows * 3.0, 1.0);
+  EXPECT_NEAR(m.bearings[5].mean_n_m, b6.radial_stiffness_n_m * b6.rows * 1.5, 1.0);
+}
+
+TEST(FullModelBuild, ImpossibleHousingModeIsRejectedNamingTheKey) {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.housing_modal_mass_kg[1] = -3.0;
+  std::string error;
+  EXPECT_FALSE(build_full_model(d, {}, &error));
+  EXPECT_NE(error.find("housing mode 1"), std::string::npos) << error;
+}
+
+TEST(FullModelBuild, CrossParticipationCouplesTheOtherSeatReciprocally) {
+  // Point1's first housing mode with cross participation c at point2's seat: b3's direction
+  // gets −c·(sensor direction) on that mode's DOF (its force drives the mode with c) and
+  // point2's sensor reads c on it; without it both are 0.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.housing_cross_participation[0] = 0.4;
+  const FullModel m = paper_model(d);
+  const int h = m.dof("seat.b5.mode1");
+  ASSERT_GE(h, 0);
+  const VaryingStiffness& b3 = m.bearings[2];
+  ASSERT_EQ(b3.id, "b3");
+  EXPECT_NEAR(b3.directions(h, 1), -0.4, 1e-12);  // sensor direction +y
+  EXPECT_NEAR(b3.directions(h, 0), 0.0, 1e-12);
+  EXPECT_NEAR(m.sensors[1].row[h], 0.4, 1e-12);
+  const FullModel m0 = paper_model();
+  EXPECT_EQ(m0.bearings[2].directions(h, 1), 0.0);
+  EXPECT_EQ(m0.sensors[1].row[h], 0.0);
+}

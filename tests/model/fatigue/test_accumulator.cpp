@@ -71,6 +71,7 @@ TEST(Accumulator, EveryChannelsIncrementIsItsSnCurvesDamageAtItsStressOnBothSide
        {KneeBranch::kHaibach, KneeBranch::kIsoLifeLine, KneeBranch::kNone}) {
     ChannelOptions options;
     options.branch = branch;
+    options.lubrication.enabled = false;  // the S-N path alone (a_ISO: test_bearing_life.cpp)
     const model::Drivetrain d = model::paper_2mw();
     const ChannelSet cs(d, options);
     ASSERT_TRUE(cs.valid()) << cs.error();

@@ -133,9 +133,14 @@ TEST(BearingRating, AnExplicitRatingInTheDescriptionOverridesTheGeometry) {
   EXPECT_NEAR(effective_dynamic_rating(b).c_n, 871564.5, 1.0);
 }
 
-TEST(BearingRating, ChannelSetRatesPaper2mwBearingsFromTheirGeometry) {
-  // Arrange: paper-2mw gives no C, L_we = D_we.
-  const ChannelSet cs(model::paper_2mw(), ChannelOptions{});
+TEST(BearingRating, ChannelSetRatesBearingsWithoutACatalogueFigureFromTheirGeometry) {
+  // Arrange: paper-2mw with its catalogue C removed and L_we = D_we (its first version).
+  model::Drivetrain d = model::paper_2mw();
+  for (model::Bearing& b : d.bearings) {
+    b.dynamic_rating_n = 0.0;
+    b.roller_effective_length_m = b.element_diameter_m;
+  }
+  const ChannelSet cs(d, ChannelOptions{});
   ASSERT_TRUE(cs.valid()) << cs.error();
   // Act / Assert: b1 as above; every planet bearing copy as the pb hand calculation, and the
   // bearing channels' S-N constant C is that rating.

@@ -139,10 +139,16 @@ struct Bearing {
   double pitch_diameter_m = 0.0;    // [m] Dp
   double contact_angle_rad = 0.0;   // [rad] φ
   BearingType type = BearingType::kRoller;
-  // [N] C, ISO 281; 0: computed from the geometry above (model/fatigue/bearing_rating.hpp).
+  // [N] C, ISO 281 (a catalogue figure; for a pair or two rows, the set's); 0: computed from the
+  // geometry above (model/fatigue/bearing_rating.hpp).
   double dynamic_rating_n = 0.0;
-  double roller_effective_length_m = 0.0;  // [m] L_we of a roller, for C from geometry
-  double radial_stiffness_n_m = 0.0;       // [N/m] mean radial stiffness k_a
+  double roller_effective_length_m = 0.0;  // [m] L_we of a roller, for C and C0 from geometry
+  // [N] C0, ISO 76 (for the fatigue load limit of the life modification factor); 0: from the
+  // geometry (radial roller bearings).
+  double static_rating_n = 0.0;
+  // [N] C_u, ISO 281:2007 §9.3; 0: from C0 by ISO 281:2007's approximation (bearing_life.hpp).
+  double fatigue_load_limit_n = 0.0;
+  double radial_stiffness_n_m = 0.0;  // [N/m] mean radial stiffness k_a
 };
 
 /// A CMS measurement channel: where the accelerometer sits.
@@ -152,13 +158,49 @@ struct MeasurementPoint {
   std::string direction;  // "radial"
 };
 
+/// Stages whose meshes carry a static transmission error (the paper-2mw topology: 3).
+inline constexpr std::size_t kTransmissionErrorStages = 3;
+/// Harmonics of the mesh frequency in each stage's static transmission error.
+inline constexpr std::size_t kTransmissionErrorHarmonics = 3;
+/// Measurement points whose bearing seat is modelled with housing modes.
+inline constexpr std::size_t kHousingPoints = 2;
+/// Housing modes per measurement point (in the sensor's direction).
+inline constexpr std::size_t kHousingModesPerPoint = 3;
+/// Knots of the frequency-dependent damping factor (DynamicsParameters::damping_band_factor).
+inline constexpr std::size_t kDampingKnots = 3;
+/// Frequencies of those knots [Hz]: log-spaced over the band the mesh harmonics of a
+/// multi-megawatt gearbox occupy (intermediate mesh ~70 Hz … 3 × hss mesh ~2 kHz).
+inline constexpr std::array<double, kDampingKnots> kDampingKnotsHz{100.0, 500.0, 2500.0};
+
 /// Parameters of the dynamics model that are not geometry; the calibrator moves these.
+/// Units as named; the physics of each is documented in model/dynamics/full_model.hpp.
 struct DynamicsParameters {
   double rayleigh_eta = 0.0;   // [1/s] mass-proportional damping η (C = ηM + ζK)
   double rayleigh_zeta = 0.0;  // [s] stiffness-proportional damping ζ
   std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};     // [-] per stage
   std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
   double bearing_stiffness_fluctuation = 0.1;                    // [-] k_θ / k_a
+  /// [-] per bearing b1..b6, on top of its shaft's bearing_stiffness_scale.
+  std::array<double, 6> bearing_stiffness_factor{1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  /// [-] multiplies the gearbox's modal damping ratio (Rayleigh's η/2ω + ζω/2) at the
+  /// knots kDampingKnotsHz, linear in log frequency between them, constant outside.
+  std::array<double, kDampingKnots> damping_band_factor{1.0, 1.0, 1.0};
+  /// [m] static transmission error of each stage's meshes: amplitude of harmonic h
+  /// (index stage·kTransmissionErrorHarmonics + h − 1) of the mesh frequency, along the
+  /// line of action; 0: no geometric excitation (only the stiffness variation).
+  std::array<double, kTransmissionErrorStages * kTransmissionErrorHarmonics> transmission_error_m{};
+  /// Housing modes seen at the bearing seat of each measurement point (index
+  /// point·kHousingModesPerPoint + mode). A point whose frequencies are all 0 keeps the
+  /// model's single seat mass on a spring (StructuralParameters).
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_frequency_hz{};   // [Hz]
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_damping_ratio{};  // [-]
+  /// [kg] the mode's effective mass at the seat (1/ψ_seat² of a mass-normalised mode)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_modal_mass_kg{};
+  /// [-] sensor over seat displacement in the mode (ψ_sensor/ψ_seat; 1: sensor on the seat)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_participation{};
+  /// [-] the mode's participation at the OTHER measured point's seat relative to its own
+  /// (housing modes are the whole housing's: cross-transmission between the points; 0: none)
+  std::array<double, kHousingPoints * kHousingModesPerPoint> housing_cross_participation{};
 };
 
 struct Drivetrain {

@@ -7,6 +7,7 @@
 // Every call afterwards is allocation-free, lock-free and non-blocking, and may
 // run on any single thread that owns the object (not thread-safe: one owner).
 
+#include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -64,6 +65,15 @@ class SpectrumAnalyzer {
   /// @param spectrum  amplitude spectrum from amplitude_spectrum()
   /// @param half_width w ≥ 2 lines; lines outside the spectrum are ignored
   double tone_amplitude(const double* spectrum, double centre_line, std::size_t half_width) const;
+
+  /// The complex transform of the last amplitude_spectrum() call, X(k) = Σ_n x_w[n]·e^{−i2πkn/N}
+  /// for k = 1 .. size()/2 − 1 (the windowed block, no amplitude gain); index 0 packs DC and
+  /// Nyquist (kissfft's real-input layout).
+  const std::complex<double>* complex_spectrum() const;
+
+  /// Σ_n w[n]·e^{i2πδn/N}: the window's kernel at δ lines (a tone c·e^{i2πνn/N} reads
+  /// c·window_kernel(ν − k) at line k of complex_spectrum()).
+  std::complex<double> window_kernel(double delta_lines) const;
 
   /// Hann equivalent noise bandwidth in lines.
   static constexpr double kHannEnbwLines = 1.5;

@@ -15,18 +15,35 @@
 //  * six bearings b1..b6 with k(t) = k_a·(1 + (k_θ/k_a)·cos(2π f_b t + φ_b)) in x and y,
 //    f_b the ball-pass frequency of the outer race (model/drivetrain/kinematics.hpp);
 //    axial stiffness to the casing (takes the helical axial forces);
-//  * a housing seat (x, y mass on a support stiffness, its own mode) under every
-//    bearing named by a measurement point (b5 → point1, b3 → point2): the sensor
-//    reads the seat's radial acceleration;
+//  * the housing under every bearing named by a measurement point (b5 → point1,
+//    b3 → point2): in the sensor's direction, the seat moves as the sum of a few
+//    housing modes seen from the seat, each a DOF h_k with the mode's effective mass
+//    m_k at the seat and stiffness m_k·ω_k² to ground (a modal truncation of the
+//    housing: seat displacement Σ h_k, a force F at the seat drives every h_k with F),
+//    and the sensor reads Σ p_k·ḧ_k, p_k the mode's sensor-to-seat participation;
+//    across it, one seat mass on a support stiffness. A point without housing modes
+//    in DynamicsParameters keeps one seat mass on a spring in x and y (its own mode);
+//  * static transmission error (the geometric mesh excitation: profile and lead
+//    deviations, tip relief): each mesh element's force is k(t)·(δ − e(t)), e a
+//    Fourier series in mesh orders per stage (DynamicsParameters::transmission_error_m)
+//    at the mesh's own phase, so the meshes are excited by the force k(t)·e(t) along
+//    their lines of action as well as parametrically by k(t);
+//  * damping: modal, C = MΦ·diag(2ξ_iω_i)·ΦᵀM over every mode of the full model, with
+//    ξ_i the strain-energy-weighted mix (modal strain energy method, Johnson & Kienholz,
+//    AIAA J. 20 (1982)) of the gearbox's ratio — Rayleigh's η/2ω + ζω/2 times a
+//    factor piecewise linear in log f (DynamicsParameters::damping_band_factor) — and
+//    each housing mode's own ratio, by the share of the mode's strain energy in that
+//    housing mode's spring. Without housing modes and with unit factors this is exactly
+//    C = ηM + ζK̄;
 //  * the generator: a rotor inertia on a torsionally flexible coupling at the hss
 //    end, held about its nominal speed by the converter (a weak torsional spring).
 //
 // Coordinates are the vibratory motion about the nominal rotation (the rigid spin
 // is removed; gyroscopic and centrifugal terms are neglected, the carrier turns at
-// ≤ 0.25 Hz): Rayleigh damping C = ηM + ζK̄ therefore damps vibration and does not
-// brake the drivetrain. The planets' positions are those at t = 0 (the slow carrier
-// rotation is not followed geometrically). Gravity is not modelled. The input
-// torque acts on the carrier, the reaction on the generator's spring and the ring.
+// ≤ 0.25 Hz): the damping therefore damps vibration and does not brake the drivetrain. The planets'
+// positions are those at t = 0 (the slow carrier rotation is not followed geometrically). Gravity
+// is not modelled. The input torque acts on the carrier, the reaction on the generator's spring and
+// the ring.
 //
 // Time-varying stiffness is kept apart from the constant mean stiffness K̄, as
 // element objects with low-rank directions (a mesh: rank 1 along its line of
@@ -85,8 +102,14 @@ struct VaryingStiffness {
   PeriodicTable shape;         // [-] mean 1
   double order = 0.0;          // [cycles per rotor revolution]
   double phase_cycles = 0.0;   // [cycles]
+  /// [m] static transmission error e over the same cycle (meshes; 0 for bearings): the
+  /// element's force is k(t)·(uᵀx − e(t)).
+  PeriodicTable transmission_error = PeriodicTable::constant(0.0);
   double stiffness_n_m(double rotor_revolutions) const {
     return mean_n_m * shape.value(order * rotor_revolutions + phase_cycles);
+  }
+  double transmission_error_m(double rotor_revolutions) const {
+    return transmission_error.value(order * rotor_revolutions + phase_cycles);
   }
 };
 
@@ -128,9 +151,11 @@ struct MeshInfo {
 struct FullModel {
   std::vector<std::string> dof_names;  // "carrier.x", "sun_shaft.3.theta", "seat.b5.y", ...
   Eigen::VectorXd mass;                // [kg or kg·m²] lumped (diagonal) mass matrix
-  Eigen::MatrixXd stiffness;   // [N/m ...] K̄: constant part incl. the varying elements' means
-  double rayleigh_eta = 0.0;   // [1/s]
-  double rayleigh_zeta = 0.0;  // [s]
+  Eigen::MatrixXd stiffness;       // [N/m ...] K̄: constant part incl. the varying elements' means
+  double rayleigh_eta = 0.0;       // [1/s] (the gearbox's damping before its band factors)
+  double rayleigh_zeta = 0.0;      // [s]
+  Eigen::MatrixXd damping_matrix;  // [N·s/m ...] C, modal (see the header comment)
+  std::vector<double> modal_damping_ratio;  // [-] ξ_i of every mode, ascending frequency
   std::vector<VaryingStiffness> meshes;  // 3 sun–planet, 3 ring–planet, intermediate, high_speed
   std::vector<MeshInfo> mesh_info;       // parallel to `meshes`
   std::vector<VaryingStiffness> bearings;  // b1..b6
@@ -140,10 +165,12 @@ struct FullModel {
   int dofs() const { return static_cast<int>(mass.size()); }
   /// Index of a named DOF, −1 if absent.
   int dof(std::string_view name) const;
-  /// C = ηM + ζK̄.
-  Eigen::MatrixXd damping() const;
+  /// C (damping_matrix).
+  const Eigen::MatrixXd& damping() const { return damping_matrix; }
   /// Sum of the external forces at (rotor revolutions, torque) [N, N·m].
   Eigen::VectorXd force(double rotor_revolutions, double input_torque_nm) const;
+  /// The meshes' transmission-error forces Σ k(t)·e(t)·u at the rotor angle [N, N·m].
+  Eigen::VectorXd transmission_error_force(double rotor_revolutions) const;
   /// K̄⁻¹ f for the mean (constant) force: the static deflection under the input torque.
   Eigen::VectorXd static_deflection(double input_torque_nm) const;
 };

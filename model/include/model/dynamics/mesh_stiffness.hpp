@@ -14,6 +14,8 @@
 // Thread context: start-up / model building; allocation-free but not meant for
 // the real-time loop (the loop reads the PeriodicTable built here).
 
+#include <cstddef>
+
 #include "model/dynamics/periodic_table.hpp"
 
 namespace model::dynamics {
@@ -76,6 +78,28 @@ struct MeshStiffness {
 /// contact-line length (Cai's and Umezawa's approximation of the load-sharing
 /// between pairs), times `scale`.
 MeshStiffness mesh_stiffness(const GearPair& pair, double scale = 1.0);
+
+/// ISO 1328-1:1995 §6 profile form deviation tolerance f_fα of one gear [µm]: the
+/// grade-5 value 2.5·√m_n + 0.17·√d + 0.5 (m_n, d in mm) times √2 per grade above 5
+/// (the same step as the project's f_pT and f_Hβ, model/fatigue/gear_rating.cpp).
+double iso1328_profile_form_tolerance_um(double normal_module_m, double reference_diameter_m,
+                                         int grade);
+
+/// Amplitude [m] of harmonic h ≥ 1 of a gear pair's static (unloaded, geometric)
+/// transmission error that a pair of ISO 1328 flank tolerance class `grade` is expected
+/// to have — the prior of the calibration, not a measurement:
+///   a_h = ¼·f_pair · (1/h) · min(1, 1/(π·h·ε_β))
+/// f_pair = √(f_fα,1² + f_fα,2²) (the two gears' form deviations are independent); ½ of
+/// it is the amplitude of a mesh-periodic deviation of that peak-to-valley size and the
+/// other ½ the share of the tolerance a manufactured flank typically uses; 1/h the decay
+/// of a form deviation's Fourier series; min(1, 1/(π h ε_β)) the envelope of the
+/// averaging along a helical contact line, |sin(π h ε_β)/(π h ε_β)| (Welbourn 1979),
+/// without its zeros (real deviations vary across the face width).
+double transmission_error_prior_m(const GearPair& pair, int grade, int harmonic);
+
+/// e(cycles) = Σ_{h=1..count} a_h·cos(2π·h·cycles) [m], the table of a mesh element's
+/// static transmission error (VaryingStiffness::transmission_error).
+PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count);
 
 /// Relative mesh phases [cycles, in [0, 1)] of planet n at carrier angle ψ_n
 /// (Parker & Lin 2004, eq. (2)–(3)): sun–planet γ_sn = z_s·ψ_n/2π, ring–planet

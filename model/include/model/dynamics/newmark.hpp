@@ -7,8 +7,9 @@
 // Each step solves (M + Δt/2·C + Δt²/4·K(t_{n+1}))·a_{n+1} = r exactly: the constant
 // part S̄ = M + Δt/2·C + Δt²/4·K̄ is factored once (Cholesky), the low-rank part is
 // added by the Sherman–Morrison–Woodbury identity (one R×R solve per step, R = the
-// total rank of the meshes and bearings). The damping C = ηM + ζK̄ uses the mean
-// stiffness.
+// total rank of the meshes and bearings). The damping C is the model's (modal, built
+// on the mean stiffness; full_model.hpp); the meshes' transmission-error forces
+// k(t)·e(t) enter the right-hand side.
 //
 // Thread context: allocates at construction only; host / non-RT threads.
 
@@ -42,7 +43,7 @@ class NewmarkIntegrator {
   const Eigen::VectorXd& velocity() const { return v_; }
   const Eigen::VectorXd& acceleration() const { return a_; }
 
-  /// Elastic force of mesh i along its line of action [N] (compression > 0).
+  /// Elastic force k(t)·(δ − e(t)) of mesh i along its line of action [N] (compression > 0).
   double mesh_force_n(std::size_t i) const;
   /// Reaction of bearing i in x (c = 0) or y (c = 1) [N].
   double bearing_force_n(std::size_t i, int c) const;
@@ -64,7 +65,6 @@ class NewmarkIntegrator {
   Eigen::MatrixXd z_;                  // S̄⁻¹ U
   Eigen::MatrixXd g_;                  // Uᵀ S̄⁻¹ U
   Eigen::VectorXd dk_;                 // R: Δk(t) per column
-  Eigen::VectorXd c_diag_;             // ηM
   Eigen::MatrixXd small_;              // R×R workspace
   Eigen::VectorXd rhs_, tmp_;
 };

@@ -12,8 +12,11 @@
 // coordinates the loop needs are linear read-outs: mesh deflections Wᵀq, bearing
 // deflections W_bᵀq, seat accelerations S q̈.
 //
-// Equations in modal coordinates q (mass-normalised, Rayleigh damping diagonal):
-//   q̈ + (η + ζω²)q̇ + ω²q = Φᵀf(t) − W·diag(Δk_mesh(t))·Wᵀq − W_b·diag(Δk_b(t))·W_bᵀq
+// Equations in modal coordinates q (mass-normalised, damping diagonal: c_i = φ_iᵀCφ_i,
+// exactly 2ξ_iω_i for the retained modes since the full model's C is modal):
+//   q̈ + c q̇ + ω²q = Φᵀf(t) − W·diag(Δk_mesh(t))·Wᵀq + W·(k_mesh(t) ∘ e_mesh(t))
+//                    − W_b·diag(Δk_b(t))·W_bᵀq
+// (e_mesh: each mesh's static transmission error, a known force k·e along its line).
 // Time-varying stiffness is a low-rank update of the diagonal system: one column of W
 // per mesh, two of W_b per bearing.
 //
@@ -85,17 +88,20 @@ namespace model::dynamics {
 inline constexpr double kRomDefaultCutoffHz = 2200.0;
 
 /// Capacity of the ROM, sized from paper-2mw: 49 modes ≤ 2.2 kHz + static corrections
-/// for the input torque (1), the meshes (8) and the bearings' static loads (6) = 64, a
-/// multiple of the SIMD width. build_rom() refuses a model that does not fit (it names
-/// the count: lower the cut-off or raise this constant); unused slots are inert (zero).
-inline constexpr int kRomDofs = 64;
+/// for the input torque (1), the meshes (8) and the bearings' static loads (6) = 64, plus
+/// room for the housing modes of the two measurement points (3 each, in band or not as
+/// calibration moves them; DynamicsParameters), rounded to a multiple of the SIMD width.
+/// build_rom() refuses a model that does not fit (it names the count: lower the cut-off
+/// or raise this constant); unused slots are inert (zero).
+inline constexpr int kRomDofs = 72;
 inline constexpr int kRomMeshes = 8;    // 3 sun–planet, 3 ring–planet, 2 parallel
 inline constexpr int kRomBearings = 6;  // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
 inline constexpr int kRomForces = 2;   // input torque + one plug-in force
 inline constexpr int kRomSensors = 2;  // point1, point2
-/// Time-varying terms the step looks up: every mesh, bearing and force slot.
-inline constexpr int kRomTerms = kRomMeshes + kRomBearings + kRomForces;
+/// Time-varying terms the step looks up: every mesh, bearing and force slot, then every
+/// mesh's static transmission error.
+inline constexpr int kRomTerms = kRomMeshes + kRomBearings + kRomForces + kRomMeshes;
 /// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
 /// padded with zeros to whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
@@ -128,7 +134,7 @@ struct RomData {
   // then never splits a load across two lines. Matrices are stored so that the kernel
   // reads contiguous columns of kRomDofs values (sensor_rows and readout row-major).
   alignas(64) Vec omega_rad_s = Vec::Zero();  // [rad/s] Ritz frequencies (0: unused slot)
-  alignas(64) Vec damping_1_s = Vec::Zero();  // [1/s] η + ζω²
+  alignas(64) Vec damping_1_s = Vec::Zero();  // [1/s] φᵀCφ (2ξω; Rayleigh: η + ζω²)
   alignas(64) Vec omega2 = Vec::Zero();       // [1/s²]
   // First-order-hold propagators: q⁺ = pqq q + pqv v + b0q g + b1q g⁺ (same for v).
   alignas(64) Vec pqq = Vec::Zero();
@@ -166,13 +172,14 @@ struct RomData {
   std::array<RomStiffnessTerm, kRomBearings> bearings{};
   std::array<RomForceTerm, kRomForces> forces{};
 
-  // The same kRomTerms time-varying terms (meshes, then bearings, then forces) laid out
+  // The same kRomTerms time-varying terms (meshes, bearings, forces, then the meshes'
+  // transmission errors) laid out
   // for the step's look-ups, copied by build_rom(): one loop over contiguous arrays and
   // tables instead of sixteen structs two kilobytes apart.
   alignas(64) std::array<double, kRomTerms> term_order{};         // [cycles/rev]
   alignas(64) std::array<double, kRomTerms> term_phase_cycles{};  // [cycles]
   // Mesh and bearing terms: the mean stiffness [N/m]; force terms: the amplitude if it is
-  // not per N·m of input torque [N], else 0.
+  // not per N·m of input torque [N], else 0; transmission-error terms: 1 (tables in m).
   alignas(64) std::array<double, kRomTerms> term_scale{};
   // Force terms whose amplitude is per N·m of input torque: that amplitude [N/(N·m)]; else 0.
   alignas(64) std::array<double, kRomTerms> term_scale_per_nm{};

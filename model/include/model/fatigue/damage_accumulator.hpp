@@ -11,8 +11,10 @@
 //    rounded to the nearest quantum (error ≤ 2^-33 rev per step; capacity 4.3e9 rotor
 //    revolutions, ≈ 550 years at 15 rpm);
 //  - the damage of record is summed per step with Neumaier compensated summation (the
-//    exact n·(1/N(σ)) of the step's stress, no binning error); histogram_damage()
-//    recomputes it from the bins at the bin centres, as ISO 6336-6 does, for comparison.
+//    exact n·(1/N(σ)) of the step's stress, no binning error; a bearing's divided by its ISO 281
+//    a_ISO at the step's load and speed, ChannelSet::life_modification); histogram_damage()
+//    recomputes it from the bins at the bin centres, as ISO 6336-6 does, for comparison (for a
+//    bearing without a_ISO: the bins keep no speed).
 // Bad steps (non-finite load, non-finite or negative speed, dt = 0) are counted in the
 // state and change nothing else.
 //

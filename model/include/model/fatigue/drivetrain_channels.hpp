@@ -37,6 +37,7 @@
 #include <string>
 
 #include "model/drivetrain/description.hpp"
+#include "model/fatigue/bearing_life.hpp"
 #include "model/fatigue/gear_rating.hpp"
 #include "model/fatigue/sn_curve.hpp"
 
@@ -78,6 +79,19 @@ struct ChannelOptions {
   RatingSettings rating{};
   double k_a = 1.0;                          // [-] application factor (1 for dynamic loads)
   KneeBranch branch = KneeBranch::kHaibach;  // S-N beyond the knee
+  Lubrication lubrication{};                 // ISO 281 a_ISO of the bearings (bearing_life.hpp)
+};
+
+/// What a bearing slot's ISO 281 life modification factor is computed from (start-up values).
+struct BearingLifeTerms {
+  bool applied = false;          // a_ISO in use (lubrication enabled and C_u known), else 1
+  double ec_cu_n = 0.0;          // [N] e_C·C_u
+  double c0_n = 0.0;             // [N] C0 in use (description or ISO 76)
+  double cu_n = 0.0;             // [N] C_u in use (description or from C0)
+  double viscosity_mm2_s = 0.0;  // [mm²/s] ν at the operating temperature
+  double pitch_diameter_mm = 0.0;
+  double rev_per_rotor_rev = 0.0;  // [-] ring revolutions per rotor revolution
+  BearingType type = BearingType::kRoller;
 };
 
 class ChannelSet {
@@ -99,6 +113,13 @@ class ChannelSet {
   /// The bearing of `slot`; its dynamic_rating_n is the rating in use (the description's, or
   /// the one computed from the geometry when the description gives none).
   const Bearing& bearing(std::size_t slot) const { return bearings_[slot]; }
+  /// The inputs of the slot's a_ISO (applied == false: a_ISO = 1, and why is in life_note()).
+  const BearingLifeTerms& bearing_life(std::size_t slot) const { return life_[slot]; }
+  /// ISO 281:2007 a_ISO of a bearing slot at an equivalent load and rotor speed (1 when not
+  /// applied). Allocation-free.
+  double life_modification(std::size_t slot, double equivalent_load_n, double rotor_rpm) const;
+  /// Why a_ISO is not applied to some bearing ("" when it is applied to all or switched off).
+  const std::string& life_note() const { return life_note_; }
   const Channel& channel(std::size_t i) const { return channels_[i]; }
   const ChannelOptions& options() const { return options_; }
 
@@ -120,6 +141,8 @@ class ChannelSet {
   std::array<double, kMaxMeshes> torque_to_ft_per_nm_{};  // [1/m] F_t per rotor torque
   std::array<std::string, kMaxBearings> bearing_ids_{};
   std::array<Bearing, kMaxBearings> bearings_{};
+  std::array<BearingLifeTerms, kMaxBearings> life_{};
+  std::string life_note_;
   std::array<double, kMaxBearings> torque_to_radial_per_nm_{};  // [1/m] F_r per rotor torque
   std::array<double, kMaxBearings> torque_to_axial_per_nm_{};   // [1/m] F_a per rotor torque
   std::array<Channel, kMaxChannels> channels_{};
