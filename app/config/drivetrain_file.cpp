@@ -469,14 +469,14 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
   }
 
   static const std::set<std::string> kTopLevel{
-      "format",  "name",  "base",   "turbine",  "materials",
-      "shafts",  "gears", "stages", "bearings", "measurement_points",
-      "dynamics"};
+      "format",   "name",   "base",   "turbine",  "materials",
+      "shafts",   "gears",  "stages", "bearings", "measurement_points",
+      "dynamics", "effects"};
   for (const auto& [key, node] : root) {
     if (kTopLevel.count(std::string(key.str())) == 0) {
       reader.fail(&node, std::string(key.str()),
                   "unknown key (expected format, name, base, turbine, materials, shafts, gears, "
-                  "stages, bearings, measurement_points, dynamics)");
+                  "stages, bearings, measurement_points, dynamics, effects)");
     }
   }
   if (const toml::node* node = root.get("turbine")) {
@@ -519,6 +519,50 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     reader.read(*table, d.dynamics, kDynamicsKeys, "dynamics");
   }
 
+  // Physics beyond the healthy gearbox (model/drivetrain/effects.hpp): [[effects]] tables,
+  // kind = "<contract id>", location = "<component id>", then parameters by name.
+  if (const toml::node* node = root.get("effects")) {
+    const toml::array* list = node->as_array();
+    if (list == nullptr) reader.fail(node, "effects", "expected an array of tables [[effects]]");
+    d.effects.clear();  // a file's list replaces its base's
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const std::string where = "effects[" + std::to_string(i) + "]";
+      const toml::table* t = (*list)[i].as_table();
+      if (t == nullptr) reader.fail(&(*list)[i], where, "expected a table");
+      const toml::node* kind_node = t->get("kind");
+      const auto kind_id = kind_node ? kind_node->value_exact<std::string>() : std::nullopt;
+      const auto kind = kind_id ? model::effect_kind(*kind_id) : std::nullopt;
+      if (!kind) {
+        std::string ids;
+        for (model::EffectKind k : model::effect_kinds())
+          ids += std::string(ids.empty() ? "" : ", ") + std::string(model::effect_id(k));
+        reader.fail(kind_node ? kind_node : &(*list)[i], where + ".kind", "expected one of " + ids);
+      }
+      const toml::node* loc_node = t->get("location");
+      const auto location = loc_node ? loc_node->value_exact<std::string>() : std::nullopt;
+      if (!location)
+        reader.fail(loc_node ? loc_node : &(*list)[i], where + ".location",
+                    "expected a component id");
+      model::Effect e = model::make_effect(*kind, *location);
+      for (const auto& [key, value] : *t) {
+        const std::string k(key.str());
+        if (k == "kind" || k == "location") continue;
+        const auto v = value.value<double>();
+        if (!e.parameter(k)) {
+          std::string names;
+          for (const auto& p : model::effect_parameters(*kind))
+            names += std::string(names.empty() ? "" : ", ") + p.name;
+          reader.fail(&value, where + "." + k,
+                      "unknown parameter of " + *kind_id + " (expected " + names + ")");
+        }
+        if (!v)
+          reader.fail(&value, where + "." + k, "expected a number, got " + reader.describe(value));
+        e.set_parameter(k, *v);
+      }
+      d.effects.push_back(std::move(e));
+    }
+  }
+
   // Cross-field checks (the whole description, after the base is merged).
   const Turbine& t = d.turbine;
   const toml::node* turbine_node = root.get("turbine");
@@ -557,6 +601,14 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     if (b.element_diameter_m >= b.pitch_diameter_m) {
       reader.fail(nullptr, "bearings[" + std::to_string(i) + "].element_diameter_m",
                   "expected less than pitch_diameter_m");
+    }
+  }
+  for (std::size_t i = 0; i < d.effects.size(); ++i) {
+    std::string why;
+    if (!model::check_effect(d, d.effects[i], &why)) {
+      const toml::array* list = root.get("effects") ? root.get("effects")->as_array() : nullptr;
+      const toml::node* at = list != nullptr && i < list->size() ? &(*list)[i] : nullptr;
+      reader.fail(at, "effects[" + std::to_string(i) + "]", why);
     }
   }
   // Physics of the whole description (config/drivetrain_checks.hpp): the first violated
@@ -711,6 +763,13 @@ std::string to_toml(const model::Drivetrain& d) {
   write_list(out, d.measurement_points, kPointKeys, "measurement_points");
   out << "\n[dynamics]\n";
   write(out, d.dynamics, kDynamicsKeys);
+  for (const model::Effect& e : d.effects) {
+    out << "\n[[effects]]\nkind = " << quote(std::string(model::effect_id(e.kind)))
+        << "\nlocation = " << quote(e.location) << '\n';
+    const auto params = model::effect_parameters(e.kind);
+    for (std::size_t i = 0; i < params.size(); ++i)
+      out << params[i].name << " = " << format_double(e.parameters[i]) << '\n';
+  }
   return out.str();
 }
 

@@ -32,7 +32,9 @@ namespace app::fatigue {
 ///      K_Hβ eq. (53) of ISO 6336-1 Cor.1 selectable (--contact-pattern verified).
 ///   8: helix angle factor Z_β = 1/√cos β (ISO 6336-2:2006 §9) instead of √cos β.
 ///   9: bearing damage divided by ISO 281's a_ISO (lubrication and contamination inputs).
-inline constexpr std::uint32_t kSpectrumCodeVersion = 9;
+///  10: the carrier carries the planets round in the dynamics model (planet load sharing
+///      varies over a carrier revolution and evens out).
+inline constexpr std::uint32_t kSpectrumCodeVersion = 10;
 
 /// The cache key of a spectrum (see the file comment). `code_version` is a parameter only so
 /// that tests can show a changed version misses. `rom_rate_hz` / `rom_cutoff_hz`: the dynamics

@@ -44,7 +44,8 @@ LumpedSimulator::LumpedSimulator(const Drivetrain& drivetrain, const LumpedSimul
       mass_kg_[s] += std::numbers::pi * r * r * shaft->length_m * 7850.0;
     }
     for (const Bearing& b : drivetrain.bearings) {
-      if (b.shaft == kShafts[s]) bearing_n_m_[s] += b.radial_stiffness_n_m;
+      // Per row, as the full model counts it (a paired or two-row set carries rows × k).
+      if (b.shaft == kShafts[s]) bearing_n_m_[s] += b.radial_stiffness_n_m * b.rows;
     }
   }
   for (std::size_t s = 0; s < std::min<std::size_t>(3, drivetrain.stages.size()); ++s) {

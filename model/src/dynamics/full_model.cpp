@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <utility>
 
 #include "model/drivetrain/kinematics.hpp"
@@ -61,6 +62,11 @@ class Assembler {
   };
   void spring(std::initializer_list<Term> terms, double k) {
     springs_.push_back({std::vector<Term>(terms), k});
+  }
+  void spring(const std::vector<std::pair<int, double>>& terms, double k) {
+    std::vector<Term> t;
+    for (const auto& [dof, c] : terms) t.push_back({dof, c});
+    springs_.push_back({std::move(t), k});
   }
 
   FullModel finish() {
@@ -133,6 +139,49 @@ Eigen::VectorXd mesh_direction(int dofs, const Node& a, const Node& b, const Mes
   return u;
 }
 
+// ---- effects (model/drivetrain/effects.hpp) as terms of the equations of motion
+// ------------------
+
+// A measured bearing's seat: its displacement in the housing frame is Σ dir·x[dof] over
+// `dofs` (a seat mass in x and y, or the housing modes along the sensor and one seat DOF
+// across it); the sensor reads Σ sensor·ẍ[dof], or the housing resonance's DOF.
+struct SeatDof {
+  int dof = -1;
+  Eigen::Vector2d dir{0.0, 0.0};
+  double sensor = 0.0;          // [-] weight in the sensor's reading
+  double stiffness = 0.0;       // [N/m] spring to ground (housing modes: m_k ω_k²)
+  double damping_ratio = -1.0;  // [-] a housing mode's own ξ_k; < 0: the gearbox's damping
+  int param = -1;               // a housing mode's index in DynamicsParameters' housing_*
+};
+struct SeatRef {
+  std::string bearing;
+  std::vector<SeatDof> dofs;
+  int sensor_dof = -1;  // a housing resonance's DOF, or −1: the sensor reads the seat
+  /// Terms (dof, coefficient) of the seat's displacement along `d`, times `sign`.
+  std::vector<std::pair<int, double>> along(const Eigen::Vector2d& d, double sign = 1.0) const {
+    std::vector<std::pair<int, double>> out;
+    for (const SeatDof& sd : dofs) {
+      const double c = sd.dir.dot(d);
+      if (c != 0.0) out.push_back({sd.dof, sign * c});
+    }
+    return out;
+  }
+  /// The seat's displacement in the housing frame at x.
+  Eigen::Vector2d displacement(const Eigen::VectorXd& x) const {
+    Eigen::Vector2d u(0.0, 0.0);
+    for (const SeatDof& sd : dofs) u += sd.dir * x[sd.dof];
+    return u;
+  }
+};
+
+// An element with its own damping ratio (a housing mode's spring, an effect's housing
+// resonance): stiffness k along the terms `dir`, ratio ξ (assign_modal_damping()).
+struct OwnDamper {
+  std::vector<std::pair<int, double>> dir;
+  double stiffness = 0.0;
+  double damping_ratio = 0.0;
+};
+
 // Gearbox damping-ratio factor at f: damping_band_factor at the knots kDampingKnotsHz,
 // linear in log f between them, constant outside.
 double band_factor(const DynamicsParameters& dp, double f_hz) {
@@ -147,11 +196,10 @@ double band_factor(const DynamicsParameters& dp, double f_hz) {
 }
 
 // C = MΦ diag(2ξ_iω_i) ΦᵀM over every mode (header comment): ξ_i mixes the gearbox's
-// ratio and the housing modes' own by the share of mode i's strain energy (ω_i²/2 for a
-// mass-normalised mode) stored in each housing spring, k_h φ_ih² / ω_i².
+// ratio and the own ratios of the elements with their own damper by the share of mode i's
+// strain energy (ω_i²/2 for a mass-normalised mode) stored in each, k (dᵀφ_i)² / ω_i².
 bool assign_modal_damping(FullModel& model, const DynamicsParameters& dp,
-                          const std::vector<std::pair<int, std::pair<double, double>>>& housing,
-                          std::string* error) {
+                          const std::vector<OwnDamper>& own, std::string* error) {
   const Eigen::VectorXd inv_sqrt_m = model.mass.cwiseSqrt().cwiseInverse();
   const Eigen::MatrixXd k_sym = inv_sqrt_m.asDiagonal() * model.stiffness * inv_sqrt_m.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(k_sym);
@@ -169,10 +217,12 @@ bool assign_modal_damping(FullModel& model, const DynamicsParameters& dp,
                            band_factor(dp, w / (2.0 * std::numbers::pi));
     double share_total = 0.0;
     double xi = 0.0;
-    for (const auto& [dof, kx] : housing) {
-      const double share = kx.first * phi(dof, i) * phi(dof, i) / w2;
+    for (const OwnDamper& o : own) {
+      double strain = 0.0;
+      for (const auto& [dof, c] : o.dir) strain += c * phi(dof, i);
+      const double share = o.stiffness * strain * strain / w2;
       share_total += share;
-      xi += share * kx.second;
+      xi += share * o.damping_ratio;
     }
     xi += std::max(0.0, 1.0 - share_total) * gearbox;
     model.modal_damping_ratio[static_cast<std::size_t>(i)] = xi;
@@ -181,6 +231,458 @@ bool assign_modal_damping(FullModel& model, const DynamicsParameters& dp,
   const Eigen::MatrixXd mphi = model.mass.asDiagonal() * phi;
   model.damping_matrix = mphi * c_modal.asDiagonal() * mphi.transpose();
   model.damping_matrix = 0.5 * (model.damping_matrix + model.damping_matrix.transpose());
+  return true;
+}
+
+// What the effects need of the assembled gearbox.
+struct EffectSites {
+  const std::vector<Node>* sun_shaft = nullptr;
+  const std::vector<Node>* ims = nullptr;
+  const std::vector<Node>* hss = nullptr;
+  const std::vector<Node>* planets = nullptr;
+  const std::vector<double>* psi = nullptr;  // planet angles in the carrier frame [rad]
+  Node carrier, ring;
+  double r_carrier = 0.0, r_ring = 0.0;
+  std::array<GearPair, 4> pairs{};  // sun–planet, ring–planet, intermediate, high-speed
+  std::array<MeshGeometry, 4> geos{};
+  Eigen::Vector2d sensor_dir{0.0, 1.0};
+  std::array<double, 4> torque_ratio{};  // rotor, sun shaft, ims, hss torque per N·m input
+  std::array<const Node*, 6> bearing_nodes{};
+  std::vector<SeatRef> seats;
+};
+
+constexpr double kTwoPi = 2.0 * std::numbers::pi;
+
+PeriodicTable table_of(const auto& f) {
+  PeriodicTable t;
+  for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
+    t.values[i] = f(static_cast<double>(i) / static_cast<double>(PeriodicTable::kSize));
+  return t;
+}
+double wrap_half(double x) { return x - std::floor(x + 0.5); }  // to [−½, ½)
+double wrap_pi(double a) { return a - kTwoPi * std::floor(a / kTwoPi + 0.5); }
+
+// "planet" → 1, "planet2" → 2 (prefix = the planet gear's id); 0 if not that form.
+int planet_index(std::string_view location, std::string_view prefix, int planets) {
+  if (location.substr(0, prefix.size()) != prefix) return 0;
+  const std::string_view rest = location.substr(prefix.size());
+  if (rest.empty()) return 1;
+  int n = 0;
+  for (char c : rest) {
+    if (c < '0' || c > '9') return 0;
+    n = 10 * n + (c - '0');
+  }
+  return n >= 1 && n <= planets ? n : 0;
+}
+
+bool add_effects(const Drivetrain& d, const Kinematics& kin, const EffectSites& es,
+                 FullModel& model, std::string* error) {
+  const int n_dof = model.dofs();
+  const GearStage& ps = d.stages[0];
+  const GearStage& is = d.stages[1];
+  const GearStage& hs = d.stages[2];
+  const int planets = ps.planets;
+  const int mesh_int = 2 * planets, mesh_hs = 2 * planets + 1;
+  const double fo = model.frame_order;
+  // Signed speeds per rotor revolution in the housing frame (+: the carrier's sense).
+  const double o_sun = kin.stage_ratio(0);
+  const double o_ims = -o_sun * kin.stage_ratio(1);
+  const double o_hss = -o_ims * kin.stage_ratio(2);
+  const Gear* ring_gear = d.gear(ps.gears[2]);
+  const Gear* planet_gear = d.gear(ps.gears[1]);
+  const double o_planet =
+      -static_cast<double>(ring_gear->teeth) / planet_gear->teeth;  // rel. carrier
+  auto shaft_order = [&](std::string_view shaft) {
+    if (shaft == ps.output_shaft) return o_sun;
+    if (shaft == is.output_shaft) return o_ims;
+    if (shaft == hs.output_shaft) return o_hss;
+    if (shaft == "planet") return o_planet;
+    return 0.0;
+  };
+  const PeriodicTable cos_table = table_of([](double x) { return std::cos(kTwoPi * x); });
+  const PeriodicTable sin_table = table_of([](double x) { return std::sin(kTwoPi * x); });
+  Eigen::VectorXd x_unit;  // static deflection under 1 N·m: the bearings' load directions
+  auto unit_deflection = [&]() -> const Eigen::VectorXd& {
+    if (x_unit.size() == 0) x_unit = model.static_deflection(1.0);
+    return x_unit;
+  };
+
+  // A mesh of a gear: index, signed speed of the gear relative to the frame in which the
+  // mesh's contact point is fixed [per rotor revolution], and the angle at which the gear's
+  // reference point meets the contact point [rad].
+  struct GearMesh {
+    int mesh;
+    int geo;  // index into es.geos
+    double order;
+    double contact_angle;
+  };
+  auto meshes_of_gear = [&](const std::string& g) {
+    std::vector<GearMesh> out;
+    if (g == ps.gears[0]) {  // sun: meets each planet once per revolution relative to the carrier
+      for (int n = 0; n < planets; ++n) out.push_back({n, 0, o_sun - fo, (*es.psi)[n]});
+    } else if (const int k = planet_index(g, ps.gears[1], planets); k > 0) {
+      // A planet tooth meets the ring on the planet's outer side (angle ψ_k) and the sun on its
+      // inner side (ψ_k + π), turning at o_planet relative to the carrier.
+      out.push_back({k - 1, 0, o_planet, (*es.psi)[k - 1] + std::numbers::pi});
+      out.push_back({planets + k - 1, 1, o_planet, (*es.psi)[k - 1]});
+    } else if (g == is.gears[0]) {
+      out.push_back({mesh_int, 2, o_sun, 0.0});
+    } else if (g == is.gears[1]) {
+      out.push_back({mesh_int, 2, o_ims, 0.0});
+    } else if (g == hs.gears[0]) {
+      out.push_back({mesh_hs, 3, o_ims, 0.0});
+    } else if (g == hs.gears[1]) {
+      out.push_back({mesh_hs, 3, o_hss, 0.0});
+    }
+    return out;
+  };
+
+  // Force patterns: −F d̂ on the body of a bearing's inner ring, +F d̂ on its outer ring.
+  struct BearingBodies {
+    int in_x = -1, in_y = -1, in_t = -1;  // inner ring (shaft node, or the planet pin)
+    double pin_x = 0.0, pin_y = 0.0;      // the pin's position (planet bearings) [m]
+    // Outer ring: (dof, direction in the native frame) terms of its displacement (the
+    // planet's x, y, or a seat's DOFs); none: the casing.
+    std::vector<std::pair<int, Eigen::Vector2d>> out;
+    bool nodes_in_carrier_frame = false;
+    bool native_carrier_frame = false;  // the stationary race is fixed in the carrier
+  };
+  auto pattern_of = [&](const BearingBodies& b, double dx, double dy) {
+    Eigen::VectorXd p = Eigen::VectorXd::Zero(n_dof);
+    p[b.in_x] -= dx;
+    p[b.in_y] -= dy;
+    if (b.in_t >= 0) p[b.in_t] -= b.pin_x * dy - b.pin_y * dx;  // moment of −F at the pin
+    for (const auto& [dof, dir] : b.out) p[dof] += dir.x() * dx + dir.y() * dy;
+    return p;
+  };
+  // Adds F(t)·(T_x(θ), T_y(θ)) given in the bearing's native frame: tables tx, ty over one
+  // revolution of θ (order `o`), the impact train `pulse` (order `po`) as the primary shape.
+  auto add_bearing_force = [&](const BearingBodies& b, const std::string& id, double amplitude,
+                               const PeriodicTable& pulse, double po, const PeriodicTable& tx,
+                               const PeriodicTable& ty, double o, int group) {
+    auto term = [&](const Eigen::VectorXd& pattern, const PeriodicTable& t,
+                    std::array<double, 3> frame) {
+      ForceTerm f;
+      f.id = id;
+      f.pattern = pattern;
+      f.amplitude = amplitude;
+      f.shape = pulse;
+      f.order = po;
+      f.modulations.push_back({t, o, 0.0});
+      f.frame = frame;
+      f.impact_group = group;
+      model.forces.push_back(std::move(f));
+    };
+    const Eigen::VectorXd px = pattern_of(b, 1.0, 0.0), py = pattern_of(b, 0.0, 1.0);
+    if (b.nodes_in_carrier_frame && !b.native_carrier_frame) {
+      // Housing components into the carrier's axes: R(−ψ)(F_x, F_y).
+      term(px, tx, {0.0, 1.0, 0.0});
+      term(px, ty, {0.0, 0.0, 1.0});
+      term(py, tx, {0.0, 0.0, -1.0});
+      term(py, ty, {0.0, 1.0, 0.0});
+    } else {
+      term(px, tx, {1.0, 0.0, 0.0});
+      term(py, ty, {1.0, 0.0, 0.0});
+    }
+  };
+
+  int impact_groups = 0;
+  for (std::size_t ei = 0; ei < d.effects.size(); ++ei) {
+    const Effect& e = d.effects[ei];
+    const std::string what =
+        "effect '" + std::string(effect_id(e.kind)) + "' at '" + e.location + "'";
+    switch (e.kind) {
+      case EffectKind::kToothCrack: {
+        // The stiffness of every mesh of the gear drops by `stiffness_loss` while the cracked
+        // tooth is in contact: a raised-cosine window ε_γ/z of a revolution wide (ε_γ the
+        // total contact ratio: how many mesh cycles a tooth stays in contact), once per
+        // revolution of the gear relative to the contact point.
+        const double loss = *e.parameter("stiffness_loss");
+        const double phi0 = *e.parameter("tooth_angle_deg") * std::numbers::pi / 180.0;
+        const int k = planet_index(e.location, ps.gears[1], planets);
+        const Gear* gear = d.gear(k > 0 ? ps.gears[1] : e.location);
+        for (const GearMesh& gm : meshes_of_gear(e.location)) {
+          const double width = es.geos[gm.geo].total_contact_ratio() / gear->teeth;  // [rev]
+          Modulation m;
+          m.table = table_of([&](double x) {
+            const double u = wrap_half(x);
+            return std::abs(u) < 0.5 * width
+                       ? 1.0 - loss * 0.5 * (1.0 + std::cos(kTwoPi * u / width))
+                       : 1.0;
+          });
+          m.order = gm.order;
+          m.phase_cycles = (phi0 - gm.contact_angle) / kTwoPi * (gm.order < 0 ? -1.0 : 1.0);
+          model.meshes[gm.mesh].modulations.push_back(m);
+        }
+        break;
+      }
+      case EffectKind::kGearEccentricity: {
+        // Run-out e of the gear's teeth about its axis, turning with the gear: along the
+        // mesh normal a transmission error e·(n_xy·ê(θ)); along the line of centres a change
+        // of centre distance Δa, which shortens or lengthens the path of contact
+        // (dε_α/da = −1/(p_bt·sin α_wt) for an external pair with fixed base circles) and so
+        // modulates the mean stiffness c_γα ∝ 0.75ε_α + 0.25 (ISO 6336-1 §9.4).
+        const double ecc = *e.parameter("eccentricity_um") * 1e-6;
+        const double phi0 = *e.parameter("phase_deg") * std::numbers::pi / 180.0;
+        const std::string& g = e.location;
+        for (const GearMesh& gm : meshes_of_gear(g)) {
+          const MeshInfo& info = model.mesh_info[gm.mesh];
+          const MeshGeometry& geo = es.geos[gm.geo];
+          // The gear is the mesh's driver A (planet, g1, g3) or its driven B (sun, g2, g4).
+          const bool is_a = (g == is.gears[0] || g == hs.gears[0]);
+          const Eigen::Vector2d nxy = info.normal.head<2>();
+          const Eigen::Vector2d uab = (info.driven_centre_m - info.driver_centre_m).normalized();
+          MeshExcitation te;
+          // The run-out moves the flank towards the mate (interference, δ grows): e = −that.
+          te.amplitude_m = (is_a ? -1.0 : 1.0) * ecc * nxy.norm();
+          te.pattern = {cos_table, gm.order, (phi0 - std::atan2(nxy.y(), nxy.x())) / kTwoPi};
+          model.meshes[gm.mesh].excitations.push_back(te);
+          const double kappa = -0.75 / (0.75 * geo.transverse_contact_ratio + 0.25) /
+                               (geo.base_pitch_m * std::sin(geo.transverse_pressure_angle_rad));
+          const double c = kappa * (is_a ? -1.0 : 1.0) * ecc;  // Δa = ∓u_AB·ê e
+          Modulation m;
+          m.table = table_of([&](double x) { return 1.0 + c * std::cos(kTwoPi * x); });
+          m.order = gm.order;
+          m.phase_cycles = (phi0 - std::atan2(uab.y(), uab.x())) / kTwoPi;
+          model.meshes[gm.mesh].modulations.push_back(m);
+        }
+        break;
+      }
+      case EffectKind::kBearingOuterRaceDefect:
+      case EffectKind::kBearingInnerRaceDefect:
+      case EffectKind::kBearingBallDefect: {
+        const double force = *e.parameter("impact_force_n");
+        const double slip = *e.parameter("slip");
+        const double width_m = *e.parameter("defect_width_mm") * 1e-3;
+        BearingBodies bodies;
+        const Bearing* b = nullptr;
+        double o_r = 0.0;  // rotating race, per rotor revolution (native frame)
+        bool outer_turns = false;
+        Eigen::Vector2d load(0.0, 0.0);  // bearing load direction in the native frame
+        const Eigen::VectorXd& x1 = unit_deflection();
+        for (const Bearing& cand : d.bearings) {
+          if (cand.shaft == "planet" && planet_index(e.location, cand.id, planets) > 0) b = &cand;
+        }
+        if (b != nullptr) {  // a planet bearing: inner ring = the pin on the carrier
+          const int k = planet_index(e.location, b->id, planets) - 1;
+          const Node& p = (*es.planets)[k];
+          const double psi_k = (*es.psi)[k];
+          bodies.in_x = es.carrier.x;
+          bodies.in_y = es.carrier.y;
+          bodies.in_t = es.carrier.t;
+          bodies.pin_x = es.r_carrier * std::cos(psi_k);
+          bodies.pin_y = es.r_carrier * std::sin(psi_k);
+          bodies.out = {{p.x, Eigen::Vector2d(1.0, 0.0)}, {p.y, Eigen::Vector2d(0.0, 1.0)}};
+          bodies.nodes_in_carrier_frame = bodies.native_carrier_frame = true;
+          o_r = o_planet;
+          outer_turns = true;
+          // Force of the pin on the planet ~ planet − pin deflection.
+          load = Eigen::Vector2d(
+              x1[p.x] - x1[es.carrier.x] + es.r_carrier * std::sin(psi_k) * x1[es.carrier.t],
+              x1[p.y] - x1[es.carrier.y] - es.r_carrier * std::cos(psi_k) * x1[es.carrier.t]);
+        } else {
+          b = d.bearing(e.location);
+          static constexpr std::array<const char*, 6> kIds{"b1", "b2", "b3", "b4", "b5", "b6"};
+          const int i =
+              static_cast<int>(std::find_if(kIds.begin(), kIds.end(),
+                                            [&](const char* id) { return e.location == id; }) -
+                               kIds.begin());
+          if (b == nullptr || i >= 6) {
+            fail(error, "drivetrain '" + d.name + "': " + what +
+                            ": no such bearing in the dynamics model");
+            return false;
+          }
+          const Node& nd = *es.bearing_nodes[static_cast<std::size_t>(i)];
+          bodies.in_x = nd.x;
+          bodies.in_y = nd.y;
+          Eigen::Vector2d seat_x1(0.0, 0.0);
+          for (const SeatRef& seat : es.seats) {
+            if (seat.bearing != e.location) continue;
+            for (const SeatDof& sd : seat.dofs) bodies.out.push_back({sd.dof, sd.dir});
+            seat_x1 = seat.displacement(x1);
+          }
+          bodies.nodes_in_carrier_frame = (b->shaft == ps.output_shaft);
+          o_r = shaft_order(b->shaft);
+          load = Eigen::Vector2d(x1[nd.x], x1[nd.y]) - seat_x1;
+        }
+        const double theta_l = load.squaredNorm() > 0.0 ? std::atan2(load.y(), load.x()) : 0.0;
+        const double gamma =
+            b->element_diameter_m / b->pitch_diameter_m * std::cos(b->contact_angle_rad);
+        const double nb = b->elements;
+        // Cage speed relative to the stationary race, slowed by the slip.
+        const double o_cage = o_r * 0.5 * (outer_turns ? 1.0 + gamma : 1.0 - gamma) * (1.0 - slip);
+        const double d_outer =
+            b->pitch_diameter_m + b->element_diameter_m * std::cos(b->contact_angle_rad);
+        const double d_inner =
+            b->pitch_diameter_m - b->element_diameter_m * std::cos(b->contact_angle_rad);
+        // Load zone (Stribeck, ε = ½): q = cos^p of the angle from the load direction within
+        // ±90°, p = 10/9 for rollers, 3/2 for balls.
+        const double p_exp = b->type == BearingType::kRoller ? 10.0 / 9.0 : 1.5;
+        auto load_zone = [&](double angle) {
+          const double c = std::cos(wrap_pi(angle - theta_l));
+          return c > 0.0 ? std::pow(c, p_exp) : 0.0;
+        };
+        // An impact: a half sine lasting the time a rolling element takes to cross the
+        // defect, as a fraction of the impact period (at least three table samples).
+        auto pulse_table = [](double fraction) {
+          const double w = std::clamp(fraction, 3.0 / PeriodicTable::kSize, 0.5);
+          return table_of(
+              [w](double x) { return x < w ? std::sin(std::numbers::pi * x / w) : 0.0; });
+        };
+        const bool on_outer = e.kind == EffectKind::kBearingOuterRaceDefect;
+        const bool on_inner = e.kind == EffectKind::kBearingInnerRaceDefect;
+        const bool stationary_race = (on_outer && !outer_turns) || (on_inner && outer_turns);
+        const std::string id = e.location + "." + std::string(effect_id(e.kind));
+        const int group = impact_groups++;
+        if (e.kind == EffectKind::kBearingBallDefect) {
+          // A defect on a rolling element strikes both races once per element revolution
+          // (2·BSF), carried round by the cage through the load zone.
+          const double bsf =
+              b->pitch_diameter_m / (2.0 * b->element_diameter_m) * (1.0 - gamma * gamma);
+          const double po = 2.0 * bsf * std::abs(o_r) * (1.0 - slip);
+          const PeriodicTable pulse =
+              pulse_table(2.0 * width_m / (std::numbers::pi * b->element_diameter_m));
+          add_bearing_force(
+              bodies, id, force, pulse, po,
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }),
+              o_cage, group);
+        } else if (stationary_race) {
+          // A defect on the stationary race sits in the load zone: every element passing it
+          // strikes, along the load direction, at Nb × the cage speed.
+          const double po = nb * std::abs(o_cage);
+          const double race = on_outer ? d_outer : d_inner;
+          const PeriodicTable pulse = pulse_table(width_m * nb / (std::numbers::pi * race));
+          const double cx = std::cos(theta_l), cy = std::sin(theta_l);
+          add_bearing_force(bodies, id, force, pulse, po, PeriodicTable::constant(cx),
+                            PeriodicTable::constant(cy), 0.0, group);
+        } else {
+          // A defect on the turning race: struck at Nb × (race − cage speed), along the
+          // defect's own radius, hard inside the load zone, not at all outside it.
+          const double po = nb * std::abs(o_r - o_cage);
+          const double race = on_outer ? d_outer : d_inner;
+          const PeriodicTable pulse = pulse_table(width_m * nb / (std::numbers::pi * race));
+          add_bearing_force(
+              bodies, id, force, pulse, po,
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::cos(kTwoPi * x); }),
+              table_of([&](double x) { return load_zone(kTwoPi * x) * std::sin(kTwoPi * x); }), o_r,
+              group);
+        }
+        break;
+      }
+      case EffectKind::kShaftUnbalance: {
+        // F = U·Ω² turning with the shaft, at the shaft's heaviest gear (g1, g3, g4).
+        const double u = *e.parameter("unbalance_kg_m");
+        const double phi0 = *e.parameter("phase_deg") / 360.0;
+        const double o = shaft_order(e.location);
+        const Node* node = nullptr;
+        double o_rel = o;
+        if (e.location == ps.output_shaft) {
+          node = &(*es.sun_shaft)[kG1Node];
+          o_rel = o - fo;  // seen from the carrier's axes
+        } else if (e.location == is.output_shaft) {
+          node = &(*es.ims)[kG3Node];
+        } else {
+          node = &(*es.hss)[kG4Node];
+        }
+        for (int c = 0; c < 2; ++c) {
+          ForceTerm f;
+          f.id = e.location + ".shaft_unbalance";
+          f.pattern = Eigen::VectorXd::Zero(n_dof);
+          f.pattern[c == 0 ? node->x : node->y] = 1.0;
+          f.amplitude = u * std::pow(kTwoPi * o, 2);
+          f.per_rotor_hz_squared = true;
+          f.shape = c == 0 ? cos_table : sin_table;
+          f.order = o_rel;
+          f.phase_cycles = phi0;
+          model.forces.push_back(std::move(f));
+        }
+        break;
+      }
+      case EffectKind::kShaftMisalignment: {
+        // An angular misalignment δ makes the coupling carry the torque T with a bending
+        // moment T·δ that fluctuates twice per revolution (and once, `ratio_1x` of it),
+        // reacted over the lever ℓ to the next bearing: F = T_shaft·δ/ℓ (cos 2θ + r cos θ)
+        // along the offset's direction. hss: at the generator coupling, ℓ to b6; ims (no
+        // coupling): a bore misalignment, the moment as a couple on b3 and b4, ℓ the span.
+        const double delta = *e.parameter("misalignment_mrad") * 1e-3;
+        const double r1 = *e.parameter("ratio_1x");
+        const double dir = *e.parameter("direction_deg") * std::numbers::pi / 180.0;
+        const Eigen::Vector2d dv(std::cos(dir), std::sin(dir));
+        ForceTerm f;
+        f.id = e.location + ".shaft_misalignment";
+        f.pattern = Eigen::VectorXd::Zero(n_dof);
+        double lever = 0.0, ratio = 0.0;
+        if (e.location == hs.output_shaft) {
+          const Node& c = (*es.hss)[kGeneratorNode];
+          f.pattern[c.x] = dv.x();
+          f.pattern[c.y] = dv.y();
+          lever = d.shaft(hs.output_shaft)->length_m * (kGeneratorNode - kB6Node) / kHssElements;
+          ratio = es.torque_ratio[3];
+        } else {
+          const Node& a = (*es.ims)[kB3Node];
+          const Node& c = (*es.ims)[kB4Node];
+          f.pattern[a.x] = dv.x();
+          f.pattern[a.y] = dv.y();
+          f.pattern[c.x] = -dv.x();
+          f.pattern[c.y] = -dv.y();
+          lever = d.shaft(is.output_shaft)->length_m * (kB4Node - kB3Node) / kImsElements;
+          ratio = es.torque_ratio[2];
+        }
+        f.amplitude = ratio * delta / lever;
+        f.per_newton_metre = true;
+        f.shape = table_of(
+            [r1](double x) { return std::cos(2.0 * kTwoPi * x) + r1 * std::cos(kTwoPi * x); });
+        f.order = shaft_order(e.location);
+        model.forces.push_back(std::move(f));
+        break;
+      }
+      case EffectKind::kPlanetPassModulation: {
+        // The ring's reaction reaches a measured seat through the housing the more the
+        // nearer a planet stands to that seat's side of the ring: a path from the ring's
+        // rim (r_ring·θ_ring) to the seat's radial displacement whose stiffness is k_p times
+        // Σ_n h(ψ_n(t) − θ_seat), h a Hann window of half-width W (McFadden & Smith 1985's
+        // changing transmission path, here as a stiffness of the equations of motion).
+        const double kp = *e.parameter("path_stiffness_mn_m") * 1e6;
+        const double w = *e.parameter("window_deg") * std::numbers::pi / 180.0;
+        for (const SeatRef& seat : es.seats) {
+          static constexpr std::array<const char*, 6> kIds{"b1", "b2", "b3", "b4", "b5", "b6"};
+          const auto i = std::find_if(kIds.begin(), kIds.end(),
+                                      [&](const char* id) { return seat.bearing == id; }) -
+                         kIds.begin();
+          const Eigen::Vector2d c = es.bearing_nodes[static_cast<std::size_t>(i)]->centre;
+          const double theta_seat = std::atan2(c.y(), c.x());
+          const PeriodicTable h = table_of([&](double x) {
+            double sum = 0.0;
+            for (double psi_n : *es.psi) {
+              const double a = wrap_pi(kTwoPi * x + psi_n - theta_seat);
+              if (std::abs(a) < w) sum += std::pow(std::cos(0.5 * std::numbers::pi * a / w), 2);
+            }
+            return sum;
+          });
+          const double mean = h.mean();
+          if (!(mean > 0.0) || kp == 0.0) continue;
+          VaryingStiffness v;
+          v.id = "planet_pass." + seat.bearing;
+          v.directions = Eigen::MatrixXd::Zero(n_dof, 1);
+          v.directions(es.ring.t, 0) = es.r_ring;
+          for (const auto& [dof, coef] : seat.along(es.sensor_dir, -1.0))
+            v.directions(dof, 0) += coef;
+          v.mean_n_m = kp * mean;
+          v.shape = h;
+          for (double& s : v.shape.values) s /= mean;
+          v.order = fo;
+          v.phase_cycles = 0.0;
+          model.stiffness.noalias() +=
+              v.mean_n_m * v.directions.col(0) * v.directions.col(0).transpose();
+          model.paths.push_back(std::move(v));
+        }
+        break;
+      }
+      case EffectKind::kHousingResonance:
+        break;  // a DOF of the assembly (build_full_model)
+    }
+  }
   return true;
 }
 
@@ -193,28 +695,113 @@ int FullModel::dof(std::string_view name) const {
   return -1;
 }
 
-Eigen::VectorXd FullModel::transmission_error_force(double rotor_revolutions) const {
+Eigen::VectorXd VaryingStiffness::direction(int c, double psi_rad) const {
+  if (!rotates()) return directions.col(c);
+  return directions.col(c) + (std::cos(psi_rad) - 1.0) * rotation_cos.col(c) +
+         std::sin(psi_rad) * rotation_sin.col(c);
+}
+
+double ForceTerm::scale(double revs, double input_torque_nm, double rotor_hz,
+                        double psi_rad) const {
+  double a = amplitude;
+  if (per_newton_metre) a *= input_torque_nm;
+  if (per_rotor_hz_squared) a *= rotor_hz * rotor_hz;
+  if (events_revs.empty()) {
+    a *= shape.value(order * revs + phase_cycles);
+  } else {
+    // The latest impact at or before `revs`; its shape in the local coordinate, 0 once a
+    // whole nominal period has passed without the next one (the table wraps otherwise).
+    const auto it = std::upper_bound(events_revs.begin(), events_revs.end(), revs);
+    if (it == events_revs.begin()) return 0.0;
+    const double local = (revs - *(it - 1)) * std::abs(order);
+    if (local >= 1.0) return 0.0;
+    a *= shape.value(local);
+  }
+  for (const Modulation& m : modulations) a *= m.value(revs);
+  if (frame[1] != 0.0 || frame[2] != 0.0) {
+    a *= frame[0] + frame[1] * std::cos(psi_rad) + frame[2] * std::sin(psi_rad);
+  } else {
+    a *= frame[0];
+  }
+  return a;
+}
+
+double ForceTerm::mean_scale(double input_torque_nm, double rotor_hz) const {
+  double a = amplitude * frame[0];
+  if (per_newton_metre) a *= input_torque_nm;
+  if (per_rotor_hz_squared) a *= rotor_hz * rotor_hz;
+  a *= order == 0.0 ? shape.value(phase_cycles) : shape.mean();
+  for (const Modulation& m : modulations) a *= m.order == 0.0 ? m.value(0.0) : m.table.mean();
+  return a;
+}
+
+double FullModel::carrier_angle_rad(double rotor_revolutions) const {
+  return 2.0 * std::numbers::pi * frame_order * rotor_revolutions;
+}
+
+Eigen::VectorXd FullModel::force(double rotor_revolutions, double input_torque_nm,
+                                 double rotor_hz) const {
+  const double psi = carrier_angle_rad(rotor_revolutions);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
+  for (const ForceTerm& t : forces)
+    f += t.scale(rotor_revolutions, input_torque_nm, rotor_hz, psi) * t.pattern;
+  return f;
+}
+
+Eigen::VectorXd FullModel::mesh_excitation_force(double rotor_revolutions) const {
+  const double psi = carrier_angle_rad(rotor_revolutions);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
   for (const VaryingStiffness& v : meshes) {
-    const double e = v.transmission_error_m(rotor_revolutions);
-    if (e != 0.0) f += (v.stiffness_n_m(rotor_revolutions) * e) * v.directions.col(0);
+    if (v.excitations.empty()) continue;
+    f += v.stiffness_n_m(rotor_revolutions) * v.excitation_m(rotor_revolutions) *
+         v.direction(0, psi);
   }
   return f;
 }
 
-Eigen::VectorXd FullModel::force(double rotor_revolutions, double input_torque_nm) const {
-  Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
-  for (const ForceTerm& t : forces) f += t.scale(rotor_revolutions, input_torque_nm) * t.pattern;
-  return f;
+Eigen::MatrixXd FullModel::stiffness_at(double rotor_revolutions) const {
+  Eigen::MatrixXd k = stiffness;
+  const double psi = carrier_angle_rad(rotor_revolutions);
+  for (const auto* list : {&meshes, &bearings, &paths}) {
+    for (const VaryingStiffness& v : *list) {
+      if (!v.rotates()) continue;
+      for (int c = 0; c < v.directions.cols(); ++c) {
+        const Eigen::VectorXd u = v.direction(c, psi);
+        k.noalias() += v.mean_n_m *
+                       (u * u.transpose() - v.directions.col(c) * v.directions.col(c).transpose());
+      }
+    }
+  }
+  return k;
 }
 
 Eigen::VectorXd FullModel::static_deflection(double input_torque_nm) const {
+  return static_deflection_at(input_torque_nm, 0.0);
+}
+
+Eigen::VectorXd FullModel::static_deflection_at(double input_torque_nm,
+                                                double rotor_revolutions) const {
+  const double psi = carrier_angle_rad(rotor_revolutions);
   Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs());
-  for (const ForceTerm& t : forces) {
-    f += (t.per_newton_metre ? t.amplitude * input_torque_nm : t.amplitude) * t.shape.mean() *
-         t.pattern;
+  for (const ForceTerm& t : forces) f += t.mean_scale(input_torque_nm) * t.pattern;
+  // The mean transmission error pushes like a force: +u·k̄·ē.
+  for (const VaryingStiffness& v : meshes) {
+    double e = 0.0;
+    for (const MeshExcitation& x : v.excitations)
+      e += x.amplitude_m * (x.pattern.order == 0.0 ? x.pattern.value(0.0) : x.pattern.table.mean());
+    if (e != 0.0) f += v.mean_n_m * e * v.direction(0, psi);
   }
-  return stiffness.llt().solve(f);
+  if (rotor_revolutions == 0.0) return stiffness.llt().solve(f);
+  return stiffness_at(rotor_revolutions).llt().solve(f);
+}
+
+double FullModel::static_mesh_force(std::size_t i, const Eigen::VectorXd& x,
+                                    double rotor_revolutions) const {
+  const VaryingStiffness& v = meshes[i];
+  double e = 0.0;
+  for (const MeshExcitation& m : v.excitations)
+    e += m.amplitude_m * (m.pattern.order == 0.0 ? m.pattern.value(0.0) : m.pattern.table.mean());
+  return v.mean_n_m * (v.direction(0, carrier_angle_rad(rotor_revolutions)).dot(x) - e);
 }
 
 std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralParameters& s,
@@ -367,7 +954,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   std::vector<Node> planets;
   std::vector<double> psi;
   for (int n = 0; n < ps.planets; ++n) {
-    const double p = 2.0 * std::numbers::pi * n / ps.planets;  // equally spaced
+    const double p =
+        s.carrier_angle_rad + 2.0 * std::numbers::pi * n / ps.planets;  // equally spaced
     const std::string name = "planet" + std::to_string(n + 1);
     Node pn;
     pn.x = as.add_dof(name + ".x", planet.mass_kg);
@@ -473,33 +1061,35 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     as.spring({{p.y, 1.0}, {carrier.y, -1.0}, {carrier.t, -r_carrier * std::cos(psi[n])}}, k_pb);
   }
 
+  // ---- effects: validated first (effects.hpp) ------------------------------------------------
+  for (const Effect& e : d.effects) {
+    std::string why;
+    if (!check_effect(d, e, &why)) {
+      fail(error, "drivetrain '" + d.name + "': effects: " + why);
+      return std::nullopt;
+    }
+  }
+
   // ---- housing seats under the measured bearings -----------------------------------------------
-  // A seat's displacement in the housing frame is Σ_d dir_d · x[dof_d]: the legacy seat
-  // has seat.x along x and seat.y along y; a modal housing has each mode's DOF along the
-  // sensor direction s and one seat DOF across it (t). The sensor reads Σ sensor_d·ẍ[dof_d].
-  struct SeatDof {
-    int dof = -1;
-    Eigen::Vector2d dir{0.0, 0.0};
-    double sensor = 0.0;          // [-] weight in the sensor's reading
-    double stiffness = 0.0;       // [N/m] spring to ground (housing modes: m_k ω_k²)
-    double damping_ratio = -1.0;  // [-] a housing mode's own ξ_k; < 0: the gearbox's damping
-    int param = -1;               // a housing mode's index in DynamicsParameters' housing_*
-  };
-  struct Seat {
-    std::string bearing;
-    std::vector<SeatDof> dofs;
-  };
-  std::vector<Seat> seats;
+  // The sun shaft turns in the carrier frame; a seat under b1/b2 would join the two frames
+  // through the bearing's full stiffness, so seats sit under the parallel-stage bearings.
+  // A seat's displacement in the housing frame is Σ_d dir_d · x[dof_d] (SeatRef): the plain
+  // seat has seat.x along x and seat.y along y; a modal housing has each mode's DOF along the
+  // sensor direction s and one seat DOF across it (t).
+  using Seat = SeatRef;
   const Eigen::Vector2d sensor_dir(std::cos(s.sensor_angle_rad), std::sin(s.sensor_angle_rad));
   const Eigen::Vector2d across_dir(-sensor_dir.y(), sensor_dir.x());
+  std::vector<Seat> seats;
+  std::vector<OwnDamper> own_dampers;  // housing modes and housing resonances
   for (std::size_t p = 0; p < d.measurement_points.size(); ++p) {
     const MeasurementPoint& mp = d.measurement_points[p];
     bool known = false;
-    for (int i = 0; i < 6; ++i) known = known || mp.location == bearing_ids[i];
+    for (int i = 2; i < 6; ++i) known = known || mp.location == bearing_ids[i];
     if (!known) {
       fail(error, "drivetrain '" + d.name + "': measurement_points: '" + mp.channel +
                       "' sits on '" + mp.location +
-                      "'; the dynamics model has housing seats under b1..b6 only");
+                      "'; the dynamics model has housing seats under b3..b6 only (the sun "
+                      "shaft's b1, b2 turn with the carrier frame)");
       return std::nullopt;
     }
     Seat seat;
@@ -522,6 +1112,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
         h.damping_ratio = dp.housing_damping_ratio[i];
         h.param = static_cast<int>(i);
         as.spring({{h.dof, 1.0}}, h.stiffness);
+        own_dampers.push_back({{{h.dof, 1.0}}, h.stiffness, h.damping_ratio});
         seat.dofs.push_back(h);
       }
     }
@@ -547,6 +1138,22 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       as.spring({{y.dof, 1.0}}, y.stiffness);
       seat.dofs.push_back(x);
       seat.dofs.push_back(y);
+    }
+    // housing_resonance: the sensor sits on a housing mass m on a spring k = m(2πf)² to the
+    // seat, along the sensor's direction, with its own damper (assign_modal_damping()).
+    const Effect* resonance = nullptr;
+    for (const Effect& e : d.effects) {
+      if (e.kind == EffectKind::kHousingResonance && e.location == mp.location) resonance = &e;
+    }
+    if (resonance != nullptr) {
+      const double f = *resonance->parameter("frequency_hz");
+      const double m = *resonance->parameter("mass_kg");
+      seat.sensor_dof = as.add_dof("housing." + mp.location, m);
+      std::vector<std::pair<int, double>> dir = seat.along(sensor_dir, -1.0);
+      dir.insert(dir.begin(), {seat.sensor_dof, 1.0});
+      const double k = m * std::pow(2.0 * std::numbers::pi * f, 2);
+      as.spring(dir, k);
+      own_dampers.push_back({dir, k, *resonance->parameter("damping_ratio")});
     }
     seats.push_back(seat);
   }
@@ -595,6 +1202,13 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const int n_dof = model.dofs();
   model.rayleigh_eta = dp.rayleigh_eta;
   model.rayleigh_zeta = dp.rayleigh_zeta;
+  // The carrier is the rotor shaft (the input of the planetary stage).
+  model.frame_order = s.carrier_turns ? 1.0 : 0.0;
+  model.frame_inertia = s.frame_inertia;
+  model.carrier_frame_xy.push_back({carrier.x, carrier.y});
+  model.carrier_frame_xy.push_back({ringn.x, ringn.y});
+  for (const Node& p : planets) model.carrier_frame_xy.push_back({p.x, p.y});
+  for (const Node& nd : *sun_shaft) model.carrier_frame_xy.push_back({nd.x, nd.y});
 
   auto add_varying = [&](std::vector<VaryingStiffness>& list, VaryingStiffness v) {
     for (int c = 0; c < v.directions.cols(); ++c) {
@@ -613,6 +1227,16 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const MeshStiffness k_sp = mesh_stiffness(sp_pair, dp.mesh_stiffness_scale[0]);
   const MeshStiffness k_rp = mesh_stiffness(rp_pair, dp.mesh_stiffness_scale[0]);
   const double gamma_rs = ring_sun_phase(planet.teeth);
+  // Static transmission error of stage `stage` (DynamicsParameters::transmission_error_m):
+  // e(t) = Σ_h a_h cos(2π h (order·N_rotor + phase)), the mesh's own cycle; none when 0.
+  const auto add_transmission_error = [&](VaryingStiffness& v, std::size_t stage) {
+    const double* a = &dp.transmission_error_m[stage * kTransmissionErrorHarmonics];
+    if (std::all_of(a, a + kTransmissionErrorHarmonics, [](double x) { return x == 0.0; })) return;
+    MeshExcitation x;
+    x.amplitude_m = 1.0;
+    x.pattern = {transmission_error_table(a, kTransmissionErrorHarmonics), v.order, v.phase_cycles};
+    v.excitations.push_back(x);
+  };
   for (int n = 0; n < ps.planets; ++n) {
     const Eigen::Vector2d u(std::cos(psi[n]), std::sin(psi[n]));
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -627,8 +1251,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       v.shape = k_sp.shape;
       v.order = planetary_order;
       v.phase_cycles = sun_planet_phase(sun.teeth, psi[n]);
-      v.transmission_error =
-          transmission_error_table(&dp.transmission_error_m[0], kTransmissionErrorHarmonics);
+      add_transmission_error(v, 0);
       model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_sun * u, mv.n,
                                  sp_geo.base_radius1_m, sun_torque_ratio, 0.0, ps.planets});
       add_varying(model.meshes, std::move(v));
@@ -648,20 +1271,44 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.order = planetary_order;
     const double gamma = ring_planet_phase(ring.teeth, psi[n]) + gamma_rs;
     v.phase_cycles = gamma - std::floor(gamma);
-    v.transmission_error =
-        transmission_error_table(&dp.transmission_error_m[0], kTransmissionErrorHarmonics);
+    add_transmission_error(v, 0);
     // Ring reaction torque = T_in − T_sun.
     model.mesh_info.push_back({planets[n].centre, Eigen::Vector2d::Zero(), r_ring * u, mv.n,
                                rp_geo.base_radius2_m, 1.0 - sun_torque_ratio, 0.0, ps.planets});
     add_varying(model.meshes, std::move(v));
   }
 
+  // Pin position errors (StructuralParameters::planet_pin_error_m): both meshes of the planet
+  // close by e·(n·w) = e·cos α_t.
+  if (s.planet_pin_error_m.size() > static_cast<std::size_t>(ps.planets)) {
+    fail(error, "structure: planet_pin_error_m has " + std::to_string(s.planet_pin_error_m.size()) +
+                    " entries for " + std::to_string(ps.planets) + " planets");
+    return std::nullopt;
+  }
+  for (std::size_t n = 0; n < s.planet_pin_error_m.size(); ++n) {
+    const double e = s.planet_pin_error_m[n];
+    if (!std::isfinite(e)) {
+      fail(error, "structure: planet_pin_error_m[" + std::to_string(n) + "] must be finite");
+      return std::nullopt;
+    }
+    if (e == 0.0) continue;
+    for (std::size_t j : {n, n + static_cast<std::size_t>(ps.planets)}) {
+      MeshExcitation x;
+      x.amplitude_m = -e * std::cos(alpha);
+      x.pattern = {PeriodicTable::constant(1.0), 0.0, 0.0};
+      model.meshes[j].excitations.push_back(x);
+    }
+  }
+
   // ---- parallel helical meshes -----------------------------------------------------------------
   // Driver A (wheel) turning in sense `spin` (+1: +θ) pushes the pinion B tangentially in
   // A's surface velocity and away from A: n_t = spin·cos α_t·w + sin α_t·u, u from A to B.
+  // A wheel on the sun shaft (`a_turns`: the intermediate stage's g1) is described in the
+  // carrier frame, its pinion in the housing's: the housing-fixed normal n seen from the
+  // carrier's axes turns backwards, R(−ψ)n, so its g1 part is n cos ψ + Jᵀn sin ψ.
   auto parallel_mesh = [&](const char* id, const Node& a, const Node& b, const MeshGeometry& geo,
                            double spin, double order, double scale, const GearPair& pair,
-                           double torque_ratio, std::size_t stage) {
+                           double torque_ratio, bool a_turns, std::size_t stage) {
     const Eigen::Vector2d ab = b.centre - a.centre;
     const Eigen::Vector2d u = ab.normalized();
     const Eigen::Vector2d w(-u.y(), u.x());
@@ -677,8 +1324,15 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     v.shape = k.shape;
     v.order = order;
     v.phase_cycles = 0.0;
-    v.transmission_error = transmission_error_table(
-        &dp.transmission_error_m[stage * kTransmissionErrorHarmonics], kTransmissionErrorHarmonics);
+    add_transmission_error(v, stage);
+    if (a_turns) {
+      v.rotation_cos = Eigen::MatrixXd::Zero(n_dof, 1);
+      v.rotation_sin = Eigen::MatrixXd::Zero(n_dof, 1);
+      v.rotation_cos(a.x, 0) = mv.n.x();
+      v.rotation_cos(a.y, 0) = mv.n.y();
+      v.rotation_sin(a.x, 0) = mv.n.y();
+      v.rotation_sin(a.y, 0) = -mv.n.x();
+    }
     model.mesh_info.push_back({a.centre, b.centre, pitch, mv.n, geo.base_radius1_m, torque_ratio,
                                geo.base_helix_angle_rad, 1});
     add_varying(model.meshes, std::move(v));
@@ -687,9 +1341,10 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const double ims_torque_ratio = sun_torque_ratio / kin.stage_ratio(1);
   const double hss_torque_ratio = ims_torque_ratio / kin.stage_ratio(2);
   parallel_mesh("intermediate", (*sun_shaft)[kG1Node], (*ims)[kG2Node], int_geo, +1.0,
-                kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio, 1);
+                kin.mesh_hz(1, 60.0), dp.mesh_stiffness_scale[1], int_pair, ims_torque_ratio,
+                s.carrier_turns, 1);
   parallel_mesh("high_speed", (*ims)[kG3Node], (*hss)[kG4Node], hs_geo, -1.0, kin.mesh_hz(2, 60.0),
-                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, 2);
+                dp.mesh_stiffness_scale[2], hs_pair, hss_torque_ratio, false, 2);
 
   // ---- bearings b1..b6
   // ---------------------------------------------------------------------------
@@ -719,6 +1374,9 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
     v.order = f->bpfo_hz;  // varying compliance: one period per ball passing the outer race
     v.phase_cycles = 0.0;
+    // Isotropic (the same k(t) in x and y), so the sun shaft's b1, b2 are the same in the
+    // carrier's axes; their forces are turned into the housing frame when reported.
+    v.carrier_frame_xy = sites[i].shaft_group == 0;
     add_varying(model.bearings, std::move(v));
   }
 
@@ -735,20 +1393,70 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     sensor.channel = d.measurement_points[i].channel;
     sensor.location = seats[i].bearing;
     sensor.row = Eigen::VectorXd::Zero(n_dof);
-    for (const SeatDof& sd : seats[i].dofs) sensor.row[sd.dof] = sd.sensor;
+    if (seats[i].sensor_dof >= 0) {
+      sensor.row[seats[i].sensor_dof] = 1.0;
+    } else {
+      for (const SeatDof& sd : seats[i].dofs) sensor.row[sd.dof] = sd.sensor;
+    }
     model.sensors.push_back(sensor);
   }
 
-  // ---- damping: modal, strain-energy mix of the gearbox's and the housing modes' ratios -------
-  std::vector<std::pair<int, std::pair<double, double>>> housing_springs;  // dof, (k, ξ)
-  for (const Seat& seat : seats) {
-    for (const SeatDof& sd : seat.dofs) {
-      if (sd.damping_ratio >= 0.0)
-        housing_springs.push_back({sd.dof, {sd.stiffness, sd.damping_ratio}});
-    }
+  // ---- effects (effects.hpp)
+  // ---------------------------------------------------------------------
+  if (!d.effects.empty()) {
+    EffectSites es;
+    es.sun_shaft = &*sun_shaft;
+    es.ims = &*ims;
+    es.hss = &*hss;
+    es.planets = &planets;
+    es.psi = &psi;
+    es.carrier = carrier;
+    es.ring = ringn;
+    es.r_carrier = r_carrier;
+    es.r_ring = r_ring;
+    es.pairs = {sp_pair, rp_pair, int_pair, hs_pair};
+    es.geos = {sp_geo, rp_geo, int_geo, hs_geo};
+    es.sensor_dir = sensor_dir;
+    es.torque_ratio = {1.0, sun_torque_ratio, ims_torque_ratio, hss_torque_ratio};
+    for (int i = 0; i < 6; ++i) es.bearing_nodes[i] = sites[i].node;
+    for (const Seat& seat : seats) es.seats.push_back(seat);
+    if (!add_effects(d, kin, es, model, error)) return std::nullopt;
   }
-  if (!assign_modal_damping(model, dp, housing_springs, error)) return std::nullopt;
+
+  // ---- damping: modal, strain-energy mix of the gearbox's and the own dampers' ratios -------
+  if (!assign_modal_damping(model, dp, own_dampers, error)) return std::nullopt;
   return model;
+}
+
+}  // namespace model::dynamics
+
+namespace model::dynamics {
+
+void randomise_impacts(FullModel& model, double jitter, double seconds, double rotor_hz,
+                       unsigned long long seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const double last_rev = seconds * rotor_hz + 1.0;
+  for (int group = 0;; ++group) {
+    std::vector<ForceTerm*> terms;
+    for (ForceTerm& f : model.forces) {
+      if (f.impact_group == group) terms.push_back(&f);
+    }
+    if (terms.empty()) break;
+    const double order = std::abs(terms.front()->order);
+    if (!(order > 0.0)) continue;
+    const double period = 1.0 / order;  // [rotor revolutions]
+    // The deterministic train's first impact (shape(order·N + phase) starts at x = 0), one
+    // period early so that the record opens inside a train.
+    const double phase =
+        terms.front()->order > 0.0 ? terms.front()->phase_cycles : -terms.front()->phase_cycles;
+    std::vector<double> events;
+    for (double n = -period - (phase - std::floor(phase)) * period; n <= last_rev;) {
+      events.push_back(n);
+      n += period * std::max(0.5, 1.0 + jitter * normal(rng));
+    }
+    for (ForceTerm* f : terms) f->events_revs = events;
+  }
 }
 
 }  // namespace model::dynamics

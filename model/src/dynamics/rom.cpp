@@ -12,27 +12,60 @@
 namespace model::dynamics {
 
 static_assert(detail::kKernelDofs == kRomDofs && detail::kKernelMeshes == kRomMeshes &&
+                  detail::kKernelMeshBasis == kRomMeshBasis &&
                   detail::kKernelBearings == kRomBearings &&
                   detail::kKernelBearingRank == kRomBearingRank &&
-                  detail::kKernelForces == kRomForces && detail::kKernelSensors == kRomSensors &&
+                  detail::kKernelPaths == kRomPaths && detail::kKernelForces == kRomForces &&
+                  detail::kKernelSensors == kRomSensors &&
                   detail::kKernelReadoutRows == kRomReadoutRows &&
-                  detail::kKernelTerms == kRomTerms &&
+                  detail::kKernelLookups == kRomLookups &&
                   detail::kKernelTableSize == static_cast<int>(PeriodicTable::kSize),
               "rom_kernel.hpp's capacities must equal rom.hpp's");
 static_assert(kRomSensors == 2, "RomOutputs::acceleration_m_s2 is filled by the kernel");
+static_assert(kRomDofs % 8 == 0 && kRomLookups % 8 == 0, "whole SIMD vectors of 8");
 
 namespace {
+
+constexpr int kLookupOne = detail::kKernelLookupOne;
+constexpr int kLookupZero = detail::kKernelLookupZero;
+constexpr int kRowBearings = detail::kKernelRowBearings;
+constexpr int kRowTurning = detail::kKernelRowTurning;
+constexpr int kRowPaths = detail::kKernelRowPaths;
 
 bool fail(std::string* error, std::string message) {
   if (error) *error = std::move(message);
   return false;
 }
 
-RomStiffnessTerm to_rom(const VaryingStiffness& v) {
-  return {v.mean_n_m, v.order, v.phase_cycles, v.shape, v.transmission_error};
+// A table of the look-ups being laid out (build_rom only).
+struct LookupPlan {
+  double order = 0.0, phase = 0.0;
+  PeriodicTable table = PeriodicTable::constant(1.0);
+};
+
+// The product of factors of one order as one table at phase 0: Π_k table_k(x + phase_k).
+PeriodicTable product_table(const std::vector<const Modulation*>& factors) {
+  PeriodicTable t = PeriodicTable::constant(1.0);
+  for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
+    const double x = static_cast<double>(i) / PeriodicTable::kSize;
+    for (const Modulation* f : factors) t.values[i] *= f->table.value(x + f->phase_cycles);
+  }
+  return t;
 }
 
 }  // namespace
+
+double RomData::lookup(int t, double revs) const noexcept {
+  if (t == kLookupOne) return 1.0;
+  if (t == kLookupZero || t < 0 || t >= lookups) return 0.0;
+  const double x = term_order[t] * revs + term_phase_cycles[t];
+  const double pos = (x - std::floor(x)) * static_cast<double>(PeriodicTable::kSize);
+  const int i = std::min(static_cast<int>(pos), static_cast<int>(PeriodicTable::kSize) - 1);
+  const double w = pos - i;
+  const double* table = term_values.data() + t * static_cast<int>(PeriodicTable::kSize);
+  const double v0 = table[i];
+  return v0 + w * (table[(i + 1) % static_cast<int>(PeriodicTable::kSize)] - v0);
+}
 
 std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutoff_hz,
                                    std::string* error, RomBuildReport* report) {
@@ -42,12 +75,15 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   if (m.meshes.size() > static_cast<std::size_t>(kRomMeshes) ||
       m.bearings.size() > static_cast<std::size_t>(kRomBearings) ||
+      m.paths.size() > static_cast<std::size_t>(kRomPaths) ||
       m.forces.size() > static_cast<std::size_t>(kRomForces) ||
       m.sensors.size() > static_cast<std::size_t>(kRomSensors)) {
     fail(error,
-         "rom: the model has more meshes, bearings, forces or sensors than the ROM's capacity (" +
+         "rom: the model has more meshes, bearings, paths, forces or sensors than the ROM's "
+         "capacity (" +
              std::to_string(kRomMeshes) + ", " + std::to_string(kRomBearings) + ", " +
-             std::to_string(kRomForces) + ", " + std::to_string(kRomSensors) + ")");
+             std::to_string(kRomPaths) + ", " + std::to_string(kRomForces) + ", " +
+             std::to_string(kRomSensors) + ")");
     return nullptr;
   }
   const auto id_too_long = [&](const std::string& id) {
@@ -62,8 +98,40 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   for (const auto& v : m.sensors)
     if (id_too_long(v.channel)) return nullptr;
   for (const auto& b : m.bearings) {
-    if (b.directions.cols() != 2) {
-      fail(error, "rom: bearing '" + b.id + "' must have rank 2 (x, y)");
+    if (b.directions.cols() != 2 || b.rotates() || !b.modulations.empty() ||
+        !b.excitations.empty()) {
+      fail(error,
+           "rom: bearing '" + b.id + "' must be a fixed rank-2 (x, y) element with one table");
+      return nullptr;
+    }
+  }
+  for (const auto& p : m.paths) {
+    if (p.directions.cols() != 1 || p.rotates() || !p.modulations.empty()) {
+      fail(error, "rom: path '" + p.id + "' must be a fixed rank-1 element with one table");
+      return nullptr;
+    }
+  }
+  int turning = -1;
+  for (std::size_t j = 0; j < m.meshes.size(); ++j) {
+    const VaryingStiffness& v = m.meshes[j];
+    if (v.directions.cols() != 1) {
+      fail(error, "rom: mesh '" + v.id + "' must have rank 1");
+      return nullptr;
+    }
+    if (v.rotates()) {
+      if (turning >= 0) {
+        fail(error, "rom: meshes '" + m.meshes[static_cast<std::size_t>(turning)].id + "' and '" +
+                        v.id + "' both turn with the carrier; the ROM takes one turning mesh");
+        return nullptr;
+      }
+      turning = static_cast<int>(j);
+    }
+  }
+  for (const auto& f : m.forces) {
+    if (!f.events_revs.empty()) {
+      fail(error, "rom: force '" + f.id +
+                      "' has random impact times (randomise_impacts): the ROM "
+                      "takes the deterministic train");
       return nullptr;
     }
   }
@@ -89,16 +157,23 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   const Eigen::MatrixXd phi =
       inv_sqrt_m.asDiagonal() * full.eigenvectors().leftCols(keep);  // Φᵀ M Φ = I
 
-  // Static correction vectors: input torque and each mesh direction.
+  // Static correction vectors: every force pattern, mesh direction (the turning mesh's three
+  // parts: its compliance is then exact at every carrier angle) and path.
   std::vector<Eigen::VectorXd> loads;
   for (const auto& f : m.forces) loads.push_back(f.pattern);
-  for (const auto& v : m.meshes) loads.push_back(v.directions.col(0));
+  for (const auto& v : m.meshes) {
+    loads.push_back(v.directions.col(0));
+    // The turning mesh's cos ψ and sin ψ parts need no vectors of their own: the mesh
+    // compliance stays exact at every carrier angle without them (test_rom.cpp: 1e-10 of the
+    // full model's static mesh forces at four angles), and each would cost 1/64 of a step.
+  }
+  for (const auto& p : m.paths) loads.push_back(p.directions.col(0));
   const Eigen::LLT<Eigen::MatrixXd> k_llt(m.stiffness);
   // Bearings: their fluctuation acts as Δk_b(t)·(static deflection), a force along the
   // bearing's static load direction (proportional to the torque, so one vector each).
   Eigen::VectorXd unit_torque = Eigen::VectorXd::Zero(n);
   for (const auto& f : m.forces) {
-    if (f.per_newton_metre) unit_torque += f.amplitude * f.pattern;
+    if (f.per_newton_metre && f.id == "input_torque") unit_torque += f.amplitude * f.pattern;
   }
   if (unit_torque.squaredNorm() > 0.0) {
     const Eigen::VectorXd x1 = k_llt.solve(unit_torque);
@@ -106,6 +181,7 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
       loads.push_back(b.directions * (b.directions.transpose() * x1));
   }
   // Unit load vectors: the threshold below compares their residuals with each other.
+  std::erase_if(loads, [](const Eigen::VectorXd& l) { return !(l.squaredNorm() > 0.0); });
   for (auto& l : loads) l.normalize();
   Eigen::MatrixXd psi(n, static_cast<Eigen::Index>(loads.size()));
   for (std::size_t j = 0; j < loads.size(); ++j) {
@@ -152,24 +228,27 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   d.cutoff_hz = cutoff_hz;
   d.eigenmodes = keep;
   d.correction_vectors = n_corr;
+  d.dofs = (total + 7) / 8 * 8;
   d.mesh_count = static_cast<int>(m.meshes.size());
   d.bearing_count = static_cast<int>(m.bearings.size());
+  d.path_count = static_cast<int>(m.paths.size());
   d.force_count = static_cast<int>(m.forces.size());
   d.sensor_count = static_cast<int>(m.sensors.size());
+  d.turning_mesh = turning;
+  d.frame_order = m.frame_order;
   const auto set_id = [](RomId& out, const std::string& id) {
     std::copy(id.begin(), id.end(), out.chars.begin());  // length checked above
   };
   for (int j = 0; j < d.mesh_count; ++j) set_id(d.mesh_ids[j], m.meshes[j].id);
   for (int j = 0; j < d.bearing_count; ++j) set_id(d.bearing_ids[j], m.bearings[j].id);
   for (int j = 0; j < d.sensor_count; ++j) set_id(d.sensor_ids[j], m.sensors[j].channel);
-  // Modal damping φ_iᵀCφ_i: exact for the retained modes (C is modal in the full model's
-  // modes), the diagonal of the projection for the correction vectors' Ritz modes.
-  const Eigen::VectorXd c_modal =
-      (phi_r.transpose() * m.damping() * phi_r).diagonal().cwiseMax(0.0);
   for (int i = 0; i < total; ++i) {
     const double om2 = w2[i];
     const double om = std::sqrt(om2);
-    const double c = c_modal[i];
+    // The model's modal damping (full_model.hpp) projected, φ_iᵀCφ_i: exact for the
+    // retained modes (C is modal in the full model's modes), the diagonal of the
+    // projection for the correction vectors' Ritz modes.
+    const double c = std::max(0.0, phi_r.col(i).dot(m.damping() * phi_r.col(i)));
     d.omega_rad_s[i] = om;
     d.omega2[i] = om2;
     d.damping_1_s[i] = c;
@@ -190,74 +269,219 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
     d.b0v[i] = e(1, 2) - e(1, 3) / dt_s;
     d.b1v[i] = e(1, 3) / dt_s;
   }
+  const auto modal = [&](const Eigen::VectorXd& x) {
+    RomData::Vec out = RomData::Vec::Zero();
+    out.head(total) = phi_r.transpose() * x;
+    return out;
+  };
   for (int j = 0; j < d.mesh_count; ++j) {
-    d.w_mesh.col(j).head(total) = phi_r.transpose() * m.meshes[j].directions.col(0);
-    d.meshes[j] = to_rom(m.meshes[j]);
+    const VaryingStiffness& v = m.meshes[j];
+    d.w_mesh.col(j) = modal(v.directions.col(0));
+    if (j == turning) {
+      d.w_basis.col(j) = modal(v.directions.col(0) - v.rotation_cos.col(0));  // c
+      d.w_basis.col(kRomMeshes) = modal(v.rotation_cos.col(0));               // a
+      d.w_basis.col(kRomMeshes + 1) = modal(v.rotation_sin.col(0));           // b
+    } else {
+      d.w_basis.col(j) = d.w_mesh.col(j);
+    }
   }
-  d.g_mesh = d.w_mesh.transpose() * d.b1q.asDiagonal() * d.w_mesh;
+  // G over the basis, then its constant, cos ψ, sin ψ parts for the meshes' system.
+  const Eigen::Matrix<double, kRomMeshBasis, kRomMeshBasis> g10 =
+      d.w_basis.transpose() * d.b1q.asDiagonal() * d.w_basis;
+  d.g_mesh = g10.topLeftCorner<kRomMeshes, kRomMeshes>();
+  if (turning >= 0) {
+    const int r = turning, ca = kRomMeshes, cb = kRomMeshes + 1;
+    for (int j = 0; j < kRomMeshes; ++j) {
+      if (j == r) continue;
+      d.g_mesh_cos(j, r) = d.g_mesh_cos(r, j) = g10(j, ca);
+      d.g_mesh_sin(j, r) = d.g_mesh_sin(r, j) = g10(j, cb);
+    }
+    // W_r(ψ)ᵀBW_r(ψ) = G_cc + 2cos ψ G_ca + 2 sin ψ G_cb + cos²ψ G_aa + sin²ψ G_bb + 2 sin ψ cos ψ
+    // G_ab.
+    d.g_mesh(r, r) = g10(r, r) + 0.5 * (g10(ca, ca) + g10(cb, cb));
+    d.g_mesh_cos(r, r) = 2.0 * g10(r, ca);
+    d.g_mesh_sin(r, r) = 2.0 * g10(r, cb);
+    d.g_turning_2psi = {0.5 * (g10(ca, ca) - g10(cb, cb)), g10(ca, cb)};
+    // The extra column W_r(0) = c + a.
+    for (int j = 0; j < kRomMeshes; ++j) d.g_extra(j, 0) = g10(j, r) + g10(j, ca);
+    d.g_extra(r, 0) = g10(r, r) + g10(r, ca);
+    d.g_extra(r, 1) = g10(ca, r) + g10(ca, ca);
+    d.g_extra(r, 2) = g10(cb, r) + g10(cb, ca);
+    d.g_extra_self = g10(r, r) + 2.0 * g10(r, ca) + g10(ca, ca);
+  }
   for (int j = 0; j < d.bearing_count; ++j) {
-    d.w_bearing.col(2 * j).head(total) = phi_r.transpose() * m.bearings[j].directions.col(0);
-    d.w_bearing.col(2 * j + 1).head(total) = phi_r.transpose() * m.bearings[j].directions.col(1);
-    d.bearings[j] = to_rom(m.bearings[j]);
+    d.w_bearing.col(2 * j) = modal(m.bearings[j].directions.col(0));
+    d.w_bearing.col(2 * j + 1) = modal(m.bearings[j].directions.col(1));
+    d.bearing_mean_n_m[j] = m.bearings[j].mean_n_m;
+    d.bearing_carrier_frame[j] = m.bearings[j].carrier_frame_xy;
   }
-  d.readout.topRows(kRomMeshes) = d.w_mesh.transpose();
-  d.readout.bottomRows(kRomBearingRank) = d.w_bearing.transpose();
-  d.readout_by_dof.topRows(kRomMeshes + kRomBearingRank) = d.readout;
-  d.h_bearing_mesh = d.w_bearing.transpose() * d.b1q.asDiagonal() * d.w_mesh;
-  d.readout_correction.topRows(kRomMeshes) = d.g_mesh;
-  d.readout_correction.middleRows(kRomMeshes, kRomBearingRank) = d.h_bearing_mesh;
-  for (int j = 0; j < d.force_count; ++j) {
-    const ForceTerm& f = m.forces[j];
-    d.w_force.col(j).head(total) = phi_r.transpose() * f.pattern;
-    d.forces[j] = {f.per_newton_metre, f.amplitude, f.order, f.phase_cycles, f.shape};
+  for (int j = 0; j < d.path_count; ++j) {
+    d.w_path.col(j) = modal(m.paths[j].directions.col(0));
+    d.path_mean_n_m[j] = m.paths[j].mean_n_m;
   }
-  for (int j = 0; j < d.sensor_count; ++j) {
-    d.sensor_rows.row(j).head(total) = (phi_r.transpose() * m.sensors[j].row).transpose();
+  d.readout_by_dof.topRows<kRomMeshes>() = d.w_basis.leftCols<kRomMeshes>().transpose();
+  d.readout_by_dof.middleRows<kRomBearingRank>(kRowBearings) = d.w_bearing.transpose();
+  d.readout_by_dof.middleRows<2>(kRowTurning) = d.w_basis.rightCols<2>().transpose();
+  d.readout_by_dof.middleRows<kRomPaths>(kRowPaths) = d.w_path.transpose();
+  d.readout_correction = d.readout_by_dof * d.b1q.asDiagonal() * d.w_basis;
+  for (int j = 0; j < d.sensor_count; ++j)
+    d.sensor_rows.row(j) = modal(m.sensors[j].row).transpose();
+
+  // ---- look-ups ---------------------------------------------------------------------------
+  std::vector<LookupPlan> plan(static_cast<std::size_t>(kRomMeshes + kRomBearings + kRomPaths));
+  for (int j = 0; j < d.mesh_count; ++j) {
+    const VaryingStiffness& v = m.meshes[j];
+    plan[j] = {v.order, v.phase_cycles, v.shape};
+    d.mesh_mean_n_m[j] = v.mean_n_m;
   }
-  // The look-up layout of the same terms (unused slots too: inert, scale 0).
-  const auto set_term = [&d](int t, double order, double phase_cycles, double scale,
-                             double scale_per_nm, const PeriodicTable& shape) {
-    d.term_order[t] = order;
-    d.term_phase_cycles[t] = phase_cycles;
-    d.term_scale[t] = scale;
-    d.term_scale_per_nm[t] = scale_per_nm;
-    std::copy(shape.values.begin(), shape.values.end(),
-              d.term_values.begin() + t * static_cast<int>(PeriodicTable::kSize));
+  for (int j = 0; j < d.bearing_count; ++j) {
+    const VaryingStiffness& v = m.bearings[j];
+    plan[kRomMeshes + j] = {v.order, v.phase_cycles, v.shape};
+  }
+  for (int j = 0; j < d.path_count; ++j) {
+    const VaryingStiffness& v = m.paths[j];
+    plan[kRomMeshes + kRomBearings + j] = {v.order, v.phase_cycles, v.shape};
+  }
+  // Factors of one order share a look-up (their product as one table); a constant factor
+  // (order 0) folds into the consumer's scale.
+  auto add_lookup = [&](const std::vector<const Modulation*>& factors, double& scale) -> int {
+    std::vector<const Modulation*> varying;
+    for (const Modulation* f : factors) {
+      if (f->order == 0.0) {
+        scale *= f->value(0.0);
+      } else {
+        varying.push_back(f);
+      }
+    }
+    if (varying.empty()) return kLookupOne;
+    for (const Modulation* f : varying) {
+      if (f->order != varying.front()->order) return -1;  // two orders: more than one table
+    }
+    if (varying.size() == 1) {
+      plan.push_back(
+          {varying.front()->order, varying.front()->phase_cycles, varying.front()->table});
+    } else {
+      plan.push_back({varying.front()->order, 0.0, product_table(varying)});
+    }
+    return static_cast<int>(plan.size()) - 1;
   };
   for (int j = 0; j < kRomMeshes; ++j) {
-    const RomStiffnessTerm& t = d.meshes[j];
-    set_term(j, t.order, t.phase_cycles, t.mean_n_m, 0.0, t.shape);
+    d.mesh_shape[j] = j;
+    d.mesh_modulation[j] = kLookupOne;
+    d.mesh_error0[j] = d.mesh_error1[j] = kLookupZero;
   }
-  for (int j = 0; j < kRomBearings; ++j) {
-    const RomStiffnessTerm& t = d.bearings[j];
-    set_term(kRomMeshes + j, t.order, t.phase_cycles, t.mean_n_m, 0.0, t.shape);
+  for (int j = 0; j < d.mesh_count; ++j) {
+    const VaryingStiffness& v = m.meshes[j];
+    std::vector<const Modulation*> mods;
+    for (const Modulation& mo : v.modulations) mods.push_back(&mo);
+    double scale = 1.0;
+    const int mi = add_lookup(mods, scale);
+    if (mi < 0) {
+      fail(error, "rom: mesh '" + v.id +
+                      "': modulations of more than one order (two gears' "
+                      "effects on one mesh); the ROM takes one");
+      return nullptr;
+    }
+    d.mesh_modulation[j] = mi;
+    d.mesh_mean_n_m[j] *= scale;
+    // Transmission errors: one look-up per order, amplitude in the table, at most two orders.
+    // A constant one (order 0: a planet pin's position error) joins the first order's table.
+    std::vector<std::pair<double, std::vector<const MeshExcitation*>>> by_order;
+    double constant_m = 0.0;
+    bool has_constant = false;
+    for (const MeshExcitation& x : v.excitations) {
+      if (x.pattern.order == 0.0) {
+        constant_m += x.amplitude_m * x.pattern.table.value(x.pattern.phase_cycles);
+        has_constant = true;
+        continue;
+      }
+      auto it = std::find_if(by_order.begin(), by_order.end(),
+                             [&](const auto& g) { return g.first == x.pattern.order; });
+      if (it == by_order.end()) {
+        by_order.push_back({x.pattern.order, {&x}});
+      } else {
+        it->second.push_back(&x);
+      }
+    }
+    if (has_constant && by_order.empty()) by_order.push_back({0.0, {}});
+    if (by_order.size() > 2) {
+      fail(error, "rom: mesh '" + v.id + "': transmission errors of more than two orders");
+      return nullptr;
+    }
+    for (std::size_t g = 0; g < by_order.size(); ++g) {
+      PeriodicTable t = PeriodicTable::constant(g == 0 ? constant_m : 0.0);
+      for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
+        const double x = static_cast<double>(i) / PeriodicTable::kSize;
+        for (const MeshExcitation* e : by_order[g].second)
+          t.values[i] += e->amplitude_m * e->pattern.table.value(x + e->pattern.phase_cycles);
+      }
+      plan.push_back({by_order[g].first, 0.0, t});
+      (g == 0 ? d.mesh_error0 : d.mesh_error1)[j] = static_cast<int>(plan.size()) - 1;
+      d.excitation = true;
+    }
   }
-  for (int j = 0; j < kRomForces; ++j) {
-    const RomForceTerm& f = d.forces[j];
-    set_term(kRomMeshes + kRomBearings + j, f.order, f.phase_cycles,
-             f.per_newton_metre ? 0.0 : f.amplitude, f.per_newton_metre ? f.amplitude : 0.0,
-             f.shape);
+  for (int j = 0; j < d.force_count; ++j) {
+    const ForceTerm& f = m.forces[j];
+    d.w_force.col(j) = modal(f.pattern);
+    double scale = f.amplitude;
+    const Modulation primary{f.shape, f.order, f.phase_cycles};
+    const int i0 = add_lookup({&primary}, scale);
+    std::vector<const Modulation*> mods;
+    for (const Modulation& mo : f.modulations) mods.push_back(&mo);
+    const int i1 = add_lookup(mods, scale);
+    if (i1 < 0) {
+      fail(error, "rom: force '" + f.id + "': modulations of more than one order");
+      return nullptr;
+    }
+    d.force_index0[j] = i0;
+    d.force_index1[j] = i1;
+    d.force_scale[j] = f.per_newton_metre || f.per_rotor_hz_squared ? 0.0 : scale;
+    d.force_per_nm[j] = f.per_newton_metre ? scale : 0.0;
+    d.force_per_hz2[j] = f.per_rotor_hz_squared ? scale : 0.0;
+    if (f.per_newton_metre && f.per_rotor_hz_squared) {
+      fail(error,
+           "rom: force '" + f.id + "': an amplitude both per N·m and per Hz² is not supported");
+      return nullptr;
+    }
+    for (int k = 0; k < 3; ++k) d.force_frame[3 * j + k] = f.frame[k];
   }
-  for (int j = 0; j < kRomMeshes; ++j) {
-    const RomStiffnessTerm& t = d.meshes[j];
-    set_term(kRomMeshes + kRomBearings + kRomForces + j, t.order, t.phase_cycles, 1.0, 0.0,
-             t.transmission_error);
+  if (plan.size() > static_cast<std::size_t>(kRomLookups)) {
+    fail(error, "rom: " + std::to_string(plan.size()) +
+                    " table look-ups exceed the capacity kRomLookups = " +
+                    std::to_string(kRomLookups) + " (too many effects at once)");
+    return nullptr;
   }
-  // Explicit bearing fluctuation: each mode's share of the fluctuating stiffness must stay
-  // below its own stiffness (see the stability note in rom.hpp).
+  d.lookups = static_cast<int>((plan.size() + 7) / 8 * 8);
+  for (int t = 0; t < d.lookups; ++t) {
+    const LookupPlan p = t < static_cast<int>(plan.size()) ? plan[t] : LookupPlan{};
+    d.term_order[t] = p.order;
+    d.term_phase_cycles[t] = p.phase;
+    std::copy(p.table.values.begin(), p.table.values.end(),
+              d.term_values.begin() + t * static_cast<int>(PeriodicTable::kSize));
+  }
+
+  // Explicit bearing and path fluctuation: each mode's share of the fluctuating stiffness
+  // must stay below its own stiffness (see the stability note above).
+  const auto swing = [&](int t, double mean) {
+    const double* table = d.term_values.data() + t * static_cast<int>(PeriodicTable::kSize);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
+      worst = std::max(worst, std::abs(table[i] - 1.0));
+    return worst * mean;
+  };
   for (int i = 0; i < total; ++i) {
     double share = 0.0;
     for (int j = 0; j < d.bearing_count; ++j) {
-      const double amp =
-          (*std::max_element(d.bearings[j].shape.values.begin(), d.bearings[j].shape.values.end()) -
-           1.0) *
-          d.bearings[j].mean_n_m;
-      share += amp * (d.w_bearing(i, 2 * j) * d.w_bearing(i, 2 * j) +
-                      d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
+      share += swing(kRomMeshes + j, d.bearing_mean_n_m[j]) *
+               (d.w_bearing(i, 2 * j) * d.w_bearing(i, 2 * j) +
+                d.w_bearing(i, 2 * j + 1) * d.w_bearing(i, 2 * j + 1));
     }
+    for (int j = 0; j < d.path_count; ++j)
+      share += swing(kRomMeshes + kRomBearings + j, d.path_mean_n_m[j]) * d.w_path(i, j) *
+               d.w_path(i, j);
     if (share >= d.omega2[i]) {
-      fail(error, "rom: bearing stiffness fluctuation exceeds the stiffness of ROM mode " +
-                      std::to_string(i) + " (explicit bearing terms would be unstable)");
+      fail(error, "rom: bearing or path stiffness fluctuation exceeds the stiffness of ROM mode " +
+                      std::to_string(i) + " (explicit terms would be unstable)");
       return nullptr;
     }
   }
@@ -274,7 +498,56 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   return data;
 }
 
-Rom::Rom(const RomData& data) noexcept : data_(&data) {}
+Rom::Rom(const RomData& data) noexcept : data_(&data) { bind_kernel(); }
+
+void Rom::bind_kernel() noexcept {
+  const RomData& d = *data_;
+  kernel_ = detail::RomKernelModel{d.dofs,
+                                   d.lookups,
+                                   d.force_count,
+                                   d.path_count,
+                                   d.turning_mesh,
+                                   d.excitation,
+                                   d.pqq.data(),
+                                   d.pqv.data(),
+                                   d.b0q.data(),
+                                   d.b1q.data(),
+                                   d.pvq.data(),
+                                   d.pvv.data(),
+                                   d.b0v.data(),
+                                   d.b1v.data(),
+                                   d.damping_1_s.data(),
+                                   d.omega2.data(),
+                                   d.w_force.data(),
+                                   d.w_bearing.data(),
+                                   d.w_path.data(),
+                                   d.w_basis.data(),
+                                   d.readout_by_dof.data(),
+                                   d.g_mesh.data(),
+                                   d.g_mesh_cos.data(),
+                                   d.g_mesh_sin.data(),
+                                   d.g_turning_2psi.data(),
+                                   d.g_extra.data(),
+                                   d.g_extra_self,
+                                   d.readout_correction.data(),
+                                   d.sensor_rows.data(),
+                                   d.term_order.data(),
+                                   phase_base_.data(),
+                                   d.term_values.data(),
+                                   d.mesh_mean_n_m.data(),
+                                   d.mesh_shape.data(),
+                                   d.mesh_modulation.data(),
+                                   d.mesh_error0.data(),
+                                   d.mesh_error1.data(),
+                                   d.bearing_mean_n_m.data(),
+                                   d.path_mean_n_m.data(),
+                                   d.force_scale.data(),
+                                   d.force_per_nm.data(),
+                                   d.force_per_hz2.data(),
+                                   d.force_index0.data(),
+                                   d.force_index1.data(),
+                                   d.force_frame.data()};
+}
 
 namespace {
 // frac(order·whole) without the rounding of the product: whole is exact in a double
@@ -293,6 +566,7 @@ double wrap_cycles(double x) noexcept { return x - std::floor(x); }
 void Rom::adopt(const RomData& next, const RomInputs& in) noexcept {
   const double t = time_s();  // the old model's step
   data_ = &next;
+  bind_kernel();
   reset_at(in, whole_revs_, frac_revs_, t, 0);
 }
 
@@ -315,9 +589,14 @@ void Rom::set_angle(std::int64_t whole, double fraction) noexcept {
     ++whole_revs_;
   }
   const RomData& d = *data_;
-  for (int t = 0; t < kRomTerms; ++t)
+  for (int t = 0; t < kRomLookups; ++t)
     phase_base_[t] = wrap_cycles(frac_of_product(d.term_order[t], whole_revs_) +
                                  wrap_cycles(d.term_phase_cycles[t]));
+  psi_base_ = frac_of_product(d.frame_order, whole_revs_);
+  const double psi = 2.0 * std::numbers::pi * wrap_cycles(psi_base_ + d.frame_order * frac_revs_);
+  cos_psi_ = std::cos(psi);
+  sin_psi_ = std::sin(psi);
+  steps_since_exact_ = 0;
 }
 
 void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
@@ -326,43 +605,93 @@ void Rom::reset_at(const RomInputs& in, std::int64_t whole, double fraction, dou
   t0_ = t0;
   steps_ = steps;
   set_angle(whole, fraction);
-  // Phase of term t at the current angle [cycles] (unwrapped: value() wraps).
-  const auto phase = [this](int t, double order) { return order * frac_revs_ + phase_base_[t]; };
-  constexpr int kFirstBearingTerm = kRomMeshes;
-  constexpr int kFirstForceTerm = kRomMeshes + kRomBearings;
-  // Static equilibrium under the mean stiffness and the mean force: ω² q = Φᵀ f̄.
+  const double cpsi = cos_psi_, spsi = sin_psi_;
+  const double hz = in.rotor_speed_rpm / 60.0;
+  const int r = d.turning_mesh;
+  // Value of look-up t at the current angle (RomData::lookup's arithmetic on the split angle).
+  const auto now = [&](int t) {
+    if (t == kLookupOne) return 1.0;
+    if (t == kLookupZero || t < 0 || t >= d.lookups) return 0.0;
+    const double x = d.term_order[t] * frac_revs_ + phase_base_[t];
+    const double pos = (x - std::floor(x)) * static_cast<double>(PeriodicTable::kSize);
+    const int i = std::min(static_cast<int>(pos), static_cast<int>(PeriodicTable::kSize) - 1);
+    const double w = pos - i;
+    const double* table = d.term_values.data() + t * static_cast<int>(PeriodicTable::kSize);
+    return table[i] + w * (table[(i + 1) % static_cast<int>(PeriodicTable::kSize)] - table[i]);
+  };
+  // Mean of a look-up over time (its table's mean; a constant's value).
+  const auto mean_of = [&](int t) {
+    if (t == kLookupOne) return 1.0;
+    if (t == kLookupZero || t < 0 || t >= d.lookups) return 0.0;
+    if (d.term_order[t] == 0.0) return now(t);
+    double s = 0.0;
+    for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
+      s += d.term_values[static_cast<std::size_t>(t) * PeriodicTable::kSize + i];
+    return s / PeriodicTable::kSize;
+  };
+  // Static equilibrium under the mean stiffness at this carrier angle and the mean forces:
+  // (Λ + k̄_r[W_r(ψ)W_r(ψ)ᵀ − W_r(0)W_r(0)ᵀ]) q = Φᵀf̄ + Σ W_j k̄_j ē_j, by Woodbury (rank 2).
   RomData::Vec f = RomData::Vec::Zero();
-  RomData::Vec f_now = RomData::Vec::Zero();  // the force at this angle
+  RomData::Vec f_now = RomData::Vec::Zero();
   for (int j = 0; j < d.force_count; ++j) {
-    const RomForceTerm& ft = d.forces[j];
-    const double a = ft.per_newton_metre ? ft.amplitude * in.input_torque_nm : ft.amplitude;
-    f.noalias() += (a * ft.shape.mean()) * d.w_force.col(j);
-    f_now.noalias() +=
-        (a * ft.shape.value(phase(kFirstForceTerm + j, ft.order))) * d.w_force.col(j);
+    const double a =
+        d.force_scale[j] + d.force_per_nm[j] * in.input_torque_nm + d.force_per_hz2[j] * hz * hz;
+    const double* fr = d.force_frame.data() + 3 * j;
+    f.noalias() +=
+        (a * mean_of(d.force_index0[j]) * mean_of(d.force_index1[j]) * fr[0]) * d.w_force.col(j);
+    f_now.noalias() += (a * now(d.force_index0[j]) * now(d.force_index1[j]) *
+                        (fr[0] + fr[1] * cpsi + fr[2] * spsi)) *
+                       d.w_force.col(j);
   }
-  for (int i = 0; i < kRomDofs; ++i) q_[i] = d.omega2[i] > 0.0 ? f[i] / d.omega2[i] : 0.0;
+  RomData::Vec w_r = RomData::Vec::Zero(), w_0 = RomData::Vec::Zero();
+  if (r >= 0) {
+    w_0 = d.w_mesh.col(r);
+    w_r =
+        d.w_basis.col(r) + cpsi * d.w_basis.col(kRomMeshes) + spsi * d.w_basis.col(kRomMeshes + 1);
+  }
+  for (int j = 0; j < d.mesh_count; ++j) {
+    const double e = mean_of(d.mesh_error0[j]) + mean_of(d.mesh_error1[j]);
+    if (e != 0.0)
+      f.noalias() += (d.mesh_mean_n_m[j] * e) * (j == r ? w_r : RomData::Vec(d.w_basis.col(j)));
+  }
+  RomData::Vec inv_l = RomData::Vec::Zero();
+  for (int i = 0; i < kRomDofs; ++i) inv_l[i] = d.omega2[i] > 0.0 ? 1.0 / d.omega2[i] : 0.0;
+  q_ = inv_l.cwiseProduct(f);
+  if (r >= 0) {
+    // (Λ + U D Uᵀ)⁻¹f = Λ⁻¹f − Λ⁻¹U (D⁻¹ + UᵀΛ⁻¹U)⁻¹ UᵀΛ⁻¹f, U = [W_r(ψ), W_r(0)], D = k̄(1, −1).
+    const double k = d.mesh_mean_n_m[r];
+    const RomData::Vec lu0 = inv_l.cwiseProduct(w_r), lu1 = inv_l.cwiseProduct(w_0);
+    Eigen::Matrix2d s;
+    s << 1.0 / k + w_r.dot(lu0), w_r.dot(lu1), w_0.dot(lu0), -1.0 / k + w_0.dot(lu1);
+    const Eigen::Vector2d rhs(w_r.dot(q_), w_0.dot(q_));
+    const Eigen::Vector2d c = s.inverse() * rhs;
+    q_ -= lu0 * c[0] + lu1 * c[1];
+  }
   v_.setZero();
-  // Modal force now with the actual (not mean) stiffness at this rotor angle.
-  z_bearing_.noalias() = d.w_bearing.transpose() * q_;
-  z_mesh_.noalias() = d.w_mesh.transpose() * q_;
-  Eigen::Matrix<double, kRomBearingRank, 1> fb;
-  for (int j = 0; j < kRomBearings; ++j) {
-    const RomStiffnessTerm& b = d.bearings[j];
-    const double dk = b.mean_n_m * (b.shape.value(phase(kFirstBearingTerm + j, b.order)) - 1.0);
-    fb[2 * j] = dk * z_bearing_[2 * j];
-    fb[2 * j + 1] = dk * z_bearing_[2 * j + 1];
-  }
-  // Mesh terms at this angle: −Δk·δ + k·e (the transmission-error force).
-  Eigen::Matrix<double, kRomMeshes, 1> fm;
-  for (int j = 0; j < kRomMeshes; ++j) {
-    const RomStiffnessTerm& mt = d.meshes[j];
-    const double x = phase(j, mt.order);
-    const double k = mt.mean_n_m * mt.shape.value(x);
-    fm[j] = (k - mt.mean_n_m) * z_mesh_[j] - k * mt.transmission_error.value(x);
-  }
+  // The modal force now, with the actual (not mean) stiffness at this rotor angle.
+  for (int k = 0; k < kRomReadoutRows; ++k) z_[k] = d.readout_by_dof.row(k).dot(q_);
   g_ = f_now;
-  g_.noalias() -= d.w_bearing * fb;
-  g_.noalias() -= d.w_mesh * fm;
+  for (int j = 0; j < d.bearing_count; ++j) {
+    const double dk = d.bearing_mean_n_m[j] * (now(kRomMeshes + j) - 1.0);
+    g_.noalias() -= (dk * z_[kRowBearings + 2 * j]) * d.w_bearing.col(2 * j);
+    g_.noalias() -= (dk * z_[kRowBearings + 2 * j + 1]) * d.w_bearing.col(2 * j + 1);
+  }
+  for (int j = 0; j < d.path_count; ++j) {
+    const double dk = d.path_mean_n_m[j] * (now(kRomMeshes + kRomBearings + j) - 1.0);
+    g_.noalias() -= (dk * z_[kRowPaths + j]) * d.w_path.col(j);
+  }
+  for (int j = 0; j < d.mesh_count; ++j) {
+    const double k = d.mesh_mean_n_m[j] * now(d.mesh_shape[j]) * now(d.mesh_modulation[j]);
+    const double e = now(d.mesh_error0[j]) + now(d.mesh_error1[j]);
+    if (j == r) {
+      // k(z(ψ) − e) along W_r(ψ), less the diagonal's k̄ z(0) along W_r(0).
+      const double z_psi = w_r.dot(q_), z_0 = w_0.dot(q_);
+      g_.noalias() -= (k * (z_psi - e)) * w_r;
+      g_.noalias() += (d.mesh_mean_n_m[j] * z_0) * w_0;
+    } else {
+      g_.noalias() -= ((k - d.mesh_mean_n_m[j]) * z_[j] - k * e) * d.w_basis.col(j);
+    }
+  }
 }
 
 void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
@@ -370,36 +699,43 @@ void Rom::step(const RomInputs& in, RomOutputs& out) noexcept {
   // The angle within the current revolution (may pass 1 in this step; the phases stay
   // continuous: order·(f − 1) + frac(order·(w + 1)) = order·f + frac(order·w) mod 1).
   const double revs_next = frac_revs_ + in.rotor_speed_rpm * (1.0 / 60.0) * d.dt_s;
+  // The carrier angle's cosine and sine, turned by this step's small angle (Taylor terms to
+  // Δψ⁴, Δψ ≤ 1e-4 rad: exact to rounding) and recomputed exactly every 4096 steps and at
+  // every revolution (set_angle).
+  if (d.frame_order != 0.0) {
+    if (++steps_since_exact_ >= 4096) {
+      const double psi =
+          2.0 * std::numbers::pi * wrap_cycles(psi_base_ + d.frame_order * revs_next);
+      cos_psi_ = std::cos(psi);
+      sin_psi_ = std::sin(psi);
+      steps_since_exact_ = 0;
+    } else {
+      const double dpsi = 2.0 * std::numbers::pi * d.frame_order * (revs_next - frac_revs_);
+      const double d2 = dpsi * dpsi;
+      const double cd = 1.0 - 0.5 * d2 * (1.0 - d2 * (1.0 / 12.0));
+      const double sd = dpsi * (1.0 - d2 * (1.0 / 6.0));
+      const double c = cos_psi_ * cd - sin_psi_ * sd;
+      sin_psi_ = sin_psi_ * cd + cos_psi_ * sd;
+      cos_psi_ = c;
+    }
+  }
+  const double cpsi = cos_psi_, spsi = sin_psi_;
 
   // Look-ups, predictor, Woodbury mesh solve, corrector, read-outs (rom_kernel.cpp).
-  const detail::RomKernelModel model{d.pqq.data(),
-                                     d.pqv.data(),
-                                     d.b0q.data(),
-                                     d.b1q.data(),
-                                     d.pvq.data(),
-                                     d.pvv.data(),
-                                     d.b0v.data(),
-                                     d.b1v.data(),
-                                     d.damping_1_s.data(),
-                                     d.omega2.data(),
-                                     d.w_force.data(),
-                                     d.w_bearing.data(),
-                                     d.w_mesh.data(),
-                                     d.readout_by_dof.data(),
-                                     d.g_mesh.data(),
-                                     d.readout_correction.data(),
-                                     d.sensor_rows.data(),
-                                     d.term_order.data(),
-                                     phase_base_.data(),
-                                     d.term_scale.data(),
-                                     d.term_scale_per_nm.data(),
-                                     d.term_values.data()};
-  const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_bearing_.data(),
-                                     z_mesh_.data()};
+  const detail::RomKernelInputs kin{revs_next, in.input_torque_nm, in.rotor_speed_rpm / 60.0, cpsi,
+                                    spsi};
+  const detail::RomKernelState state{q_.data(), v_.data(), g_.data(), z_.data()};
   const detail::RomKernelOutputs outputs{out.mesh_force_n.data(), out.bearing_force_x_n.data(),
                                          out.bearing_force_y_n.data(),
                                          out.acceleration_m_s2.data()};
-  detail::rom_step_kernel(model, revs_next, in.input_torque_nm, state, outputs);
+  detail::rom_step_kernel(kernel_, kin, state, outputs);
+  // Bearings described in the carrier's axes: their forces turned into the housing's.
+  for (int j = 0; j < d.bearing_count; ++j) {
+    if (!d.bearing_carrier_frame[j]) continue;
+    const double fx = out.bearing_force_x_n[j], fy = out.bearing_force_y_n[j];
+    out.bearing_force_x_n[j] = fx * cpsi - fy * spsi;
+    out.bearing_force_y_n[j] = fx * spsi + fy * cpsi;
+  }
   ++steps_;
   if (revs_next >= 0.0 && revs_next < 1.0) {
     frac_revs_ = revs_next;

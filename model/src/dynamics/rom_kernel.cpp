@@ -21,9 +21,11 @@
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_pd(), which -Wuninitialized
-// reports at every use once inlined (a known false positive of that header).
+// reports at every use once inlined (a known false positive of that header; in a loop with
+// a run-time trip count it reports it as -Wmaybe-uninitialized).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 #include <immintrin.h>
 #endif
 
@@ -32,11 +34,12 @@ namespace {
 
 constexpr int kN = kKernelDofs;
 constexpr int kM = kKernelMeshes;
+constexpr int kMB = kKernelMeshBasis;
 constexpr int kB = kKernelBearingRank;
-constexpr int kZ = kM + kB;
-constexpr int kZpad = kKernelReadoutRows;  // kZ rounded up to whole Mesh8 vectors
+constexpr int kZpad = kKernelReadoutRows;  // read-out rows, whole Mesh8 vectors
 constexpr int kZv = kZpad / kM;
-static_assert(kZpad % kM == 0 && kZpad >= kZ, "read-out rows must fill whole vectors");
+static_assert(kZpad % kM == 0 && kKernelRowPaths + kKernelPaths == kZpad,
+              "read-out rows must fill whole vectors");
 constexpr int kLanes =
     8;  // partial sums per dot product: one AVX-512 / two AVX2 / four NEON registers
 static_assert(kN % kLanes == 0, "kKernelDofs must be a multiple of the dot-product lanes");
@@ -54,6 +57,7 @@ static_assert(sizeof(Mesh8) == kM * sizeof(double), "one Mesh8 per mesh vector")
 
 // The identity's columns as whole vectors: setting one element of a vector in place
 // goes through memory and stalls the next load of the whole vector (store forwarding).
+constexpr Mesh8 kOnes = {1, 1, 1, 1, 1, 1, 1, 1};
 constexpr Mesh8 kUnit[kM] = {{1, 0, 0, 0, 0, 0, 0, 0}, {0, 1, 0, 0, 0, 0, 0, 0},
                              {0, 0, 1, 0, 0, 0, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0},
                              {0, 0, 0, 0, 1, 0, 0, 0}, {0, 0, 0, 0, 0, 1, 0, 0},
@@ -120,19 +124,19 @@ struct MeshFactors {
 [[gnu::always_inline]] inline void lookup_shapes_portable(const RomKernelModel& m,
                                                           const double revs,
                                                           double* __restrict shape) noexcept {
-  constexpr int kT = kKernelTerms;
   constexpr int kTable = kKernelTableSize;
   static_assert((kTable & (kTable - 1)) == 0, "the table index wraps with a mask");
-  alignas(64) double weight[kT];
-  alignas(64) int index[kT];
-  for (int t = 0; t < kT; ++t) {
+  alignas(64) double weight[kKernelLookups];
+  alignas(64) int index[kKernelLookups];
+  const int n = m.lookups;
+  for (int t = 0; t < n; ++t) {
     const double x = m.term_order[t] * revs + m.term_phase_cycles[t];
     const double pos = (x - __builtin_floor(x)) * static_cast<double>(kTable);  // [0, kTable]
     const int i = static_cast<int>(pos);
     weight[t] = pos - static_cast<double>(i);
     index[t] = i;
   }
-  for (int t = 0; t < kT; ++t) {
+  for (int t = 0; t < n; ++t) {
     const double* table = m.term_values + t * kTable;
     const double v0 = table[index[t] & (kTable - 1)];
     shape[t] = v0 + weight[t] * (table[(index[t] + 1) & (kTable - 1)] - v0);
@@ -154,12 +158,12 @@ __attribute__((target("default"))) void lookup_shapes(const RomKernelModel& m, d
 __attribute__((target("arch=x86-64-v4"))) void lookup_shapes(const RomKernelModel& m, double revs,
                                                              double* shape) noexcept {
   constexpr int kTable = kKernelTableSize;
-  static_assert(kKernelTerms % 8 == 0, "whole vectors of 8 terms");
+  static_assert(kKernelLookups % 8 == 0, "whole vectors of 8 terms");
   const __m512d rev = _mm512_set1_pd(revs);
   const __m512d size = _mm512_set1_pd(static_cast<double>(kTable));
   const __m256i mask = _mm256_set1_epi32(kTable - 1);
   const __m256i one = _mm256_set1_epi32(1);
-  for (int h = 0; h < kKernelTerms / 8; ++h) {
+  for (int h = 0; h < m.lookups / 8; ++h) {
     const __m512d x = _mm512_fmadd_pd(_mm512_loadu_pd(m.term_order + 8 * h), rev,
                                       _mm512_loadu_pd(m.term_phase_cycles + 8 * h));
     const __m512d fl = _mm512_roundscale_pd(x, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -197,70 +201,150 @@ namespace {
 // The step proper. The state arrays are `__restrict`: the kernel reads and writes them
 // only through these pointers, so the corrector writes them in place without the
 // compiler guarding every store against the model data.
-[[gnu::always_inline]] inline void step(const RomKernelModel& m, const double revs,
-                                        const double input_torque_nm, double* __restrict q,
-                                        double* __restrict v, double* __restrict g,
-                                        const RomKernelState& s,
+// h = the forces − W_b·f_b − W_p·f_p (h holds the forces after the first when kMore) and
+// the predictor r, in one pass with the fixed number of bearing and path columns.
+template <int kP, bool kMore>
+[[gnu::always_inline]] inline void predictor(const RomKernelModel& m, const int n_dofs,
+                                             const double force0, const double* __restrict fb,
+                                             const double* __restrict fp,
+                                             const double* __restrict q, const double* __restrict v,
+                                             const double* __restrict g, double* __restrict h,
+                                             double* __restrict rp) noexcept {
+  for (int i = 0; i < n_dofs; ++i) {
+    double hi = force0 * m.w_force[i];
+    if constexpr (kMore) hi += h[i];
+    for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
+    for (int j = 0; j < kP; ++j) hi -= fp[j] * m.w_path[j * kN + i];
+    h[i] = hi;
+    rp[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
+  }
+}
+
+// kTurning: a mesh turns with the carrier (its a, b basis columns and the extra column);
+// kPaths: the model has explicit path couplings. Both fixed per model: four instantiations,
+// so a model without them streams none of their columns.
+template <bool kTurning, bool kPaths>
+[[gnu::always_inline]] inline void step(const RomKernelModel& m, const RomKernelInputs& in,
+                                        double* __restrict q, double* __restrict v,
+                                        double* __restrict g, double* __restrict zs,
                                         const RomKernelOutputs& out) noexcept {
-  // The time-varying coefficients at t_{n+1}: every term's table at its phase.
-  alignas(64) double shape[kKernelTerms];
-  lookup_shapes(m, revs, shape);
-  Mesh8 dk;  // Δk_mesh(t_{n+1}) = k̄ (shape − 1)
-  for (int j = 0; j < kM; ++j) dk[j] = m.term_scale[j] * (shape[j] - 1.0);
+  constexpr int kBasis = kTurning ? kMB : kM;
+  constexpr int kP = kPaths ? kKernelPaths : 0;
+  const int n_dofs = m.dofs;
+  if (n_dofs % kLanes != 0 || n_dofs > kN) __builtin_unreachable();  // rom.cpp: whole vectors
+  const int r = kTurning ? m.turning_mesh : 0;  // the turning mesh (kTurning only)
+  if (r < 0 || r >= kM) __builtin_unreachable();
+  const double cpsi = in.cos_psi, spsi = in.sin_psi;
+  // The time-varying coefficients at t_{n+1}: every look-up at its phase; two constants.
+  alignas(64) double val[kKernelLookups + 2];
+  lookup_shapes(m, in.rotor_revolutions_next, val);
+  val[kKernelLookupOne] = 1.0;
+  val[kKernelLookupZero] = 0.0;
+  Mesh8 k_mesh, dk, err;  // k(t), the implicit coefficient A, e(t)
+  for (int j = 0; j < kM; ++j) {
+    k_mesh[j] = m.mesh_mean[j] * val[m.mesh_shape[j]] * val[m.mesh_modulation[j]];
+    dk[j] = k_mesh[j] - m.mesh_mean[j];
+  }
+  if (m.excitation) {
+    for (int j = 0; j < kM; ++j) err[j] = val[m.mesh_error0[j]] + val[m.mesh_error1[j]];
+  } else {
+    err = Mesh8{};
+  }
+  // The turning mesh carries its whole stiffness along its direction at ψ, and the extra
+  // column takes back the mean along the direction at ψ = 0 that the modal diagonal holds.
+  if constexpr (kTurning) dk[r] = k_mesh[r];
   double k_bearing[kKernelBearings];
   double dk_bearing[kB];  // per W_b column
   for (int j = 0; j < kKernelBearings; ++j) {
-    const double mean = m.term_scale[kM + j];
-    k_bearing[j] = mean * shape[kM + j];
+    const double mean = m.bearing_mean[j];
+    k_bearing[j] = mean * val[kKernelLookupBearings + j];
     dk_bearing[2 * j] = dk_bearing[2 * j + 1] = k_bearing[j] - mean;
   }
-  double force[kKernelForces];
-  for (int j = 0; j < kKernelForces; ++j) {
-    const int t = kM + kKernelBearings + j;
-    force[j] = (m.term_scale[t] + m.term_scale_per_nm[t] * input_torque_nm) * shape[t];
+  double dk_path[kKernelPaths] = {};
+  for (int j = 0; j < kP; ++j) dk_path[j] = m.path_mean[j] * (val[kKernelLookupPaths + j] - 1.0);
+  double force[kKernelForces] = {};  // force[0]: the input torque (rom.cpp); 0 if none
+  const double hz2 = in.rotor_hz * in.rotor_hz;
+  for (int j = 0; j < m.forces; ++j) {
+    const double* fr = m.force_frame + 3 * j;
+    force[j] =
+        (m.force_scale[j] + m.force_per_nm[j] * in.input_torque_nm + m.force_per_hz2[j] * hz2) *
+        val[m.force_index0[j]] * val[m.force_index1[j]] * (fr[0] + fr[1] * cpsi + fr[2] * spsi);
   }
-  // Transmission-error forces s = k_mesh(t_{n+1}) ∘ e(t_{n+1}) along the mesh lines: a known
-  // force at t_{n+1}, applied below through the mesh read-out (no extra pass over the modes).
-  constexpr int kTe = kM + kKernelBearings + kKernelForces;
-  Mesh8 te;
-  for (int j = 0; j < kM; ++j) te[j] = (m.term_scale[j] + dk[j]) * shape[kTe + j];
 
   // The factors of I + A G first: they depend on the stiffness coefficients only.
-  Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + Δk_i G_ij
+  Mesh8 col[kM];  // I + A G by columns: col[j][i] = δ_ij + A_i G_ij
   // Left uninitialised on purpose (per step): the factorisation writes every member it reads.
   MeshFactors fac;  // NOLINT(cppcoreguidelines-pro-type-member-init)
-  for (int j = 0; j < kM; ++j) {
-    Mesh8 gj;
-    __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
-    col[j] = dk * gj + kUnit[j];
+  Mesh8 g_extra{};  // the extra column of G at ψ (turning mesh only)
+  if constexpr (!kTurning) {
+    for (int j = 0; j < kM; ++j) {
+      Mesh8 gj;
+      __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
+      col[j] = dk * gj + kUnit[j];
+    }
+  } else {
+    // Only row and column r turn: G_rj(ψ) = G0_rj + cos ψ·Gc_rj + sin ψ·Gs_rj.
+    const double c2 = cpsi * cpsi - spsi * spsi, s2 = 2.0 * spsi * cpsi;
+    for (int j = 0; j < kM; ++j) {
+      Mesh8 gj;
+      __builtin_memcpy(&gj, m.g_mesh + j * kM, sizeof gj);
+      const double turn = cpsi * m.g_mesh_cos[j * kM + r] + spsi * m.g_mesh_sin[j * kM + r];
+      col[j] = dk * gj + kUnit[j] + (dk[r] * turn) * kUnit[r];
+    }
+    {
+      Mesh8 gc, gs;
+      __builtin_memcpy(&gc, m.g_mesh_cos + r * kM, sizeof gc);
+      __builtin_memcpy(&gs, m.g_mesh_sin + r * kM, sizeof gs);
+      // Column r: its turning parts (the diagonal's cos ψ, sin ψ terms are in gc, gs at row r,
+      // already added by the loop above; here the off-diagonal ones and the 2ψ terms).
+      col[r] += dk * ((cpsi * gc + spsi * gs) * (kOnes - kUnit[r]) +
+                      (c2 * m.g_turning_2psi[0] + s2 * m.g_turning_2psi[1]) * kUnit[r]);
+    }
+    Mesh8 e0, ec, es;
+    __builtin_memcpy(&e0, m.g_extra, sizeof e0);
+    __builtin_memcpy(&ec, m.g_extra + kM, sizeof ec);
+    __builtin_memcpy(&es, m.g_extra + 2 * kM, sizeof es);
+    g_extra = e0 + cpsi * ec + spsi * es;
   }
   const bool invertible = factor_mesh_system(col, fac);
 
-  // Explicit bearing fluctuation forces, at the deflections of t_n.
+  // Explicit bearing fluctuation and path forces, at the read-out of t_n.
   double fb[kB];
-  for (int j = 0; j < kB; ++j) fb[j] = dk_bearing[j] * s.z_bearing[j];
+  for (int j = 0; j < kB; ++j) fb[j] = dk_bearing[j] * zs[kKernelRowBearings + j];
+  double fp[kKernelPaths] = {};
+  for (int j = 0; j < kP; ++j) fp[j] = dk_path[j] * zs[kKernelRowPaths + j];
 
-  // h = Φᵀf(t_{n+1}) − W_b·f_b and the predictor r (q⁺ without the implicit mesh term).
+  // h = Φᵀf(t_{n+1}) − W_b·f_b − W_p·f_p and the predictor r (q⁺ without the implicit
+  // mesh term and the transmission error).
+  // The forces first, a column at a time (their count is the model's); then one fused pass
+  // with the fixed number of bearing and path columns, which the compiler unrolls.
   alignas(64) double h[kN];
-  alignas(64) double r[kN];
-  for (int i = 0; i < kN; ++i) {
-    double hi = 0.0;
-    for (int j = 0; j < kKernelForces; ++j) hi += force[j] * m.w_force[j * kN + i];
-    for (int j = 0; j < kB; ++j) hi -= fb[j] * m.w_bearing[j * kN + i];
-    h[i] = hi;
-    r[i] = m.pqq[i] * q[i] + m.pqv[i] * v[i] + m.b0q[i] * g[i] + m.b1q[i] * hi;
+  alignas(64) double rp[kN];
+  const bool more_forces = m.forces > 1;
+  if (more_forces) {
+    for (int i = 0; i < n_dofs; ++i) h[i] = force[1] * m.w_force[kN + i];
+    for (int j = 2; j < m.forces; ++j) {
+      const double fj = force[j];
+      const double* column = m.w_force + j * kN;
+      for (int i = 0; i < n_dofs; ++i) h[i] += fj * column[i];
+    }
+  }
+  if (more_forces) {
+    predictor<kP, true>(m, n_dofs, force[0], fb, fp, q, v, g, h, rp);
+  } else {
+    predictor<kP, false>(m, n_dofs, force[0], fb, fp, q, v, g, h, rp);
   }
 
-  // z = [W W_b]ᵀ r, the mesh and bearing deflections of the predictor, as a sum of the
-  // read-out matrix's columns (no horizontal sums); kSets independent partial sums
-  // keep the floating-point adds from waiting on each other. Plain loops, not Mesh8
-  // accumulators: twelve Mesh8 fit AVX-512's registers but spill on AVX2 and NEON
-  // (callgrind: 2.2× the instructions of the whole step on the AVX2 clone).
+  // z = R r, the read-out of the predictor, as a sum of the read-out matrix's columns (no
+  // horizontal sums); kSets independent partial sums keep the floating-point adds from
+  // waiting on each other. Plain loops, not Mesh8 accumulators: twelve Mesh8 fit AVX-512's
+  // registers but spill on AVX2 and NEON (callgrind: 2.2× the instructions of the whole
+  // step on the AVX2 clone).
   constexpr int kSets = 4;
   alignas(64) double z_sets[kSets][kZpad] = {};
-  for (int i = 0; i < kN; i += kSets) {
+  for (int i = 0; i < n_dofs; i += kSets) {
     for (int set = 0; set < kSets; ++set) {
-      const double ri = r[i + set];
+      const double ri = rp[i + set];
       const double* column = m.readout_by_dof + (i + set) * kZpad;
       for (int k = 0; k < kZpad; ++k) z_sets[set][k] += ri * column[k];
     }
@@ -270,48 +354,78 @@ namespace {
     z_sum[k] = (z_sets[0][k] + z_sets[2][k]) + (z_sets[1][k] + z_sets[3][k]);
   Mesh8 z[kZv];
   __builtin_memcpy(z, z_sum, sizeof z);
-  // The predictor without the transmission-error force is r'; with it r = r' + b1q ∘ W s,
-  // whose read-out is [W W_b]ᵀr = z' + [G; H] s (H = W_bᵀ diag(b1q) W).
-  double tes[kM];
-  __builtin_memcpy(tes, &te, sizeof tes);
-  for (int j = 0; j < kM; ++j) {
-    const double* column = m.readout_correction + j * kZpad;
-    for (int b = 0; b < kZv; ++b) {
-      Mesh8 cb;
-      __builtin_memcpy(&cb, column + b * kM, sizeof cb);
-      z[b] += cb * tes[j];
+
+  // The transmission error's known force W·(k ⊙ e), in basis coefficients, enters through
+  // the read-out: z += C·kn (C = R·diag(b1q)·W_basis).
+  double kn[kMB] = {};
+  if (m.excitation) {
+    for (int j = 0; j < kM; ++j) kn[j] = k_mesh[j] * err[j];
+    if constexpr (kTurning) {
+      kn[kM] = cpsi * kn[r];
+      kn[kM + 1] = spsi * kn[r];
+    }
+    for (int j = 0; j < kBasis; ++j) {
+      const double* column = m.readout_correction + j * kZpad;
+      for (int b = 0; b < kZv; ++b) {
+        Mesh8 cb;
+        __builtin_memcpy(&cb, column + b * kM, sizeof cb);
+        z[b] += cb * kn[j];
+      }
     }
   }
 
-  // Implicit mesh fluctuation (Woodbury): y = (I + A G)⁻¹ A Wᵀ r, A = diag(Δk_mesh(t_{n+1})).
+  // Implicit mesh stiffness (Woodbury): y = (I + A G)⁻¹ A Wᵀ r, A = diag(Δk(t_{n+1})), with
+  // the turning mesh's direction at ψ, and for it the extra column by its Schur complement.
   // A non-physical table (a non-positive pivot) falls back to the explicit estimate A Wᵀ r.
-  const Mesh8 rhs = dk * z[0];
-  Mesh8 y = rhs;
-  if (invertible) {
-    solve_mesh_system(fac, y);
+  Mesh8 z8 = z[0];
+  double z9 = 0.0;
+  if constexpr (kTurning) {
+    const double zc = z[0][r], za = z[kKernelRowTurning / kM][kKernelRowTurning % kM],
+                 zb = z[kKernelRowTurning / kM][kKernelRowTurning % kM + 1];
+    z8 += (cpsi * za + spsi * zb) * kUnit[r];
+    z9 = zc + za;
   }
-  // The corrector and the deflections use W (y − s): q⁺ = r' − b1q ∘ W (y − s),
-  // g⁺ = h − W (y − s) (h without the TE force), z⁺ = z − [G; H] y.
-  const Mesh8 y_eff = y - te;
-  double ys[kM];  // y − s in memory: the loops below broadcast its elements from there
-  __builtin_memcpy(ys, &y_eff, sizeof ys);
-  double yd[kM];  // y itself, for the deflections
-  __builtin_memcpy(yd, &y, sizeof yd);
+  Mesh8 y = dk * z8;
+  if (invertible) solve_mesh_system(fac, y);
+  double y9 = 0.0;
+  if (kTurning && invertible) {
+    const double d9 = -m.mesh_mean[r];
+    Mesh8 s = dk * g_extra;
+    solve_mesh_system(fac, s);
+    double gu = 0.0, gs = 0.0;
+    for (int j = 0; j < kM; ++j) {
+      gu += g_extra[j] * y[j];
+      gs += g_extra[j] * s[j];
+    }
+    y9 = d9 * (z9 - gu) / (1.0 + d9 * m.g_extra_self - d9 * gs);
+    y -= s * y9;
+  }
+  // Basis coefficients of the mesh forces, less the transmission error's.
+  double ys[kMB];
+  for (int j = 0; j < kM; ++j) ys[j] = y[j];
+  ys[kM] = ys[kM + 1] = 0.0;
+  if constexpr (kTurning) {
+    ys[kM] = cpsi * y[r] + y9;
+    ys[kM + 1] = spsi * y[r];
+    ys[r] = y[r] + y9;
+  }
+  double eff[kMB];
+  for (int j = 0; j < kMB; ++j) eff[j] = ys[j] - kn[j];
 
-  // Corrector: g⁺ = h − W y, q⁺ = r − b1q ⊙ W y, v⁺ from the propagators; the seat
+  // Corrector: g⁺ = h − W eff, q⁺ = r − b1q ⊙ W eff, v⁺ from the propagators; the seat
   // accelerations S q̈⁺ = S (g⁺ − c ⊙ v⁺ − ω² ⊙ q⁺) in the same pass.
   double acc0[kLanes] = {};
   double acc1[kLanes] = {};
   const double* s0 = m.sensor_rows;
   const double* s1 = m.sensor_rows + kN;
-  for (int ib = 0; ib < kN; ib += kLanes) {
+  for (int ib = 0; ib < n_dofs; ib += kLanes) {
     for (int l = 0; l < kLanes; ++l) {
       const int i = ib + l;
       double wy = 0.0;
-      for (int j = 0; j < kM; ++j) wy += ys[j] * m.w_mesh[j * kN + i];
+      for (int j = 0; j < kBasis; ++j) wy += eff[j] * m.w_basis[j * kN + i];
       const double gn = h[i] - wy;
       const double vn = m.pvq[i] * q[i] + m.pvv[i] * v[i] + m.b0v[i] * g[i] + m.b1v[i] * gn;
-      const double qn = r[i] - m.b1q[i] * wy;
+      const double qn = rp[i] - m.b1q[i] * wy;
       const double qdd = gn - m.damping_1_s[i] * vn - m.omega2[i] * qn;
       acc0[l] += s0[i] * qdd;
       acc1[l] += s1[i] * qdd;
@@ -324,33 +438,47 @@ namespace {
   out.acceleration_m_s2[0] = sum_lanes(acc0);
   out.acceleration_m_s2[1] = sum_lanes(acc1);
 
-  // Deflections at t_{n+1}: [W W_b]ᵀq⁺ = [W W_b]ᵀr − [G; H] y (H = W_bᵀ diag(b1q) W).
-  for (int j = 0; j < kM; ++j) {
+  // Read-out at t_{n+1}: R q⁺ = z − C ys (z includes C·kn).
+  for (int j = 0; j < kBasis; ++j) {
     const double* column = m.readout_correction + j * kZpad;
     for (int b = 0; b < kZv; ++b) {
       Mesh8 cb;
       __builtin_memcpy(&cb, column + b * kM, sizeof cb);
-      z[b] -= cb * yd[j];
+      z[b] -= cb * ys[j];
     }
   }
   double z_next[kZpad];
   __builtin_memcpy(z_next, z, sizeof z_next);
-  for (int k = 0; k < kM; ++k) s.z_mesh[k] = z_next[k];
-  for (int k = 0; k < kB; ++k) s.z_bearing[k] = z_next[kM + k];
+  for (int k = 0; k < kZpad; ++k) zs[k] = z_next[k];
 
-  // Forces at t_{n+1}: k(t_{n+1}) times the deflection (a mesh's less its transmission error).
-  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = (m.term_scale[j] + dk[j]) * z_next[j] - te[j];
+  // Forces at t_{n+1}: k(t_{n+1}) times the deflection.
+  for (int j = 0; j < kM; ++j) out.mesh_force_n[j] = k_mesh[j] * (z_next[j] - err[j]);
+  if constexpr (kTurning) {
+    out.mesh_force_n[r] = k_mesh[r] * (z_next[r] + cpsi * z_next[kKernelRowTurning] +
+                                       spsi * z_next[kKernelRowTurning + 1] - err[r]);
+  }
   for (int j = 0; j < kKernelBearings; ++j) {
-    out.bearing_force_x_n[j] = k_bearing[j] * z_next[kM + 2 * j];
-    out.bearing_force_y_n[j] = k_bearing[j] * z_next[kM + 2 * j + 1];
+    out.bearing_force_x_n[j] = k_bearing[j] * z_next[kKernelRowBearings + 2 * j];
+    out.bearing_force_y_n[j] = k_bearing[j] * z_next[kKernelRowBearings + 2 * j + 1];
   }
 }
 }  // namespace
 
 DRIVETWIN_ROM_KERNEL_CLONES
-void rom_step_kernel(const RomKernelModel& m, const double revs, const double input_torque_nm,
-                     const RomKernelState& s, const RomKernelOutputs& out) noexcept {
-  step(m, revs, input_torque_nm, s.q, s.v, s.g, s, out);
+void rom_step_kernel(const RomKernelModel& m, const RomKernelInputs& in, const RomKernelState& s,
+                     const RomKernelOutputs& out) noexcept {
+  const bool turning = m.turning_mesh >= 0, paths = m.paths > 0;
+  if (turning) {
+    if (paths) {
+      step<true, true>(m, in, s.q, s.v, s.g, s.z, out);
+    } else {
+      step<true, false>(m, in, s.q, s.v, s.g, s.z, out);
+    }
+  } else if (paths) {
+    step<false, true>(m, in, s.q, s.v, s.g, s.z, out);
+  } else {
+    step<false, false>(m, in, s.q, s.v, s.g, s.z, out);
+  }
 }
 
 const char* rom_step_kernel_isa() noexcept {

@@ -14,77 +14,67 @@
 // Thread context: the kernel runs on the real-time thread; it allocates nothing,
 // throws nothing, takes no lock and reads no clock.
 
+#include "model/dynamics/rom_kernel_model.hpp"
+
 namespace model::dynamics::detail {
 
 // Capacities (equal to kRomDofs etc. in rom.hpp; rom.cpp static_asserts that).
-inline constexpr int kKernelDofs = 72;
+inline constexpr int kKernelDofs = 80;  // capacity; a model uses RomKernelModel::dofs of them
 inline constexpr int kKernelMeshes = 8;
+/// Mesh basis columns: the meshes' directions (the turning mesh's ψ-independent part c in
+/// its own slot) and the turning mesh's cos ψ and sin ψ parts a, b.
+inline constexpr int kKernelMeshBasis = kKernelMeshes + 2;
 inline constexpr int kKernelBearings = 6;
 inline constexpr int kKernelBearingRank = 2 * kKernelBearings;
-inline constexpr int kKernelForces = 2;
+inline constexpr int kKernelPaths = 2;
+inline constexpr int kKernelForces = 12;
 inline constexpr int kKernelSensors = 2;
-/// Rows of the read-out [W W_b]ᵀ as the kernel stores it: the 8 + 12 rows padded with
-/// zeros to a multiple of 8 (whole vectors).
+/// Rows of the read-out as the kernel stores it: meshes [0, 8), bearings [8, 20), the
+/// turning mesh's a and b [20, 22), paths [22, 24) — whole vectors of 8.
 inline constexpr int kKernelReadoutRows = 24;
-/// Time-varying terms: kKernelMeshes meshes, kKernelBearings bearings, kKernelForces forces,
-/// then kKernelMeshes transmission errors (one per mesh).
-inline constexpr int kKernelTerms = kKernelMeshes + kKernelBearings + kKernelForces + kKernelMeshes;
+inline constexpr int kKernelRowBearings = kKernelMeshes;
+inline constexpr int kKernelRowTurning = kKernelMeshes + kKernelBearingRank;
+inline constexpr int kKernelRowPaths = kKernelRowTurning + 2;
+/// Table look-ups: capacity. Layout (rom.cpp): mesh shapes [0, 8), bearings [8, 14), paths
+/// [14, 16), then what the model's effects and excitations need; RomKernelModel::lookups of
+/// them are computed, rounded up to whole vectors of 8. Index kKernelLookups reads 1,
+/// kKernelLookups + 1 reads 0 (a consumer without a table).
+inline constexpr int kKernelLookups = 48;
+inline constexpr int kKernelLookupOne = kKernelLookups;
+inline constexpr int kKernelLookupZero = kKernelLookups + 1;
+inline constexpr int kKernelLookupBearings = kKernelMeshes;
+inline constexpr int kKernelLookupPaths = kKernelMeshes + kKernelBearings;
 /// Samples per term table (PeriodicTable::kSize), a power of two.
 inline constexpr int kKernelTableSize = 256;
-
-/// Read-only model data, pointers into RomData's Eigen storage (no copy). Every array
-/// named "[c][kKernelDofs]" holds c contiguous columns of kKernelDofs values.
-struct RomKernelModel {
-  const double* pqq;  // [kKernelDofs] first-order-hold propagators (rom.hpp)
-  const double* pqv;
-  const double* b0q;
-  const double* b1q;
-  const double* pvq;
-  const double* pvv;
-  const double* b0v;
-  const double* b1v;
-  const double* damping_1_s;  // [kKernelDofs] [1/s]
-  const double* omega2;       // [kKernelDofs] [1/s²]
-  const double* w_force;      // [kKernelForces][kKernelDofs]
-  const double* w_bearing;    // [kKernelBearingRank][kKernelDofs]
-  const double* w_mesh;       // [kKernelMeshes][kKernelDofs]
-  const double*
-      readout_by_dof;    // [kKernelDofs][kKernelReadoutRows]: column i of [W W_b]ᵀ, zero-padded
-  const double* g_mesh;  // [kKernelMeshes][kKernelMeshes], column-major
-  const double* readout_correction;  // [kKernelMeshes][kKernelReadoutRows]: [G; H; 0] by columns
-  const double* sensor_rows;         // [kKernelSensors][kKernelDofs]
-  // The time-varying terms (RomData::term_*): meshes, bearings, forces, transmission errors.
-  const double* term_order;         // [kKernelTerms] [cycles/rev]
-  const double* term_phase_cycles;  // [kKernelTerms] [cycles]
-  const double* term_scale;  // [kKernelTerms] mean stiffness [N/m] / fixed amplitude [N] / 1 (TE)
-  const double* term_scale_per_nm;  // [kKernelTerms] amplitude per N·m of input torque
-  const double* term_values;        // [kKernelTerms][kKernelTableSize] shape tables
-};
 
 /// Where the step writes its outputs (RomOutputs' arrays).
 struct RomKernelOutputs {
   double* mesh_force_n;       // [kKernelMeshes]
-  double* bearing_force_x_n;  // [kKernelBearings]
+  double* bearing_force_x_n;  // [kKernelBearings] in the bearing's axes (rom.cpp turns them)
   double* bearing_force_y_n;  // [kKernelBearings]
   double* acceleration_m_s2;  // [kKernelSensors]
 };
 
 /// The step's state, in and out (Rom's members).
 struct RomKernelState {
-  double* q;          // [kKernelDofs] modal displacement
-  double* v;          // [kKernelDofs] modal velocity
-  double* g;          // [kKernelDofs] modal force
-  double* z_bearing;  // [kKernelBearingRank] W_bᵀ q
-  double* z_mesh;     // [kKernelMeshes] Wᵀ q
+  double* q;  // [kKernelDofs] modal displacement
+  double* v;  // [kKernelDofs] modal velocity
+  double* g;  // [kKernelDofs] modal force
+  double* z;  // [kKernelReadoutRows] the read-out R q
 };
 
-/// Advances q, v, g, z_bearing, z_mesh by one step to t_{n+1} (equations in rom.hpp)
-/// and writes the outputs at t_{n+1}.
-/// @param rotor_revolutions_next  rotor angle at t_{n+1} [revolutions]
-/// @param input_torque_nm         input torque held over the step [N·m]
-void rom_step_kernel(const RomKernelModel& model, double rotor_revolutions_next,
-                     double input_torque_nm, const RomKernelState& state,
-                     const RomKernelOutputs& out) noexcept;
+/// Inputs held over the step.
+struct RomKernelInputs {
+  double rotor_revolutions_next;  // rotor angle at t_{n+1} [revolutions]
+  double input_torque_nm;         // [N·m]
+  double rotor_hz;                // [Hz]
+  double cos_psi, sin_psi;        // carrier angle at t_{n+1}
+};
+
+/// Advances q, v, g, z by one step to t_{n+1} (equations in rom.hpp) and writes the outputs
+/// at t_{n+1}.
+void rom_step_kernel(const RomKernelModel& model, const RomKernelInputs& in,
+                     const RomKernelState& state, const RomKernelOutputs& out) noexcept;
 
 /// Which kernel the loader chose ("avx512", "avx2-fma", "baseline"): for benchmark reports.
 const char* rom_step_kernel_isa() noexcept;

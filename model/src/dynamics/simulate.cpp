@@ -65,7 +65,7 @@ bool check_simulation_inputs(const OperatingPoint& op, const SimulationSettings&
 bool simulate_full(const Drivetrain& d, const OperatingPoint& op, const SimulationSettings& s,
                    SimulationOutputs& out, std::string* error) {
   if (!check_simulation_inputs(op, s, error)) return false;
-  const std::optional<FullModel> m = build_full_model(d, {}, error);
+  const std::optional<FullModel> m = build_full_model(d, s.structure, error);
   if (!m) return false;
   const auto samples = static_cast<std::size_t>(std::llround(s.seconds * s.sample_rate_hz));
   prepare(*m, samples, s.sample_rate_hz, out);
@@ -93,6 +93,7 @@ bool simulate_rom(const Drivetrain& d, const OperatingPoint& op, const Simulatio
   RomSettings rs;
   rs.dt_s = 1.0 / s.sample_rate_hz;
   rs.cutoff_hz = s.rom_cutoff_hz;
+  rs.structure = s.structure;
   const std::unique_ptr<RomData> data = build_rom(d, d.dynamics, rs, error);
   if (!data) return false;
   const auto samples = static_cast<std::size_t>(std::llround(s.seconds * s.sample_rate_hz));

@@ -34,6 +34,14 @@ const char* failure_mode_name(FailureMode mode) {
   return "?";
 }
 
+double planet_load_sharing_factor(int planets) {
+  // IEC 61400-4:2012 (gearbox design requirements for wind turbines), planet load sharing
+  // factor K_γ by the number of planets.
+  constexpr double kTable[] = {1.10, 1.25, 1.35, 1.44, 1.47};  // 3, 4, 5, 6, 7 planets
+  if (planets <= 2) return 1.0;
+  return kTable[std::min(planets, 7) - 3];
+}
+
 double iso281_exponent(BearingType type) { return type == BearingType::kBall ? 3.0 : 10.0 / 3.0; }
 
 double l10_million_revs(double c_n, double p_n, BearingType type) {
@@ -92,6 +100,7 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
     mesh_ids_[mesh_count_] = std::move(id);
     meshes_[mesh_count_] = r;
     torque_to_ft_per_nm_[mesh_count_] = ft_per_nm;
+    quasi_static_factor_[mesh_count_] = 1.0;
     return static_cast<int>(mesh_count_++);
   };
   // Transverse gear forces (per rotor torque) acting on each shaft, for the fallback.
@@ -162,6 +171,9 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
           t_in_per_nm / (st.planets * 0.5 * std::abs(g_sp.d_m[0]) * (1.0 + zr / zs));
       planets = st.planets;
       planet_ft_per_nm = ft_per_nm;
+      planet_load_sharing_ = options.planet_load_sharing > 0.0
+                                 ? options.planet_load_sharing
+                                 : planet_load_sharing_factor(st.planets);
       planet_rev_per_rotor_rev = zr / zp;
       std::array<int, kMaxMeshes> sp{}, pr{};
       for (int k = 0; k < st.planets && valid(); ++k) {
@@ -171,6 +183,10 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
         pr[k] = add_mesh(planet->id + std::to_string(k + 1) + "-" + ring->id, r_pr, ft_per_nm);
       }
       if (!valid()) break;
+      for (int k = 0; k < st.planets; ++k) {
+        quasi_static_factor_[static_cast<std::size_t>(sp[k])] = planet_load_sharing_;
+        quasi_static_factor_[static_cast<std::size_t>(pr[k])] = planet_load_sharing_;
+      }
       Channel sun_c{sun->id, "", FailureMode::kContact, contact_curve(*ms), {}, 0, 0.0};
       Channel sun_b{sun->id, "", FailureMode::kBending, bending_curve(*ms, false), {}, 0, 0.0};
       Channel ring_c{ring->id, "", FailureMode::kContact, contact_curve(*mr), {}, 0, 0.0};
@@ -295,6 +311,7 @@ ChannelSet::ChannelSet(const Drivetrain& d, const ChannelOptions& options) : opt
       bearings_[slot] = b;
       torque_to_radial_per_nm_[slot] = radial;
       torque_to_axial_per_nm_[slot] = axial;
+      bearing_quasi_static_factor_[slot] = on_planet ? planet_load_sharing_ : 1.0;
       // C from the description, else from the geometry (ISO 281:2007, bearing_rating.hpp).
       const BearingRating rating = effective_dynamic_rating(b);
       if (!(rating.c_n > 0.0)) {
@@ -369,9 +386,10 @@ double ChannelSet::stress(std::size_t c, std::size_t s, const LoadSample& loads)
 LoadSample ChannelSet::quasi_static_loads(double rotor_torque_nm) const {
   LoadSample l;
   const double t = std::abs(rotor_torque_nm);
-  for (std::size_t i = 0; i < mesh_count_; ++i) l.mesh_force_n[i] = torque_to_ft_per_nm_[i] * t;
+  for (std::size_t i = 0; i < mesh_count_; ++i)
+    l.mesh_force_n[i] = quasi_static_factor_[i] * torque_to_ft_per_nm_[i] * t;
   for (std::size_t i = 0; i < bearing_count_; ++i) {
-    l.bearing_radial_n[i] = torque_to_radial_per_nm_[i] * t;
+    l.bearing_radial_n[i] = bearing_quasi_static_factor_[i] * torque_to_radial_per_nm_[i] * t;
     l.bearing_axial_n[i] = torque_to_axial_per_nm_[i] * t;
   }
   return l;

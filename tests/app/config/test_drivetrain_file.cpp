@@ -293,3 +293,45 @@ TEST(DrivetrainFile, NeitherBuiltinNorFileIsAClearError) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST(DrivetrainFile, EffectsAreReadByNameAndSurviveARoundTrip) {
+  // Arrange: a cracked g4 tooth and a b5 outer-race defect, one parameter left at its default.
+  const std::string text =
+      "base = \"paper-2mw\"\n"
+      "[[effects]]\nkind = \"tooth_crack\"\nlocation = \"g4\"\nstiffness_loss = 0.12\n"
+      "[[effects]]\nkind = \"bearing_outer_race_defect\"\nlocation = \"b5\"\n"
+      "impact_force_n = 800\nslip = 0.015\n";
+  // Act
+  const model::Drivetrain d = parse_drivetrain(text, "faulty.toml");
+  const model::Drivetrain back = parse_drivetrain(app::config::to_toml(d), "written.toml");
+  // Assert
+  ASSERT_EQ(d.effects.size(), 2u);
+  EXPECT_EQ(d.effects[0].kind, model::EffectKind::kToothCrack);
+  EXPECT_EQ(d.effects[0].location, "g4");
+  EXPECT_DOUBLE_EQ(*d.effects[0].parameter("stiffness_loss"), 0.12);
+  EXPECT_DOUBLE_EQ(*d.effects[1].parameter("defect_width_mm"), 2.0);  // the default
+  ASSERT_EQ(back.effects.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.effects[i].kind, d.effects[i].kind);
+    EXPECT_EQ(back.effects[i].location, d.effects[i].location);
+    EXPECT_EQ(back.effects[i].parameters, d.effects[i].parameters);
+  }
+}
+
+TEST(DrivetrainFile, ABadEffectIsRefusedAtItsEntryAndKey) {
+  const std::string head = "base = \"paper-2mw\"\n[[effects]]\n";
+  std::string e = error_of(head + "kind = \"cracked_tooth\"\nlocation = \"g4\"\n");
+  EXPECT_NE(e.find("effects[0].kind"), std::string::npos) << e;
+  EXPECT_NE(e.find("tooth_crack"), std::string::npos) << e;  // lists the ids
+  e = error_of(head + "kind = \"tooth_crack\"\nlocation = \"g4\"\ndepth = 0.3\n");
+  EXPECT_NE(e.find("'effects[0].depth': unknown parameter of tooth_crack"), std::string::npos) << e;
+  e = error_of(head + "kind = \"tooth_crack\"\nlocation = \"g7\"\n");
+  EXPECT_NE(e.find("effects[0]"), std::string::npos) << e;
+  EXPECT_NE(e.find("location: expected one of"), std::string::npos) << e;
+  e = error_of(head + "kind = \"shaft_unbalance\"\nlocation = \"hss\"\nunbalance_kg_m = -1\n");
+  EXPECT_NE(e.find("unbalance_kg_m = -1: expected a value in [0, 10]"), std::string::npos) << e;
+}
+
+}  // namespace

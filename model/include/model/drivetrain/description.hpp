@@ -14,6 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "model/drivetrain/effects.hpp"
+
 namespace model {
 
 /// Gear material and its fatigue data (ISO 6336-5 / -6).
@@ -213,6 +215,8 @@ struct Drivetrain {
   std::vector<Bearing> bearings;
   std::vector<MeasurementPoint> measurement_points;
   DynamicsParameters dynamics;
+  // Physics beyond the healthy gearbox (effects.hpp): empty for a healthy drivetrain.
+  std::vector<Effect> effects;
 
   const Gear* gear(std::string_view id) const;
   const Bearing* bearing(std::string_view id) const;

@@ -26,24 +26,35 @@
 //  * static transmission error (the geometric mesh excitation: profile and lead
 //    deviations, tip relief): each mesh element's force is k(t)·(δ − e(t)), e a
 //    Fourier series in mesh orders per stage (DynamicsParameters::transmission_error_m)
-//    at the mesh's own phase, so the meshes are excited by the force k(t)·e(t) along
-//    their lines of action as well as parametrically by k(t);
+//    at the mesh's own phase (a MeshExcitation of every mesh), so the meshes are excited
+//    by the force k(t)·e(t) along their lines of action as well as parametrically by k(t);
 //  * damping: modal, C = MΦ·diag(2ξ_iω_i)·ΦᵀM over every mode of the full model, with
 //    ξ_i the strain-energy-weighted mix (modal strain energy method, Johnson & Kienholz,
 //    AIAA J. 20 (1982)) of the gearbox's ratio — Rayleigh's η/2ω + ζω/2 times a
 //    factor piecewise linear in log f (DynamicsParameters::damping_band_factor) — and
 //    each housing mode's own ratio, by the share of the mode's strain energy in that
-//    housing mode's spring. Without housing modes and with unit factors this is exactly
-//    C = ηM + ζK̄;
+//    housing mode's spring, and of an effect's housing resonance (its own damper) alike. Without
+//    housing modes, effects and with unit factors this is exactly C = ηM + ζK̄;
 //  * the generator: a rotor inertia on a torsionally flexible coupling at the hss
 //    end, held about its nominal speed by the converter (a weak torsional spring).
 //
 // Coordinates are the vibratory motion about the nominal rotation (the rigid spin
-// is removed; gyroscopic and centrifugal terms are neglected, the carrier turns at
-// ≤ 0.25 Hz): the damping therefore damps vibration and does not brake the drivetrain. The planets'
-// positions are those at t = 0 (the slow carrier rotation is not followed geometrically). Gravity
-// is not modelled. The input torque acts on the carrier, the reaction on the generator's spring and
+// is removed): the damping therefore damps vibration and does not brake the drivetrain. Gravity is
+// not modelled. The input torque acts on the carrier, the reaction on the generator's spring and
 // the ring.
+//
+// The carrier carries the planets round (Lin & Parker 1999 describe the stage in the
+// carrier's axes): the carrier, ring, planets and the whole sun shaft (x, y of every node)
+// are described in axes turning with the carrier, the intermediate and high-speed shafts,
+// the housing seats and the generator in the housing's. In the turning axes every
+// planetary mesh, planet bearing, ring and carrier support and every sun-shaft element and
+// bearing is constant (they are isotropic about the axis or turn with the carrier), so
+// the one element joining the two frames — the intermediate mesh, whose g1 side sees the
+// housing-fixed line of action turn backwards at the carrier angle ψ — is the one that
+// rotates (VaryingStiffness::rotation_cos/sin). The turning axes add the Coriolis force
+// −2Ωm J ẋ and the centripetal +Ω²m x on their translations (Ω the carrier speed,
+// ≤ 1.55 rad/s; carrier_frame_xy); the integrator (newmark.hpp) applies them, the reduced
+// model neglects them (rom.hpp). docs/dynamics.md gives the derivation and the choice.
 //
 // Time-varying stiffness is kept apart from the constant mean stiffness K̄, as
 // element objects with low-rank directions (a mesh: rank 1 along its line of
@@ -57,6 +68,7 @@
 
 #include <Eigen/Dense>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -90,11 +102,53 @@ struct StructuralParameters {
   double ims_axis_angle_rad = 0.0;                  // [rad] sun-shaft → ims centre line, from +x
   double hss_axis_angle_rad = 1.5707963267948966;   // [rad] ims → hss centre line, from +x
   double sensor_angle_rad =
-      1.5707963267948966;  // [rad] radial sensor direction, from +x (+y: vertical)
+      1.5707963267948966;          // [rad] radial sensor direction, from +x (+y: vertical)
+  double carrier_angle_rad = 0.0;  // [rad] carrier angle at which the planets are placed
+  // The carrier carries the planets round (the carrier frame turns, header comment). false:
+  // the planets stay where they were placed (the frame does not turn: frame_order = 0).
+  bool carrier_turns = true;
+  // Tangential position error of each planet's pin on the carrier [m], + ahead in the
+  // carrier's sense of rotation (a manufacturing tolerance; none by default). A pin ahead
+  // closes both of its planet's meshes by e·cos α_t: a constant transmission error
+  // −e·cos α_t on each (MeshExcitation), so that planet takes more of the torque.
+  std::vector<double> planet_pin_error_m;
+  // The turning frame's Coriolis and centripetal forces (Newmark). false: left out, as the
+  // reduced model leaves them (to measure what that costs: test_fidelity.cpp).
+  bool frame_inertia = true;
 };
 
-/// A time-varying stiffness: restoring force −k(t)·Σ_c u_c (u_cᵀ x),
-/// k(t) = mean·shape(order·N_rotor(t) + phase), N_rotor the rotor revolutions.
+/// A periodic factor of the rotor angle: table(order·N_rotor + phase), N_rotor the rotor
+/// revolutions. A cracked tooth's stiffness loss over one revolution of its gear, a
+/// centre-distance modulation, a bearing defect's load zone.
+struct Modulation {
+  PeriodicTable table = PeriodicTable::constant(1.0);  // [-]
+  double order = 0.0;                                  // [cycles per rotor revolution]
+  double phase_cycles = 0.0;                           // [cycles]
+  double value(double rotor_revolutions) const {
+    return table.value(order * rotor_revolutions + phase_cycles);
+  }
+};
+
+/// A displacement excitation of a mesh along its line of action [m]: the no-load
+/// transmission error e(t) = amplitude·pattern(N_rotor), positive when the teeth stand
+/// apart (the mesh force is k(t)·(δ − e)). An eccentric gear's run-out, a static
+/// transmission error over the mesh cycle.
+struct MeshExcitation {
+  double amplitude_m = 0.0;  // [m]
+  Modulation pattern;        // [-]
+};
+
+/// A time-varying stiffness: restoring force −k(t)·Σ_c u_c (u_cᵀ x − e(t)),
+/// k(t) = mean·shape(order·N_rotor + phase)·Π modulations(N_rotor), e(t) the sum of the
+/// excitations (rank-1 elements only; 0 for most).
+///
+/// Rotation with the carrier frame (full_model.cpp): the planetary stage and the sun shaft
+/// are described in axes that turn with the carrier, the rest of the gearbox in the
+/// housing's; an element joining the two has directions that turn with the carrier angle
+/// ψ = 2π·FullModel::frame_order·N_rotor:
+///   u_c(ψ) = directions.col(c) + (cos ψ − 1)·rotation_cos.col(c) + sin ψ·rotation_sin.col(c),
+/// so `directions` is the direction at ψ = 0 (rotation_cos/sin empty: a fixed element).
+/// The mean stiffness in FullModel::stiffness (K̄) is the one at ψ = 0.
 struct VaryingStiffness {
   std::string id;              // "sun_planet_1", "ring_planet_1", "intermediate", "b5", ...
   Eigen::MatrixXd directions;  // [-] or [m/rad] dofs × rank: u_cᵀ x is the element deflection [m]
@@ -102,31 +156,58 @@ struct VaryingStiffness {
   PeriodicTable shape;         // [-] mean 1
   double order = 0.0;          // [cycles per rotor revolution]
   double phase_cycles = 0.0;   // [cycles]
-  /// [m] static transmission error e over the same cycle (meshes; 0 for bearings): the
-  /// element's force is k(t)·(uᵀx − e(t)).
-  PeriodicTable transmission_error = PeriodicTable::constant(0.0);
+  std::vector<Modulation> modulations;      // [-] multiply k(t) (effects.hpp: a cracked tooth, ...)
+  std::vector<MeshExcitation> excitations;  // [m] transmission error along u (rank 1 only)
+  Eigen::MatrixXd rotation_cos;             // [-] dofs × rank, or empty (a fixed element)
+  Eigen::MatrixXd rotation_sin;             // [-]
+  // A rank-2 element (a bearing) whose two columns are x and y of the carrier frame: its
+  // forces are turned into the housing frame when reported.
+  bool carrier_frame_xy = false;
+
   double stiffness_n_m(double rotor_revolutions) const {
-    return mean_n_m * shape.value(order * rotor_revolutions + phase_cycles);
+    double k = mean_n_m * shape.value(order * rotor_revolutions + phase_cycles);
+    for (const Modulation& m : modulations) k *= m.value(rotor_revolutions);
+    return k;
   }
-  double transmission_error_m(double rotor_revolutions) const {
-    return transmission_error.value(order * rotor_revolutions + phase_cycles);
+  double excitation_m(double rotor_revolutions) const {
+    double e = 0.0;
+    for (const MeshExcitation& x : excitations)
+      e += x.amplitude_m * x.pattern.value(rotor_revolutions);
+    return e;
   }
+  bool rotates() const { return rotation_cos.size() > 0; }
+  /// u_c at carrier angle ψ [rad].
+  Eigen::VectorXd direction(int c, double psi_rad) const;
 };
 
-/// An external force: f(t) = amplitude·shape(order·N_rotor + phase)·pattern, the
-/// amplitude multiplied by the input torque [N·m] when `per_newton_metre`.
+/// An external force: f(t) = a·shape(order·N_rotor + phase)·Π modulations·
+/// (frame[0] + frame[1]·cos ψ + frame[2]·sin ψ)·pattern, with a = amplitude, times the
+/// input torque [N·m] when `per_newton_metre`, times the rotor frequency² [Hz²] when
+/// `per_rotor_hz_squared` (a rotating unbalance). `frame` turns a force fixed in the
+/// housing into the carrier frame's axes (ψ: the carrier angle).
+///
+/// Impacts with a random spacing (a bearing defect's slip; the truth synthesizer's, not
+/// the reduced model's): when `events_revs` is not empty, the shape is read in the local
+/// coordinate (N_rotor − event)·order after the latest event instead, 0 past one period.
 struct ForceTerm {
-  std::string id;           // "input_torque", ...
+  std::string id;           // "input_torque", "b5.outer_race", ...
   Eigen::VectorXd pattern;  // [N or N·m per unit amplitude]
   double amplitude = 1.0;   // [-]
   bool per_newton_metre = false;
+  bool per_rotor_hz_squared = false;
   PeriodicTable shape = PeriodicTable::constant(1.0);
   double order = 0.0;         // [cycles per rotor revolution]
   double phase_cycles = 0.0;  // [cycles]
-  double scale(double rotor_revolutions, double input_torque_nm) const {
-    const double a = per_newton_metre ? amplitude * input_torque_nm : amplitude;
-    return a * shape.value(order * rotor_revolutions + phase_cycles);
-  }
+  std::vector<Modulation> modulations;
+  std::array<double, 3> frame{1.0, 0.0, 0.0};  // [-]
+  std::vector<double> events_revs;             // [rotor revolutions] ascending, or empty
+  int impact_group = -1;  // ≥ 0: an impact train; terms of one group share their events
+
+  double scale(double rotor_revolutions, double input_torque_nm, double rotor_hz = 0.0,
+               double psi_rad = 0.0) const;
+  /// Mean of the amplitude factor over time (shape and modulations averaged
+  /// independently; frame terms with cos/sin average to 0): the static part.
+  double mean_scale(double input_torque_nm, double rotor_hz = 0.0) const;
 };
 
 /// A sensor: acceleration = rowᵀ ẍ [m/s²].
@@ -159,21 +240,50 @@ struct FullModel {
   std::vector<VaryingStiffness> meshes;  // 3 sun–planet, 3 ring–planet, intermediate, high_speed
   std::vector<MeshInfo> mesh_info;       // parallel to `meshes`
   std::vector<VaryingStiffness> bearings;  // b1..b6
-  std::vector<ForceTerm> forces;           // input torque first
-  std::vector<Sensor> sensors;             // point1, point2
+  // Other time-varying couplings, treated like the bearings by the reduced model: a
+  // planet-pass transmission path (effects.hpp). Usually empty.
+  std::vector<VaryingStiffness> paths;
+  std::vector<ForceTerm> forces;  // input torque first, then the effects' forces
+  std::vector<Sensor> sensors;    // point1, point2
+  // Carrier revolutions per rotor revolution (1: the carrier is the rotor shaft).
+  double frame_order = 1.0;
+  // DOF pairs (x, y) described in the carrier frame: the carrier, ring, planets and the
+  // sun shaft's nodes. They carry the Coriolis and centripetal terms of the turning frame.
+  std::vector<std::array<int, 2>> carrier_frame_xy;
+  bool frame_inertia = true;  // StructuralParameters::frame_inertia
 
   int dofs() const { return static_cast<int>(mass.size()); }
   /// Index of a named DOF, −1 if absent.
   int dof(std::string_view name) const;
   /// C (damping_matrix).
   const Eigen::MatrixXd& damping() const { return damping_matrix; }
-  /// Sum of the external forces at (rotor revolutions, torque) [N, N·m].
-  Eigen::VectorXd force(double rotor_revolutions, double input_torque_nm) const;
-  /// The meshes' transmission-error forces Σ k(t)·e(t)·u at the rotor angle [N, N·m].
-  Eigen::VectorXd transmission_error_force(double rotor_revolutions) const;
+  /// Sum of the external forces at (rotor revolutions, torque, rotor frequency) [N, N·m],
+  /// without the meshes' transmission error (mesh_excitation_force()).
+  Eigen::VectorXd force(double rotor_revolutions, double input_torque_nm,
+                        double rotor_hz = 0.0) const;
+  /// Σ u(ψ)·k(t)·e(t) over the meshes with an excitation [N, N·m].
+  Eigen::VectorXd mesh_excitation_force(double rotor_revolutions) const;
+  /// Carrier angle ψ at a rotor angle [rad].
+  double carrier_angle_rad(double rotor_revolutions) const;
+  /// The mean stiffness with the turning elements at the carrier angle of
+  /// `rotor_revolutions` (K̄ itself at 0).
+  Eigen::MatrixXd stiffness_at(double rotor_revolutions) const;
   /// K̄⁻¹ f for the mean (constant) force: the static deflection under the input torque.
   Eigen::VectorXd static_deflection(double input_torque_nm) const;
+  /// The same at the carrier angle of `rotor_revolutions` (stiffness_at()).
+  Eigen::VectorXd static_deflection_at(double input_torque_nm, double rotor_revolutions) const;
+  /// Mean force of mesh i at a static deflection x and rotor angle [N].
+  double static_mesh_force(std::size_t i, const Eigen::VectorXd& x,
+                           double rotor_revolutions = 0.0) const;
 };
+
+/// Gives every impact train of `model` (bearing defects: ForceTerm::impact_group ≥ 0)
+/// impact times with a random spacing over `seconds` at a constant rotor frequency
+/// `rotor_hz` — each interval the nominal period × (1 + jitter·N(0, 1)), the slip's random
+/// part that real bearings show (Randall & Antoni 2011: 1–2 %). The truth synthesizer's
+/// (tools/); the reduced model takes the deterministic train (rom.hpp refuses events).
+void randomise_impacts(FullModel& model, double jitter, double seconds, double rotor_hz,
+                       unsigned long long seed);
 
 /// Builds the model of a drivetrain with one planetary stage (carrier in, ring
 /// fixed, sun out) followed by two parallel helical stages (the paper-2mw

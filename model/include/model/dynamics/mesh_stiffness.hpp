@@ -98,7 +98,7 @@ double iso1328_profile_form_tolerance_um(double normal_module_m, double referenc
 double transmission_error_prior_m(const GearPair& pair, int grade, int harmonic);
 
 /// e(cycles) = Σ_{h=1..count} a_h·cos(2π·h·cycles) [m], the table of a mesh element's
-/// static transmission error (VaryingStiffness::transmission_error).
+/// static transmission error (a MeshExcitation of VaryingStiffness).
 PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count);
 
 /// Relative mesh phases [cycles, in [0, 1)] of planet n at carrier angle ψ_n

@@ -7,13 +7,20 @@
 // Each step solves (M + Δt/2·C + Δt²/4·K(t_{n+1}))·a_{n+1} = r exactly: the constant
 // part S̄ = M + Δt/2·C + Δt²/4·K̄ is factored once (Cholesky), the low-rank part is
 // added by the Sherman–Morrison–Woodbury identity (one R×R solve per step, R = the
-// total rank of the meshes and bearings). The damping C is the model's (modal, built
-// on the mean stiffness; full_model.hpp); the meshes' transmission-error forces
-// k(t)·e(t) enter the right-hand side.
+// total rank of the meshes, bearings and paths, + 2 for each element that turns with the
+// carrier: its direction u(ψ) spans three fixed vectors c + cos ψ·a + sin ψ·b, and what
+// it adds to K̄ is the 3×3 block k(t)·vvᵀ − k̄·v₀v₀ᵀ in them, v = (1, cos ψ, sin ψ),
+// v₀ = (1, 1, 0)). The damping C is the model's (modal, built on the mean stiffness at
+// the reference angle; full_model.hpp). The meshes' transmission error is a known force
+// +u·k(t)·e(t) at t_{n+1} (the mesh force is k·(δ − e)); the carrier frame's Coriolis and
+// centripetal forces on its translations (full_model.hpp) are explicit, at the predicted velocity
+// and displacement (2Ω·Δt ≈ 1e-4: far inside the stability limit).
 //
 // Thread context: allocates at construction only; host / non-RT threads.
 
 #include <Eigen/Dense>
+
+#include <vector>
 
 #include "model/dynamics/full_model.hpp"
 
@@ -43,9 +50,9 @@ class NewmarkIntegrator {
   const Eigen::VectorXd& velocity() const { return v_; }
   const Eigen::VectorXd& acceleration() const { return a_; }
 
-  /// Elastic force k(t)·(δ − e(t)) of mesh i along its line of action [N] (compression > 0).
+  /// Elastic force of mesh i along its line of action [N] (compression > 0).
   double mesh_force_n(std::size_t i) const;
-  /// Reaction of bearing i in x (c = 0) or y (c = 1) [N].
+  /// Reaction of bearing i in the housing frame's x (c = 0) or y (c = 1) [N].
   double bearing_force_n(std::size_t i, int c) const;
   /// Acceleration read by sensor i [m/s²].
   double sensor_m_s2(std::size_t i) const;
@@ -53,6 +60,20 @@ class NewmarkIntegrator {
  private:
   void accelerations_from_equilibrium();
   void fill_delta_k(double revs);
+  // r += the external forces, the transmission error's and the turning frame's at (revs, x, v).
+  void add_forces(double revs, const Eigen::VectorXd& x, const Eigen::VectorXd& v);
+  // r = −K̄ x − C v.
+  void subtract_mean_stiffness_and_damping(const Eigen::VectorXd& x, const Eigen::VectorXd& v);
+  // r −= U·D·Uᵀ x.
+  void subtract_low_rank(const Eigen::VectorXd& x);
+
+  // The low-rank part: a group of columns of U per element.
+  struct Group {
+    const VaryingStiffness* element = nullptr;
+    int first = 0;  // first column in U
+    int size = 0;   // rank, or 3 for a turning element
+    bool turning = false;
+  };
 
   const FullModel& m_;
   double dt_;
@@ -61,11 +82,13 @@ class NewmarkIntegrator {
   double revs_ = 0.0;
   Eigen::VectorXd x_, v_, a_;
   Eigen::LLT<Eigen::MatrixXd> s_bar_;  // M + Δt/2 C + Δt²/4 K̄
-  Eigen::MatrixXd u_;                  // dofs × R varying directions
-  Eigen::MatrixXd z_;                  // S̄⁻¹ U
-  Eigen::MatrixXd g_;                  // Uᵀ S̄⁻¹ U
-  Eigen::VectorXd dk_;                 // R: Δk(t) per column
-  Eigen::MatrixXd small_;              // R×R workspace
+  std::vector<Group> groups_;
+  Eigen::MatrixXd u_;      // dofs × R varying directions
+  Eigen::MatrixXd z_;      // S̄⁻¹ U
+  Eigen::MatrixXd g_;      // Uᵀ S̄⁻¹ U
+  Eigen::MatrixXd dk_;     // R×R: the stiffness added to K̄ at t, in U's columns
+  Eigen::MatrixXd c_;      // C
+  Eigen::MatrixXd small_;  // R×R workspace
   Eigen::VectorXd rhs_, tmp_;
 };
 

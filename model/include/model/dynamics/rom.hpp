@@ -12,13 +12,28 @@
 // coordinates the loop needs are linear read-outs: mesh deflections Wᵀq, bearing
 // deflections W_bᵀq, seat accelerations S q̈.
 //
-// Equations in modal coordinates q (mass-normalised, damping diagonal: c_i = φ_iᵀCφ_i,
-// exactly 2ξ_iω_i for the retained modes since the full model's C is modal):
-//   q̈ + c q̇ + ω²q = Φᵀf(t) − W·diag(Δk_mesh(t))·Wᵀq + W·(k_mesh(t) ∘ e_mesh(t))
-//                    − W_b·diag(Δk_b(t))·W_bᵀq
-// (e_mesh: each mesh's static transmission error, a known force k·e along its line).
+// Equations in modal coordinates q (mass-normalised, Rayleigh damping diagonal):
+//   q̈ + (η + ζω²)q̇ + ω²q = Φᵀf(t) − Σ_meshes W_j·(Δk_j(t)·W_jᵀq − k_j(t)·e_j(t))
+//                          − W_b·diag(Δk_b(t))·W_bᵀq − W_p·diag(Δk_p(t))·W_pᵀq
 // Time-varying stiffness is a low-rank update of the diagonal system: one column of W
-// per mesh, two of W_b per bearing.
+// per mesh, two of W_b per bearing, one of W_p per path (effects: a planet-pass path); e
+// the meshes' transmission error (an eccentric gear's run-out). k_j(t) is the mesh table
+// times its modulation (a cracked tooth's window, a centre-distance change), each a table
+// over its own order. A force term is an amplitude (constant, per N·m, per Hz² of rotor
+// speed) times two tables times a + b cos ψ + c sin ψ (a force fixed in the housing seen
+// from the carrier's axes).
+//
+// The carrier carries the planets round (full_model.hpp: the planetary stage and the sun
+// shaft in the carrier's axes): the one element joining the two frames, the intermediate
+// mesh, has a direction that turns with the carrier angle ψ, W_r(ψ) = c + cos ψ·a + sin ψ·b
+// in fixed modal vectors. Its whole stiffness k_r(t) acts along W_r(ψ), and the modal
+// diagonal's share of it — k̄_r along W_r(0) — is taken back by one extra implicit column
+// W_r(0) with coefficient −k̄_r: the implicit mesh system stays 8×8 plus that column, solved
+// by its Schur complement (two 8-vector solves with the same factors). The static
+// correction vectors include K̄⁻¹a and K̄⁻¹b, so the mesh's quasi-static compliance is exact
+// at every ψ. The turning axes' Coriolis and centripetal terms (≤ 2Ω = 3.1 rad/s, Ω² =
+// 2.4 1/s² at rated, against ω ≥ 300 rad/s of the modes they couple) are left out; the full
+// model keeps them (docs/dynamics.md measures what that costs).
 //
 // Time stepping, fixed Δt: each mode is advanced by its exact discrete propagator for
 // a force varying linearly over the step (first-order-hold exponential integrator:
@@ -79,6 +94,7 @@
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/periodic_table.hpp"
+#include "model/dynamics/rom_kernel_model.hpp"
 #include "model/dynamics/rom_terms.hpp"
 
 namespace model::dynamics {
@@ -87,23 +103,25 @@ namespace model::dynamics {
 /// 1982 Hz) with 11 % margin.
 inline constexpr double kRomDefaultCutoffHz = 2200.0;
 
-/// Capacity of the ROM, sized from paper-2mw: 49 modes ≤ 2.2 kHz + static corrections
-/// for the input torque (1), the meshes (8) and the bearings' static loads (6) = 64, plus
-/// room for the housing modes of the two measurement points (3 each, in band or not as
-/// calibration moves them; DynamicsParameters), rounded to a multiple of the SIMD width.
-/// build_rom() refuses a model that does not fit (it names the count: lower the cut-off
-/// or raise this constant); unused slots are inert (zero).
-inline constexpr int kRomDofs = 72;
-inline constexpr int kRomMeshes = 8;    // 3 sun–planet, 3 ring–planet, 2 parallel
-inline constexpr int kRomBearings = 6;  // b1..b6
+/// Capacity of the ROM: paper-2mw with the carrier turning has 49 modes ≤ 2.2 kHz + static
+/// corrections for the input torque (1), the meshes (8 + the turning mesh's 2) and the
+/// bearings' static loads (6) = 66; effects add a housing mode, paths and force patterns.
+/// The step runs over `RomData::dofs` of them (the count rounded up to the SIMD width of 8),
+/// so an unused capacity costs memory, not time. build_rom() refuses a model that does not
+/// fit (it names the count: lower the cut-off or raise this constant).
+inline constexpr int kRomDofs = 80;
+inline constexpr int kRomMeshes = 8;                  // 3 sun–planet, 3 ring–planet, 2 parallel
+inline constexpr int kRomMeshBasis = kRomMeshes + 2;  // + the turning mesh's cos, sin parts
+inline constexpr int kRomBearings = 6;                // b1..b6
 inline constexpr int kRomBearingRank = 2 * kRomBearings;
-inline constexpr int kRomForces = 2;   // input torque + one plug-in force
+inline constexpr int kRomPaths = 2;    // explicit rank-1 couplings (planet-pass paths)
+inline constexpr int kRomForces = 12;  // input torque + effects' force terms
 inline constexpr int kRomSensors = 2;  // point1, point2
-/// Time-varying terms the step looks up: every mesh, bearing and force slot, then every
-/// mesh's static transmission error.
-inline constexpr int kRomTerms = kRomMeshes + kRomBearings + kRomForces + kRomMeshes;
-/// Rows of RomData::readout_by_dof: the kRomMeshes + kRomBearingRank read-out rows
-/// padded with zeros to whole SIMD vectors of 8 doubles.
+/// Table look-ups a step can make (mesh shapes, bearings, paths, modulations, transmission
+/// errors, force tables); a model uses RomData::lookups of them.
+inline constexpr int kRomLookups = 48;
+/// Rows of RomData::readout_by_dof: meshes 8, bearings 12, the turning mesh's a, b 2,
+/// paths 2 — three whole SIMD vectors of 8 doubles.
 inline constexpr int kRomReadoutRows = 24;
 
 /// Longest mesh, bearing or sensor id a RomData carries (characters, without the
@@ -122,7 +140,14 @@ struct RomData {
   double cutoff_hz = 0.0;      // [Hz] every full-model mode up to here is retained
   int eigenmodes = 0;          // [-] retained full-model modes
   int correction_vectors = 0;  // [-] static correction vectors
-  int mesh_count = 0, bearing_count = 0, force_count = 0, sensor_count = 0;
+  int dofs = 0;                // [-] modal coordinates the step runs over (multiple of 8)
+  int lookups = 0;             // [-] table look-ups the step makes (multiple of 8)
+  int mesh_count = 0, bearing_count = 0, path_count = 0, force_count = 0, sensor_count = 0;
+  int turning_mesh = -1;     // the mesh whose direction turns with the carrier, −1: none
+  bool excitation = false;   // some mesh has a transmission error
+  double frame_order = 0.0;  // [-] carrier revolutions per rotor revolution (0: frozen)
+  // Bearings whose x, y are the carrier frame's (reported turned into the housing frame).
+  std::array<bool, kRomBearings> bearing_carrier_frame{};
   // The full model's ids of the slots [0, count): what each output index is
   // (full_model.hpp: sun_planet_1..3, ring_planet_1..3, intermediate, high_speed; b1..b6;
   // point1, point2 for paper-2mw).
@@ -132,9 +157,9 @@ struct RomData {
 
   // The arrays step() streams are cache-line aligned (alignas(64)): the AVX-512 kernel
   // then never splits a load across two lines. Matrices are stored so that the kernel
-  // reads contiguous columns of kRomDofs values (sensor_rows and readout row-major).
+  // reads contiguous columns of kRomDofs values (sensor_rows row-major).
   alignas(64) Vec omega_rad_s = Vec::Zero();  // [rad/s] Ritz frequencies (0: unused slot)
-  alignas(64) Vec damping_1_s = Vec::Zero();  // [1/s] φᵀCφ (2ξω; Rayleigh: η + ζω²)
+  alignas(64) Vec damping_1_s = Vec::Zero();  // [1/s] η + ζω² (+ an element's own damping)
   alignas(64) Vec omega2 = Vec::Zero();       // [1/s²]
   // First-order-hold propagators: q⁺ = pqq q + pqv v + b0q g + b1q g⁺ (same for v).
   alignas(64) Vec pqq = Vec::Zero();
@@ -146,45 +171,60 @@ struct RomData {
   alignas(64) Vec b0v = Vec::Zero();
   alignas(64) Vec b1v = Vec::Zero();
 
-  alignas(64) Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
-  Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh =
-      decltype(g_mesh)::Zero();  // Wᵀ diag(b1q) W
+  // The meshes' directions at ψ = 0 (for reports and tests: Φᵀu_j).
+  Eigen::Matrix<double, kRomDofs, kRomMeshes> w_mesh = decltype(w_mesh)::Zero();
+  // The step's mesh basis: column j = W_j (the turning mesh's: c), then its a and b.
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomMeshBasis> w_basis = decltype(w_basis)::Zero();
+  // G(ψ) = W(ψ)ᵀ diag(b1q) W(ψ) = g_mesh + cos ψ·g_mesh_cos + sin ψ·g_mesh_sin
+  //        (+ g_turning_2psi·(cos 2ψ, sin 2ψ) on the turning mesh's diagonal).
+  alignas(64) Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh = decltype(g_mesh)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh_cos =
+      decltype(g_mesh_cos)::Zero();
+  alignas(64) Eigen::Matrix<double, kRomMeshes, kRomMeshes> g_mesh_sin =
+      decltype(g_mesh_sin)::Zero();
+  std::array<double, 2> g_turning_2psi{};
+  // W(ψ)ᵀ diag(b1q) W_r(0), the extra column: constant, cos ψ, sin ψ parts; and its own entry.
+  alignas(64) Eigen::Matrix<double, kRomMeshes, 3> g_extra = decltype(g_extra)::Zero();
+  double g_extra_self = 0.0;
   alignas(64) Eigen::Matrix<double, kRomDofs, kRomBearingRank> w_bearing =
       decltype(w_bearing)::Zero();
-  // [W W_b]ᵀ stored row-major: both read-outs of a modal vector in one pass.
-  Eigen::Matrix<double, kRomMeshes + kRomBearingRank, kRomDofs, Eigen::RowMajor> readout =
-      decltype(readout)::Zero();
-  // The same read-out by columns, zero-padded to kRomReadoutRows: the layout step()
+  alignas(64) Eigen::Matrix<double, kRomDofs, kRomPaths> w_path = decltype(w_path)::Zero();
+  // The read-out R = [W_basis(0..7) W_b W_basis(8, 9) W_p]ᵀ by columns: the layout step()
   // streams (z = Σ_i r_i·column_i, one column per modal coordinate).
   alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomDofs> readout_by_dof =
       decltype(readout_by_dof)::Zero();
-  // [G; H] = [W W_b]ᵀ diag(b1q) W, zero-padded like readout_by_dof: the implicit mesh
-  // correction of the read-out (z⁺ = z − [G; H] y).
-  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomMeshes> readout_correction =
+  // R·diag(b1q)·W_basis: the implicit mesh correction of the read-out (z⁺ = z − C·y).
+  alignas(64) Eigen::Matrix<double, kRomReadoutRows, kRomMeshBasis> readout_correction =
       decltype(readout_correction)::Zero();
-  Eigen::Matrix<double, kRomBearingRank, kRomMeshes> h_bearing_mesh =
-      decltype(h_bearing_mesh)::Zero();  // W_bᵀ diag(b1q) W
   alignas(64) Eigen::Matrix<double, kRomDofs, kRomForces> w_force = decltype(w_force)::Zero();
   alignas(64) Eigen::Matrix<double, kRomSensors, kRomDofs, Eigen::RowMajor> sensor_rows =
       decltype(sensor_rows)::Zero();
 
-  std::array<RomStiffnessTerm, kRomMeshes> meshes{};
-  std::array<RomStiffnessTerm, kRomBearings> bearings{};
-  std::array<RomForceTerm, kRomForces> forces{};
+  // Look-ups: t < lookups reads table t at order·N_rotor + phase (rom_kernel.hpp: mesh shapes
+  // [0, 8), bearings [8, 14), paths [14, 16), then the effects' and excitations' tables).
+  alignas(64) std::array<double, kRomLookups> term_order{};         // [cycles/rev]
+  alignas(64) std::array<double, kRomLookups> term_phase_cycles{};  // [cycles]
+  // Table t at [t·PeriodicTable::kSize, (t+1)·PeriodicTable::kSize).
+  alignas(64) std::array<double, kRomLookups * PeriodicTable::kSize> term_values{};
+  // Consumers of the look-ups; an index kRomLookups reads 1, kRomLookups + 1 reads 0.
+  std::array<double, kRomMeshes> mesh_mean_n_m{};  // [N/m]
+  std::array<int, kRomMeshes> mesh_shape{};        // k_j = mean·v[shape]·v[modulation]
+  std::array<int, kRomMeshes> mesh_modulation{};
+  std::array<int, kRomMeshes> mesh_error0{};  // e_j = v[error0] + v[error1] [m]
+  std::array<int, kRomMeshes> mesh_error1{};
+  std::array<double, kRomBearings> bearing_mean_n_m{};  // [N/m]
+  std::array<double, kRomPaths> path_mean_n_m{};        // [N/m]
+  // Force j: (scale + per_nm·T + per_hz2·f_rotor²)·v[index0]·v[index1]·
+  // (frame[3j] + frame[3j+1]·cos ψ + frame[3j+2]·sin ψ).
+  std::array<double, kRomForces> force_scale{};
+  std::array<double, kRomForces> force_per_nm{};
+  std::array<double, kRomForces> force_per_hz2{};
+  std::array<int, kRomForces> force_index0{};
+  std::array<int, kRomForces> force_index1{};
+  std::array<double, 3 * kRomForces> force_frame{};
 
-  // The same kRomTerms time-varying terms (meshes, bearings, forces, then the meshes'
-  // transmission errors) laid out
-  // for the step's look-ups, copied by build_rom(): one loop over contiguous arrays and
-  // tables instead of sixteen structs two kilobytes apart.
-  alignas(64) std::array<double, kRomTerms> term_order{};         // [cycles/rev]
-  alignas(64) std::array<double, kRomTerms> term_phase_cycles{};  // [cycles]
-  // Mesh and bearing terms: the mean stiffness [N/m]; force terms: the amplitude if it is
-  // not per N·m of input torque [N], else 0; transmission-error terms: 1 (tables in m).
-  alignas(64) std::array<double, kRomTerms> term_scale{};
-  // Force terms whose amplitude is per N·m of input torque: that amplitude [N/(N·m)]; else 0.
-  alignas(64) std::array<double, kRomTerms> term_scale_per_nm{};
-  // Term t's shape table at [t·PeriodicTable::kSize, (t+1)·PeriodicTable::kSize).
-  alignas(64) std::array<double, kRomTerms * PeriodicTable::kSize> term_values{};
+  /// Value of look-up t (or the constants kRomLookups, kRomLookups + 1) at a rotor angle.
+  double lookup(int t, double rotor_revolutions) const noexcept;
 };
 
 /// What build_rom() kept, for reports and tests.
@@ -237,7 +277,7 @@ struct RomInputs {
 /// Outputs at the end of a step.
 struct RomOutputs {
   std::array<double, kRomMeshes> mesh_force_n{};         // [N] compression > 0
-  std::array<double, kRomBearings> bearing_force_x_n{};  // [N]
+  std::array<double, kRomBearings> bearing_force_x_n{};  // [N] housing frame
   std::array<double, kRomBearings> bearing_force_y_n{};  // [N]
   std::array<double, kRomSensors> acceleration_m_s2{};   // [m/s²] point1, point2
 };
@@ -278,20 +318,26 @@ class Rom {
   const RomData* data_;
   alignas(64) RomData::Vec q_ = RomData::Vec::Zero();
   alignas(64) RomData::Vec v_ = RomData::Vec::Zero();
-  alignas(64) RomData::Vec g_ = RomData::Vec::Zero();  // modal force at the current time
-  Eigen::Matrix<double, kRomBearingRank, 1> z_bearing_ = decltype(z_bearing_)::Zero();
-  Eigen::Matrix<double, kRomMeshes, 1> z_mesh_ = decltype(z_mesh_)::Zero();
-  // Sets the angle (whole + fraction, normalised to [0, 1)) and every term's phase at it.
+  alignas(64) RomData::Vec g_ = RomData::Vec::Zero();    // modal force at the current time
+  alignas(64) std::array<double, kRomReadoutRows> z_{};  // the read-out R q
+  // Sets the angle (whole + fraction, normalised to [0, 1)) and every look-up's phase and
+  // the carrier angle at it.
   void set_angle(std::int64_t whole, double fraction) noexcept;
   void reset_at(const RomInputs& in, std::int64_t whole, double fraction, double t0,
                 std::int64_t steps) noexcept;
+  void bind_kernel() noexcept;
 
   double t0_ = 0.0;              // [s] time at the last reset
   std::int64_t steps_ = 0;       // [-] steps since
   std::int64_t whole_revs_ = 0;  // [rev] whole rotor revolutions
   double frac_revs_ = 0.0;       // [rev] in [0, 1)
-  // frac(order·whole_revs_ + phase) per term [cycles] (RomData's term layout).
-  alignas(64) std::array<double, kRomTerms> phase_base_{};
+  // frac(order·whole_revs_ + phase) per look-up [cycles] (RomData's look-up layout).
+  alignas(64) std::array<double, kRomLookups> phase_base_{};
+  // The carrier angle ψ at the current angle: cos, sin, and ψ/2π at the start of the
+  // current revolution, frac(frame_order·whole_revs_) [cycles].
+  double cos_psi_ = 1.0, sin_psi_ = 0.0, psi_base_ = 0.0;
+  int steps_since_exact_ = 0;
+  detail::RomKernelModel kernel_{};  // pointers into *data_ and phase_base_ for the kernel
 };
 
 }  // namespace model::dynamics

@@ -10,15 +10,12 @@
 
 namespace model::dynamics {
 
-/// A time-varying stiffness in the ROM: k = mean·shape(order·N_rotor + phase). A mesh's
-/// element force is k·(δ − e), e its static transmission error [m] over the same cycle
-/// (0 for bearings): the step applies k·e as a force along the mesh's line of action.
+/// A time-varying stiffness in the ROM: k = mean·shape(order·N_rotor + phase).
 struct RomStiffnessTerm {
   double mean_n_m = 0.0;      // [N/m]
   double order = 0.0;         // [cycles per rotor revolution]
   double phase_cycles = 0.0;  // [cycles]
   PeriodicTable shape = PeriodicTable::constant(1.0);
-  PeriodicTable transmission_error = PeriodicTable::constant(0.0);  // [m]
 };
 
 /// A force pattern's amplitude: (per_newton_metre ? amplitude·T_in : amplitude)·

@@ -30,6 +30,7 @@ struct SimulationSettings {
   int full_substeps = 2;          // full model: Newmark steps per output sample
   double rom_cutoff_hz =
       2200.0;  // [Hz] ROM: keep every mode up to here (+ static correction); rom.hpp
+  StructuralParameters structure{};  // the full model's structural parameters (both models)
 };
 
 /// Time series, one value per output sample (sample i at t = (i+1)/sample_rate_hz).

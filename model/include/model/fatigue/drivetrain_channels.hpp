@@ -79,7 +79,13 @@ struct ChannelOptions {
   RatingSettings rating{};
   double k_a = 1.0;                          // [-] application factor (1 for dynamic loads)
   KneeBranch branch = KneeBranch::kHaibach;  // S-N beyond the knee
-  Lubrication lubrication{};                 // ISO 281 a_ISO of the bearings (bearing_life.hpp)
+  /// [-] planet load sharing factor K_γ (ISO 6336-1 mesh load factor) of the quasi-static
+  /// loads: every planet mesh and planet bearing carries K_γ × its equal share, since the
+  /// quasi-static loads have no physics to say which planet carries more. 0: the value
+  /// IEC 61400-4 gives for the planet count (planet_load_sharing_factor()). The dynamics
+  /// spectrum does not use it: the dynamics model carries the sharing itself.
+  double planet_load_sharing = 0.0;
+  Lubrication lubrication{};  // ISO 281 a_ISO of the bearings (bearing_life.hpp)
 };
 
 /// What a bearing slot's ISO 281 life modification factor is computed from (start-up values).
@@ -93,6 +99,11 @@ struct BearingLifeTerms {
   double rev_per_rotor_rev = 0.0;  // [-] ring revolutions per rotor revolution
   BearingType type = BearingType::kRoller;
 };
+
+/// IEC 61400-4:2012's planet load sharing factor K_γ for a planetary stage of `planets`
+/// planets (3: 1.10, 4: 1.25, 5: 1.35, 6: 1.44, 7: 1.47; beyond 7 the 7-planet value, the
+/// last the table gives; 1 or 2 planets: 1, no sharing to be uneven).
+double planet_load_sharing_factor(int planets);
 
 class ChannelSet {
  public:
@@ -122,29 +133,35 @@ class ChannelSet {
   const std::string& life_note() const { return life_note_; }
   const Channel& channel(std::size_t i) const { return channels_[i]; }
   const ChannelOptions& options() const { return options_; }
+  /// K_γ the quasi-static loads apply to the planets (1 without a planetary stage).
+  double planet_load_sharing() const { return planet_load_sharing_; }
 
   /// Stress [MPa] (gears) or dynamic equivalent load P [N] (bearings) that source `s` of
   /// channel `c` sees under `loads`. O(1), allocation-free.
   double stress(std::size_t c, std::size_t s, const LoadSample& loads) const;
 
   /// Quasi-static loads for a rotor torque (FALLBACK spectrum, see load_spectrum.hpp):
-  /// equal load sharing among planets, F_t = T_member/(d/2), bearing reactions from the
-  /// static force balance described in drivetrain_channels.cpp. No dynamics, no K_v.
+  /// F_t = T_member/(d/2), each planet's mesh force K_γ × its equal share (ChannelOptions::
+  /// planet_load_sharing), bearing reactions from the static force balance described in
+  /// drivetrain_channels.cpp. No dynamics, no K_v.
   LoadSample quasi_static_loads(double rotor_torque_nm) const;
 
  private:
   std::string error_;
   ChannelOptions options_;
   std::size_t mesh_count_ = 0, bearing_count_ = 0, channel_count_ = 0;
+  double planet_load_sharing_ = 1.0;
   std::array<std::string, kMaxMeshes> mesh_ids_{};
   std::array<MeshRating, kMaxMeshes> meshes_{};
   std::array<double, kMaxMeshes> torque_to_ft_per_nm_{};  // [1/m] F_t per rotor torque
+  std::array<double, kMaxMeshes> quasi_static_factor_{};  // [-] K_γ for planet meshes, else 1
   std::array<std::string, kMaxBearings> bearing_ids_{};
   std::array<Bearing, kMaxBearings> bearings_{};
+  std::array<double, kMaxBearings> torque_to_radial_per_nm_{};      // [1/m] F_r per rotor torque
+  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};       // [1/m] F_a per rotor torque
+  std::array<double, kMaxBearings> bearing_quasi_static_factor_{};  // [-] K_γ for planet bearings
   std::array<BearingLifeTerms, kMaxBearings> life_{};
   std::string life_note_;
-  std::array<double, kMaxBearings> torque_to_radial_per_nm_{};  // [1/m] F_r per rotor torque
-  std::array<double, kMaxBearings> torque_to_axial_per_nm_{};   // [1/m] F_a per rotor torque
   std::array<Channel, kMaxChannels> channels_{};
 };
 
