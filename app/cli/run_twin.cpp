@@ -35,6 +35,7 @@ struct RunTwinArgs {
   std::string state_dir;
   std::string json;
   bool lockstep = false;
+  bool live_clock = false;
   std::string timing;  // the timing benchmark's report (JSON)
 };
 
@@ -164,6 +165,7 @@ void run_twin_command(const RunTwinArgs& a) {
   o.duration_s = a.duration_s;
   o.print_config = a.print_config;
   o.lockstep = a.lockstep;
+  o.live_clock = a.live_clock;
   std::unique_ptr<app::loop::TimingHistogram> timing;
   if (!a.timing.empty()) {
     timing = std::make_unique<app::loop::TimingHistogram>();
@@ -213,6 +215,10 @@ void setup_run_twin(CLI::App& sub) {
   sub.add_flag("--lockstep", a->lockstep,
                "replay / simulated buses: wait for the calibration thread at each window, so "
                "that the run, calibration included, repeats bit for bit");
+  sub.add_flag("--live-clock", a->live_clock,
+               "simulated buses: run on the live clock as in the cabinet (absolute deadlines on "
+               "CLOCK_MONOTONIC, missed periods skipped) instead of stepped time paced at "
+               "--speed; the timing benchmark uses it");
   sub.add_option("--json", a->json, "write a JSON summary (damage per channel, counters)");
   sub.add_option("--timing", a->timing,
                  "write the loop's timing (wake-up latency and cycle time p50/p99/p99.9/max, "

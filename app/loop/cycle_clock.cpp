@@ -28,7 +28,10 @@ std::int64_t CycleClock::monotonic_ns() {
   return static_cast<std::int64_t>(ts.tv_sec) * kNsPerS + ts.tv_nsec;
 }
 
-void CycleClock::start() {
+void CycleClock::start() { start(monotonic_ns()); }
+
+void CycleClock::start(std::int64_t origin_ns) {
+  origin_ns_ = origin_ns;
   t0_wall_ns_ = monotonic_ns();
   next_wall_ns_ = t0_wall_ns_;
   woke_wall_ns_ = t0_wall_ns_;
@@ -53,7 +56,7 @@ CycleClock::Tick CycleClock::wait() {
     sleep_until(next_wall_ns_);
     woke_wall_ns_ = monotonic_ns();
     t.latency_us = static_cast<double>(woke_wall_ns_ - next_wall_ns_) * 1e-3;
-    t.now = hal::Timestamp{next_wall_ns_ - t0_wall_ns_};
+    t.now = hal::Timestamp{next_wall_ns_ - origin_ns_};
     next_wall_ns_ += period_ns_;
     ++cycle_;
     return t;

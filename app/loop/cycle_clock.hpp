@@ -38,8 +38,11 @@ class CycleClock {
   /// @param pace stepped mode: recording seconds per wall second (0: as fast as possible)
   CycleClock(Mode mode, std::int64_t period_ns, double pace = 0.0);
 
-  /// Starts the period grid now (first deadline: now).
+  /// Starts the period grid now (first deadline: now); live, the twin's time counts from now.
   void start();
+  /// Live: as start(), the twin's time counted from CLOCK_MONOTONIC `origin_ns` (the origin
+  /// of the LoopTimeClock the bus backends stamp with, so both share one time base).
+  void start(std::int64_t origin_ns);
   /// Sleeps to the next deadline (except stepped at pace 0) and returns the cycle's time.
   Tick wait();
   /// Compute time of the cycle that just ended [µs] (wall clock since its wake-up).
@@ -47,17 +50,34 @@ class CycleClock {
 
   std::int64_t period_ns() const { return period_ns_; }
 
- private:
+  /// CLOCK_MONOTONIC [ns].
   static std::int64_t monotonic_ns();
 
+ private:
   Mode mode_;
   std::int64_t period_ns_;
   double pace_;
   std::int64_t t0_wall_ns_ = 0;    // [ns] CLOCK_MONOTONIC at start()
+  std::int64_t origin_ns_ = 0;     // [ns] CLOCK_MONOTONIC of the live twin's time 0
   std::int64_t next_wall_ns_ = 0;  // [ns] next wall deadline
   std::int64_t woke_wall_ns_ = 0;  // [ns] when the current cycle woke
   std::int64_t cycle_ = 0;         // [-] index of the next cycle (stepped)
   std::int64_t twin_ns_ = 0;       // [ns] twin time of the next cycle
+};
+
+/// The live twin's time as a hal::Clock: CLOCK_MONOTONIC minus the origin the CycleClock
+/// counts from (CycleClock::start(origin_ns)). The bus backends stamp with it, so SCADA ages,
+/// CMS block and keyphasor stamps are on the time base of the loop's `now`.
+class LoopTimeClock final : public hal::Clock {
+ public:
+  explicit LoopTimeClock(std::int64_t origin_ns) : origin_ns_(origin_ns) {}
+  hal::Timestamp now() const override {
+    return hal::Timestamp{CycleClock::monotonic_ns() - origin_ns_};
+  }
+  std::int64_t origin_ns() const { return origin_ns_; }
+
+ private:
+  std::int64_t origin_ns_;
 };
 
 }  // namespace app::loop

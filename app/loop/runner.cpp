@@ -251,8 +251,8 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
         trends_origin_unix_s = row.time_s();
     }
   }
-  const bool stepped = replay || (bc.scada != Backend::kLinux && bc.cms != Backend::kLinux &&
-                                  bc.keyphasor != Backend::kLinux);
+  const bool stepped = replay || (!opt.live_clock && bc.scada != Backend::kLinux &&
+                                  bc.cms != Backend::kLinux && bc.keyphasor != Backend::kLinux);
 
   // ---- persisted state ----
   std::error_code ec;
@@ -334,9 +334,12 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
 
   // ---- devices: construct (no I/O) ----
   hal::ManualClock manual_clock;
-  hal::MonotonicClock monotonic_clock;
+  // Live: the backends stamp on the loop's time base (CLOCK_MONOTONIC from this origin),
+  // which the cycle clock counts `now` from (a backend comparing the loop's `now` with its own
+  // stamps — the sim source's schedule, SCADA ages — needs both on one base).
+  LoopTimeClock live_clock(CycleClock::monotonic_ns());
   const hal::Clock& clock = stepped ? static_cast<const hal::Clock&>(manual_clock)
-                                    : static_cast<const hal::Clock&>(monotonic_clock);
+                                    : static_cast<const hal::Clock&>(live_clock);
   bc.modbus_client.thread = cfg.thread(ThreadId::kScadaIo);
   bc.socketcan.thread = cfg.thread(ThreadId::kCmsIo);
   bc.gpio_keyphasor.thread = cfg.thread(ThreadId::kKeyphasorIo);
@@ -646,7 +649,10 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     if (opt.on_rt_start) opt.on_rt_start();
     timespec cpu0{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &cpu0);
-    cc.start();
+    if (stepped)
+      cc.start();
+    else
+      cc.start(live_clock.origin_ns());
     for (;;) {
       if (opt.stop != nullptr && opt.stop->load(std::memory_order_relaxed)) break;
       if (stepped && opt.lockstep) {

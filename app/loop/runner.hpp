@@ -63,6 +63,10 @@ struct RunOptions {
   /// The timing benchmark's histogram of every cycle's wake-up latency and cycle time
   /// (nullptr: not recorded); filled on the RT thread.
   TimingHistogram* timing = nullptr;
+  /// Simulated buses on the live clock (the timing benchmark): the cabinet's schedule —
+  /// absolute deadlines on CLOCK_MONOTONIC, missed periods skipped — instead of the
+  /// simulation's stepped time paced at `speed`. Ignored for a replay.
+  bool live_clock = false;
   /// Set from outside (signal handler, test) to end the run; polled every cycle.
   std::atomic<bool>* stop = nullptr;
 };

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The loop's timing benchmark (issue 13): `drivetwin run` on the simulated buses at the full
-# CMS rate with calibration running, paced at real time, beside cyclictest (Debian's rt-tests)
+# The loop's timing benchmark (issue 13): `drivetwin run` on the simulated buses, on the live
+# clock (--live-clock: absolute deadlines, missed periods skipped, as in the cabinet) at the full
+# CMS rate with calibration running, beside cyclictest (Debian's rt-tests)
 # with the same period and priority, measured in the same session (cyclictest, the twin,
 # cyclictest again, the twin again, so that both see the same machine); then the
 # instructions per cycle (callgrind), the portable figure for the ARM box.
@@ -55,7 +56,7 @@ cyclic() {  # $1 = label
 }
 twin() {  # $1 = label
   echo "load before the twin $1: $(cut -d' ' -f1-3 /proc/loadavg)"
-  "$bin" run --config "$config" --duration "$seconds" --speed 1 --timing "$out/timing-$1.json" --json "$out/summary-$1.json" > "$out/twin-$1.log" 2>&1
+  "$bin" run --config "$config" --duration "$seconds" --live-clock --timing "$out/timing-$1.json" --json "$out/summary-$1.json" > "$out/twin-$1.log" 2>&1
   python3 - "$out/timing-$1.json" <<'PY'
 import json, sys
 t = json.load(open(sys.argv[1]))
