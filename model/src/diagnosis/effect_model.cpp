@@ -1,7 +1,9 @@
 #include "model/diagnosis/effect_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
+#include "model/drivetrain/effects.hpp"
 #include "model/dynamics/simulate.hpp"
 
 namespace model::diagnosis {
@@ -15,19 +17,54 @@ RomEffectSimulator::RomEffectSimulator(const Drivetrain& drivetrain, double sett
 
 RomEffectSimulator::~RomEffectSimulator() = default;
 
-std::vector<EffectParameter> RomEffectSimulator::parameters(const Hypothesis&) const {
-  // No effect term of the contract is in model/dynamics yet: nothing can be switched on.
-  return {};
+namespace {
+// The diagnosis's effects are the contract's, in the contract's order, as model::EffectKind.
+model::EffectKind kind_of(Effect e) { return static_cast<model::EffectKind>(static_cast<int>(e)); }
+static_assert(static_cast<int>(Effect::kHousingResonance) ==
+              static_cast<int>(model::EffectKind::kHousingResonance));
+
+// A bearing's slip is not fitted: the recording's own defect rate sets it.
+bool set_from_rate(std::string_view name) { return name == "slip"; }
+}  // namespace
+
+std::vector<EffectParameter> RomEffectSimulator::parameters(const Hypothesis& h) const {
+  std::vector<EffectParameter> out;
+  for (const model::EffectParameter& p : model::effect_parameters(kind_of(h.effect))) {
+    if (!p.fitted || set_from_rate(p.name)) continue;
+    EffectParameter q;
+    q.name = p.name;
+    q.upper = p.upper;
+    q.initial = p.default_value;
+    // From the term's default; severities searched as logarithms from 10⁻⁴ of their range up.
+    q.log_scale = p.upper > 0.0 && p.lower >= 0.0;
+    q.lower = q.log_scale ? std::max(p.lower, 1e-4 * p.upper) : p.lower;
+    q.initial = std::clamp(q.initial, q.lower, q.upper);
+    out.push_back(q);
+  }
+  return out;
 }
 
 bool RomEffectSimulator::simulate(
     const DynamicsParameters& params, const std::vector<EffectSetting>& effects,
     const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
     std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) {
-  if (!effects.empty()) {
-    error_ = "the dynamics model has no switchable term for " +
-             std::string(effect_id(effects.front().hypothesis->effect));
-    return false;
+  drivetrain_.effects.clear();
+  for (const EffectSetting& e : effects) {
+    const Hypothesis& h = *e.hypothesis;
+    model::Effect m = model::make_effect(kind_of(h.effect), h.location);
+    std::size_t i = 0;
+    for (const model::EffectParameter& p : model::effect_parameters(m.kind)) {
+      if (!p.fitted || set_from_rate(p.name)) continue;
+      if (i < kMaxEffectParameters) m.set_parameter(p.name, e.values[i++]);
+    }
+    if (e.measured_rate_order > 0.0 && h.rate_order > 0.0)
+      m.set_parameter("slip", std::clamp(1.0 - e.measured_rate_order / h.rate_order, 0.0, 0.05));
+    std::string why;
+    if (!model::check_effect(drivetrain_, m, &why)) {
+      error_ = why;
+      return false;
+    }
+    drivetrain_.effects.push_back(m);
   }
   drivetrain_.dynamics = params;
   dynamics::SimulationSettings settings;
