@@ -38,8 +38,8 @@ namespace fs = std::filesystem;
 using run_test::TempDir;
 using run_test::write;
 
-constexpr double kCheckpoint_s = 60.0;  // [s] loop time between checkpoints (the default)
-constexpr double kSpeed = 600.0;        // replay pace: a checkpoint interval = 100 ms of wall
+constexpr double kCheckpoint_s = 7.5;  // [s] loop time between checkpoints (the ROM at 4096 Hz)
+constexpr double kSpeed = 600.0;       // replay pace: a checkpoint interval = 100 ms of wall
 
 struct Shared {                        // one page shared with the child
   std::atomic<double> elapsed_s{0.0};  // lifetime accumulated time after the last cycle
@@ -94,7 +94,8 @@ app::run::RunConfig config(const TempDir& dir) {
   write(dir.path / "bus.toml", "format = \"drivetwin-bus/1\"\n[scada]\nbackend = \"none\"\n");
   std::ostringstream s;
   s << "format = \"drivetwin-run/1\"\n[twin]\nbus = \"bus.toml\"\n"
-    << "[loop]\nperiod_us = 15625\nrom_steps_per_cycle = 8\nrom_cutoff_hz = 60.0\npublish_divisor "
+    << "[loop]\nperiod_us = 15625\nrom_steps_per_cycle = 64\nrom_cutoff_hz = "
+       "150.0\npublish_divisor "
        "= 64\n"
     << "[calibration]\nenabled = false\n[persistence]\ncheckpoint_interval_s = " << kCheckpoint_s
     << "\n"
