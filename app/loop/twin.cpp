@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "fatigue/dynamics_spectrum.hpp"
 #include "model/drivetrain/kinematics.hpp"
 
 namespace app::loop {
@@ -273,6 +274,30 @@ void Twin::adopt_calibrated(const supervisor::SupervisorDecision& d) {
   }
 }
 
+namespace {
+// The loads no wind-turbine gearbox can carry: 1 GN on a mesh or bearing is 20× a 15 MW
+// drivetrain's rated mesh force (1e7 N·m on a 0.2 m base radius).
+constexpr double kImpossibleForce_n = 1e9;
+
+bool plausible(const model::dynamics::RomOutputs& o) noexcept {
+  // `!(|f| < limit)` is true for NaN as well.
+  for (const double f : o.mesh_force_n)
+    if (!(std::abs(f) < kImpossibleForce_n)) return false;
+  for (std::size_t j = 0; j < o.bearing_force_x_n.size(); ++j)
+    if (!(std::abs(o.bearing_force_x_n[j]) < kImpossibleForce_n) ||
+        !(std::abs(o.bearing_force_y_n[j]) < kImpossibleForce_n))
+      return false;
+  return true;
+}
+
+bool within(const model::fatigue::LoadSample& l, const model::fatigue::LoadSample& qs) noexcept {
+  for (std::size_t m = 0; m < l.mesh_force_n.size(); ++m)
+    if (!(std::abs(l.mesh_force_n[m]) <= fatigue::kDivergenceFactor * qs.mesh_force_n[m] + 1.0))
+      return false;
+  return true;
+}
+}  // namespace
+
 void Twin::step_model(hal::Timestamp now, const supervisor::SupervisorDecision& d) {
   if (!d.rom_valid) return;
   // The inputs per step between SCADA samples (signal/rom_input_shaper.hpp): a held value
@@ -287,12 +312,25 @@ void Twin::step_model(hal::Timestamp now, const supervisor::SupervisorDecision& 
   } else {
     shaper_.cycle(now, d.rom, new_sample);
   }
+  // 10 × the quasi-static mesh forces at this torque (at least a tenth of rated): the bound
+  // `drivetwin damage` refuses a diverged simulation at (app/fatigue/dynamics_spectrum.hpp).
+  const model::fatigue::LoadSample limits = channels_.quasi_static_loads(
+      std::max(std::abs(d.rom.input_torque_nm), 0.1 * drivetrain_.turbine.rated_torque_nm));
   const int steps = settings_.rom_steps_per_cycle;
   for (int i = 0; i < steps; ++i) {
     const model::dynamics::RomInputs u = shaper_.at_step(i, steps);
     rom_.step(u, rom_out_);
     converter_.convert(rom_out_.mesh_force_n.data(), rom_out_.bearing_force_x_n.data(),
                        rom_out_.bearing_force_y_n.data(), u.input_torque_nm, loads_);
+    if (!plausible(rom_out_) || !within(loads_, limits)) {
+      // A diverging ROM (a step too long for its stiffest explicit term: docs/run.md, known
+      // problems) must not put NaN or absurd loads into the lifetime damage: the cycle's
+      // remaining steps are not counted and the ROM restarts from equilibrium next cycle.
+      rom_diverged_since_publish_ = true;
+      rom_started_ = false;
+      counters_.rom_steps += static_cast<std::uint64_t>(i + 1);
+      return;
+    }
     accumulator_->step(loads_, u.rotor_speed_rpm, 1);
     if (shadow_data_ != nullptr) {
       shadow_.step(u, shadow_out_);  // settling: its loads are not counted
@@ -373,6 +411,7 @@ void Twin::cycle(hal::Timestamp now) {
   seen.calibrated = calibration_generation_ > 0;
   seen.calibration_unfit = calibration_.unfit_after_calibration;
   seen.queue_full = queue_full_since_publish_;
+  seen.rom_diverged = rom_diverged_since_publish_;
   seen.persistence_failed = mail_.persistence_failed.load(std::memory_order_relaxed);
   for (std::size_t i = 0; i < kSnapshotPoints; ++i) seen.zones[i] = zones_[i].zone();
   const supervisor::SupervisorDecision d = supervisor_.update(now, scada_, seen);
@@ -514,6 +553,7 @@ void Twin::publish(hal::Timestamp now) {
     queue_full_since_publish_ = false;
   }
   overrun_since_publish_ = false;
+  rom_diverged_since_publish_ = false;
   if (dev_.results != nullptr) {
     register_map_.encode(to_results_values(snapshot_), image_);
     (void)dev_.results->publish(image_);

@@ -272,6 +272,7 @@ class Twin {
   std::uint32_t sequence_ = 0;
   bool watchdog_level_ = false;
   bool overrun_since_publish_ = false;
+  bool rom_diverged_since_publish_ = false;
   bool queue_full_since_publish_ = false;
   bool alarm_ = false;
   std::array<VibrationZone, kSnapshotPoints> zone_{};

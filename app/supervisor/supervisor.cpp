@@ -118,6 +118,7 @@ SupervisorDecision Supervisor::update(hal::Timestamp now, const hal::ScadaData& 
   if (seen.calibration_unfit) d.fault_word |= kFaultCalibrationUnfit;
   if (seen.persistence_failed) d.fault_word |= kFaultPersistence;
   if (seen.queue_full) d.fault_word |= kFaultQueueFull;
+  if (seen.rom_diverged) d.fault_word |= kFaultRomDiverged;
   d.status_word |= results::kStatusRunning;
   return d;
 }

@@ -59,6 +59,8 @@ enum FaultBit : std::uint16_t {
   kFaultOverrun = 1u << 11,           // a cycle overran since the last snapshot
   kFaultQueueFull = 1u << 12,         // a snapshot or log event was dropped (consumer behind)
   kFaultPersistence = 1u << 13,       // the last checkpoint failed (persistence thread)
+  kFaultRomDiverged = 1u << 14,       // the ROM's output was not finite or beyond any gearbox's
+                                      // (steps not counted, the ROM restarted from equilibrium)
 };
 
 struct SupervisorConfig {
@@ -78,6 +80,7 @@ struct CycleObservations {
   bool calibration_unfit = false;  // the last calibration did not fit
   bool persistence_failed = false;
   bool queue_full = false;
+  bool rom_diverged = false;  // since the last snapshot
   std::array<loop::VibrationZone, loop::kSnapshotPoints> zones{};
 };
 
