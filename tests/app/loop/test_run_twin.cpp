@@ -9,7 +9,6 @@
 
 #include "loop/runner.hpp"
 #include "loop/twin.hpp"
-#include "replay_damage_check.hpp"
 #include "run/run_config.hpp"
 #include "run_test_util.hpp"
 
@@ -76,26 +75,26 @@ TEST(RunTwin, OnSimulatedBusesEveryPeriodRunsAndDamageAccumulates) {
 }
 
 TEST(RunTwin, AReplayCoversItsRowsExactlyAndRepeatsBitForBit) {
-  // Arrange: the built-in day's first two 10-minute rows, the first replayed (--duration),
-  // the ROM at 4096 Hz (the ROM with the carrier-frame planets diverges at 2048 Hz and below:
-  // docs/run.md, known problems).
+  // Arrange: the built-in day's first two 10-minute rows, the first 2 minutes replayed
+  // (--duration), the ROM at 4096 Hz (the ROM with the carrier-frame planets diverges at 2048 Hz
+  // and below: docs/run.md, known problems).
   TempDir dir("dt-run-replay");
   write(dir.path / "day.csv", run_test::builtin_day_rows(2));
   app::run::RunConfig c = config(dir, kReplayBus, false, 64);
   app::loop::RunOptions o;
   o.replay = (dir.path / "day.csv").string();
-  o.duration_s = 600.0;
+  o.duration_s = 120.0;
   std::ostringstream log;
   o.log = &log;
   // Act: two runs from an empty state each.
   const app::loop::RunSummary a = app::loop::run_twin(c, o);
   c.state_dir = (dir.path / "state2").string();
   const app::loop::RunSummary b = app::loop::run_twin(c, o);
-  // Assert: the row's 600 s, every step valid; the rotor turned rpm × 10 min (13.79819973 rpm in
+  // Assert: the 120 s, every step valid; the rotor turned rpm × 2 min (13.79819973 rpm in
   // the file), to the accumulator's rounding of 2^-33 rev per step (damage_accumulator.hpp).
-  EXPECT_DOUBLE_EQ(a.elapsed_s, 600.0) << log.str();
-  const double steps = 600.0 * 4096.0;
-  EXPECT_NEAR(a.last.rotor_revolutions, 13.79819973 * 10.0, steps * std::ldexp(1.0, -33));
+  EXPECT_DOUBLE_EQ(a.elapsed_s, 120.0) << log.str();
+  const double steps = 120.0 * 4096.0;
+  EXPECT_NEAR(a.last.rotor_revolutions, 13.79819973 * 2.0, steps * std::ldexp(1.0, -33));
   EXPECT_EQ(a.last.torque_source, app::loop::TorqueSource::kPower);
   ASSERT_EQ(a.damage.size(), b.damage.size());
   for (std::size_t i = 0; i < a.damage.size(); ++i)
@@ -103,11 +102,8 @@ TEST(RunTwin, AReplayCoversItsRowsExactlyAndRepeatsBitForBit) {
   EXPECT_GT(a.damage[0], 0.0);
 }
 
-TEST(RunTwin, AReplayOfTheBuiltInDayGivesTheDamageOfDrivetwinDamage) {
-  // The replay-vs-history proof at a low ROM rate (4096 Hz, cut-off 150 Hz; one row): the same
-  // code path as test_replay_damage.cpp, cheap enough for qemu-aarch64 and the sanitizers.
-  run_test::expect_replay_equals_damage(1, 64, 150.0, 0.01);
-}
+// The replay against `drivetwin damage` runs natively only (test_replay_damage.cpp, 3 rows at
+// 4096 Hz): at a rate the ROM is stable at, one row costs minutes under qemu-aarch64.
 
 TEST(RunTwin, ADivergingRomRaisesAFaultAndLeavesTheDamageFinite) {
   // Arrange: the ROM at 512 Hz, where the model with carrier-frame planets diverges
