@@ -46,7 +46,12 @@ tools::diagnosis::LumpedCaseSpec rated(const std::string& id, unsigned seed) {
   return s;
 }
 
-TEST(DiagnoseBench, ACrackOfG4InTheLumpedGearboxShowsAsHssSidebandsOfTheHighSpeedMesh) {
+// A cracked g4 tooth meets its mesh once per hss revolution: the mismatch shows as the hss
+// speed's family — sidebands of the high-speed mesh at the hss speed, hss harmonics in the
+// envelope, or impulses once per hss revolution in the synchronous average (which of them
+// ranks depends on the calibrated model's own lines; since the planets turn with the carrier,
+// the sidebands are no longer always among the listed mismatches).
+TEST(DiagnoseBench, ACrackOfG4InTheLumpedGearboxShowsAsTheHssSpeedFamily) {
   tools::diagnosis::LumpedCaseSpec s = rated("crack-g4", 21);
   s.effect = {"tooth_crack", "g4", 0.4};
   s.conceal = true;
@@ -54,10 +59,12 @@ TEST(DiagnoseBench, ACrackOfG4InTheLumpedGearboxShowsAsHssSidebandsOfTheHighSpee
   s.stiffness_scale = 0.9;
   const nlohmann::json j = diagnose(s);
   bool found = false;
-  for (const auto& m : j["mismatch"])
-    if (m["signature"].get<std::string>().rfind(
-            "sidebands of the high-speed mesh spaced at the hss speed", 0) == 0)
+  for (const auto& m : j["mismatch"]) {
+    const std::string sig = m["signature"].get<std::string>();
+    if (sig.rfind("sidebands of the high-speed mesh spaced at the hss speed", 0) == 0 ||
+        sig.find("once per hss revolution") != std::string::npos)
       found = true;
+  }
   EXPECT_TRUE(found) << j["mismatch"].dump(1);
 }
 
