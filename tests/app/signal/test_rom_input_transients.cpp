@@ -176,7 +176,11 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
       for (int r = 0; r < kRuns; ++r) run[r]->step(ch, in[r], count);
       if (!count) continue;
       for (int r = 0; r < kGustHeld; ++r) oracle(in[r].input_torque_nm, ref[r]);  // its own path
-      for (int r = kGustHeld; r < kRuns; ++r) oracle(gust(t), ref[r]);            // the true gust
+      // The true gust; for the interpolator, the true gust as late as it is by design (2
+      // periods): the load sharing of the planets turns with the carrier, so the damage of a
+      // torque depends on the carrier angle it meets, and a lagged path meets other angles.
+      for (int r = kGustHeld; r < kRuns; ++r)
+        oracle(gust(r == kGustInterpolated ? t - step_interp.delay_s() : t), ref[r]);
     }
   }
   // Assert: per run, the worst channel's counted damage over its oracle.
@@ -195,8 +199,10 @@ TEST(RomInputTransients, SteppedAndGustingScadaIsCountedAsItsLevelsNotAsRinging)
   EXPECT_LT(worst[kStepInterpolated], 0.01);
   // A real change keeps its damage up to what the samples miss: the gust's crest between two
   // polls (0.95 of its amplitude at 10 polls per period; PCHIP stays flat at a sampled
-  // extreme rather than guess above it, which would overshoot every step): −1.3 % at k = 33.
-  EXPECT_LT(worst[kGustInterpolated], 0.02);
+  // extreme rather than guess above it, which would overshoot every step): −1.3 % at k = 33
+  // before the planets turned with the carrier, 3.0 % since (a planet channel: its share
+  // swings with the carrier angle, so the crest it misses may meet a planet's peak share).
+  EXPECT_LT(worst[kGustInterpolated], 0.04);
   EXPECT_LT(worst[kGustInterpolated], worst[kGustHeld]);
 }
 
