@@ -145,7 +145,8 @@ struct MeshFactors {
 
 }  // namespace
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
+// (Not under ThreadSanitizer: see DRIVETWIN_ROM_KERNEL_CLONES below.)
 // The look-ups as GCC function multiversions: GCC vectorises the phase arithmetic above
 // but not the table reads, which it emulates with scalar loads and lane inserts (about
 // 200 instructions, most of them on the ports the step's FMAs need). The AVX-512 version
@@ -189,8 +190,10 @@ inline void lookup_shapes(const RomKernelModel& m, double revs, double* shape) n
 }
 #endif
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 // One clone per x86-64 micro-architecture level; GCC's resolver picks the best at load time.
+// Not under ThreadSanitizer: the resolver runs during relocation, before the TSan runtime is
+// up, and its instrumented code crashed every binary linking the ROM at load.
 #define DRIVETWIN_ROM_KERNEL_CLONES \
   __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
 #else
