@@ -75,7 +75,7 @@ TEST(RunTwin, OnSimulatedBusesEveryPeriodRunsAndDamageAccumulates) {
 }
 
 TEST(RunTwin, AReplayCoversItsRowsExactlyAndRepeatsBitForBit) {
-  // Arrange: the built-in day's first two 10-minute rows, the first 2 minutes replayed
+  // Arrange: the built-in day's first two 10-minute rows, the first minute replayed
   // (--duration), the ROM at 4096 Hz (the ROM with the carrier-frame planets diverges at 2048 Hz
   // and below: docs/run.md, known problems).
   TempDir dir("dt-run-replay");
@@ -83,18 +83,18 @@ TEST(RunTwin, AReplayCoversItsRowsExactlyAndRepeatsBitForBit) {
   app::run::RunConfig c = config(dir, kReplayBus, false, 64);
   app::loop::RunOptions o;
   o.replay = (dir.path / "day.csv").string();
-  o.duration_s = 120.0;
+  o.duration_s = 60.0;
   std::ostringstream log;
   o.log = &log;
   // Act: two runs from an empty state each.
   const app::loop::RunSummary a = app::loop::run_twin(c, o);
   c.state_dir = (dir.path / "state2").string();
   const app::loop::RunSummary b = app::loop::run_twin(c, o);
-  // Assert: the 120 s, every step valid; the rotor turned rpm × 2 min (13.79819973 rpm in
+  // Assert: the 60 s, every step valid; the rotor turned rpm × 1 min (13.79819973 rpm in
   // the file), to the accumulator's rounding of 2^-33 rev per step (damage_accumulator.hpp).
-  EXPECT_DOUBLE_EQ(a.elapsed_s, 120.0) << log.str();
-  const double steps = 120.0 * 4096.0;
-  EXPECT_NEAR(a.last.rotor_revolutions, 13.79819973 * 2.0, steps * std::ldexp(1.0, -33));
+  EXPECT_DOUBLE_EQ(a.elapsed_s, 60.0) << log.str();
+  const double steps = 60.0 * 4096.0;
+  EXPECT_NEAR(a.last.rotor_revolutions, 13.79819973 * 1.0, steps * std::ldexp(1.0, -33));
   EXPECT_EQ(a.last.torque_source, app::loop::TorqueSource::kPower);
   ASSERT_EQ(a.damage.size(), b.damage.size());
   for (std::size_t i = 0; i < a.damage.size(); ++i)
