@@ -91,7 +91,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const auto address = static_cast<std::uint16_t>(b.u16() % hal::kMaxImageRegisters);
   const hal::WordOrder order =
       (b.u8() & 1) ? hal::WordOrder::kLowWordFirst : hal::WordOrder::kHighWordFirst;
-  if (hal::put_register(img, address, hal::RegisterType::kFloat32, order, f)) {
+  if (hal::put_register(img, address, hal::RegisterType::kFloat32, order, static_cast<double>(f))) {
     if (std::size_t{address} + 2 > img.count) std::abort();  // wrote outside the image
     hal::RegisterSpec spec;
     spec.type = hal::RegisterType::kFloat32;
