@@ -1,23 +1,30 @@
-// `drivetwin calibrate <bundle> [--json out]`: the paper's similarity
-// indicators f1/f2/f3 of the twin's simulated vibration against a recording
-// at both measurement points, and — when any is above its threshold — a
-// calibration of the uncertain dynamics parameters (model/calibration/):
-// --method trust-region (default; derivative-free least squares on the
-// features, model/calibration/trust_region.hpp), improved or published MOGOA.
+// `drivetwin calibrate <bundle> [<bundle> ...] [--json out] [--update FILE]`: the paper's
+// similarity indicators f1/f2/f3 of the twin's simulated vibration against recordings at both
+// measurement points, and — when any is above its threshold — a calibration of the dynamics
+// parameters (model/calibration/; docs/calibration.md):
+//  - the space: --space standard (default: damping with band factors, mesh and per-bearing
+//    stiffness, each stage's transmission error, three housing modes per point; priors from
+//    the drivetrain description) or paper (the paper's 8 variables);
+//  - --method trust-region (default: the variables the recordings can determine are
+//    identified from the feature Jacobian, then fitted by Gauss–Newton with the prior,
+//    model/calibration/calibrator.hpp), improved or published MOGOA;
+//  - several bundles (operating points) calibrate one parameter set jointly; each bundle's
+//    features are averaged over --windows analysis blocks of it.
 //
-// Prints the indicators before, the optimiser's progress, the chosen
-// parameters and the indicators after; --json writes the same with the keys
-// of shared/reference/diagnosis-report.md (fit_before, fit_calibrated,
-// residual_before, residual_calibrated) plus the parameters before and after.
+// Prints the indicators before, the progress, every variable (prior, value, posterior σ ratio,
+// identified / not identified / at a bound) and the indicators after; --json writes the same
+// with the keys of shared/reference/diagnosis-report.md (fit_before, fit_calibrated,
+// residual_before, residual_calibrated; the first bundle's at the top, every bundle's under
+// "cases"). --update FILE writes the calibrated parameters into a drivetrain description
+// (FILE's own when it exists, else the one calibrated), only when the result is CALIBRATED.
 //
-// Exit status: 0 when every indicator ends within its threshold (or already
-// was), 2 when the calibration could not bring them all within, 1 for a bad
-// bundle or channel (a message names the file, the channel and what was wrong).
+// Exit status: 0 when every indicator ends within its threshold (or already was) and no
+// fitted variable ends at a bound, 2 otherwise (NOT CALIBRATED, naming why), 1 for a bad
+// bundle, channel or option (a message names the file, the channel and what was wrong).
 //
-// Simulator: --simulator rom (default; the twin's dynamics ROM,
-// model/dynamics/simulate.hpp, through model/calibration/dynamics_simulator.hpp)
-// or lumped (model/calibration/lumped_simulator.hpp, the cheap stand-in the
-// first calibrator was developed on); every output names it.
+// Simulator: --simulator rom (default; the twin's dynamics ROM at the recording's sample
+// rate, model/dynamics/simulate.hpp, through model/calibration/dynamics_simulator.hpp)
+// or lumped (model/calibration/lumped_simulator.hpp, the first calibrator's stand-in).
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -55,11 +62,13 @@ using app::cli::CommandError;
 constexpr double kResidualBandHz = 5000.0;
 
 struct CalibrateArgs {
-  std::string bundle;
+  std::vector<std::string> bundles;
   std::string json;
-  std::string drivetrain;  // overrides the bundle's drivetrain when set
+  std::string update;
+  std::string drivetrain;  // overrides the bundles' drivetrain when set
   std::string method = "trust-region";
   std::string simulator = "rom";
+  std::string space = "standard";
   std::size_t evaluations = 60;
   std::size_t population = 20;
   std::size_t iterations = 50;
@@ -67,6 +76,7 @@ struct CalibrateArgs {
   std::size_t samples_per_rev = 1024;
   std::size_t revolutions = 64;
   std::size_t harmonics = 3;
+  std::size_t windows = 4;
   bool force = false;
   bool quiet = false;
 };
@@ -129,11 +139,29 @@ nlohmann::json fit_json(const mc::PointIndicators& ind) {
   return j;
 }
 
-nlohmann::json params_json(const model::DynamicsParameters& p) {
-  return {{"rayleigh_eta_1_s", p.rayleigh_eta},
-          {"rayleigh_zeta_s", p.rayleigh_zeta},
-          {"mesh_stiffness_scale", p.mesh_stiffness_scale},
-          {"bearing_stiffness_scale", p.bearing_stiffness_scale}};
+nlohmann::json variables_json(const mc::CalibrationSpace& space, const mc::CalibrationResult& r,
+                              bool ran) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const mc::CalibrationVariable& v = space.variable(i);
+    nlohmann::json j = {{"name", space.name(i)},
+                        {"unit", v.unit.data()},
+                        {"prior", mc::CalibrationSpace::get(space.prior(), v)},
+                        {"prior_sd", v.prior_sd},
+                        {"scale", v.logarithmic ? "log" : "linear"},
+                        {"lower", v.lower},
+                        {"upper", v.upper},
+                        {"value", mc::CalibrationSpace::get(r.parameters, v)}};
+    if (ran) {
+      j["status"] = mc::to_string(r.status[i]);
+      j["posterior_sd_ratio"] = r.posterior_ratio[i];
+      j["z"] = r.z[i];
+    } else {
+      j["status"] = "not calibrated";
+    }
+    list.push_back(j);
+  }
+  return list;
 }
 
 void print_fit(const char* title, const mc::PointIndicators& ind) {
@@ -148,12 +176,16 @@ void print_fit(const char* title, const mc::PointIndicators& ind) {
   }
 }
 
-void print_params(const char* title, const model::DynamicsParameters& p) {
-  std::printf(
-      "%s eta %.4g 1/s, zeta %.4g s, mesh scale %.3f %.3f %.3f, bearing scale %.3f %.3f %.3f\n",
-      title, p.rayleigh_eta, p.rayleigh_zeta, p.mesh_stiffness_scale[0], p.mesh_stiffness_scale[1],
-      p.mesh_stiffness_scale[2], p.bearing_stiffness_scale[0], p.bearing_stiffness_scale[1],
-      p.bearing_stiffness_scale[2]);
+void print_variables(const mc::CalibrationSpace& space, const mc::CalibrationResult& r) {
+  std::printf("  %-46s %11s %11s %6s  %s\n", "variable", "prior", "value", "sd/pr", "status");
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const mc::CalibrationVariable& v = space.variable(i);
+    std::printf("  %-46s %11.4g %11.4g %6.2f  %s\n",
+                (std::string(space.name(i)) + " [" + v.unit.data() + "]").c_str(),
+                mc::CalibrationSpace::get(space.prior(), v),
+                mc::CalibrationSpace::get(r.parameters, v), r.posterior_ratio[i],
+                mc::to_string(r.status[i]));
+  }
 }
 
 // Share of the measured order-spectrum energy (0–5 kHz, both points) the
@@ -173,22 +205,36 @@ double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& m
   return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
 }
 
-void run(const CalibrateArgs& args) {
-  const fs::path dir(args.bundle);
-  // The bundle validation layer (app/recording/bundle_check.hpp): format, units, the
-  // turbine's range, metadata against the signal, torque from the wind when not recorded.
+// One bundle, measured: its calibration case (features averaged over its windows), the
+// average order spectrum for the residual, and what the output names.
+struct MeasuredBundle {
+  fs::path dir;
   app::recording::CheckedBundle bundle;
+  std::string speed_source;
+  double hss_hz = 0.0;
+  std::size_t windows = 0;
+  mc::CalibrationCase measured;
+  std::array<std::vector<double>, mc::kMeasurementPoints> spectrum;  // power-averaged amplitudes
+};
+
+// Windows of `revolutions` hss revolutions, back to back from the start of the recording,
+// as many as fit up to `max_windows`: tone amplitudes, noise floors and RMS averaged in power
+// (a tone is resolved when its averaged amplitude stands out of its averaged floor).
+MeasuredBundle measure(const std::string& path, const CalibrateArgs& args,
+                       dsp::FeatureExtractor& fx, const std::string& drivetrain_override) {
+  MeasuredBundle out;
+  out.dir = path;
+  const fs::path& dir = out.dir;
   try {
-    bundle = app::recording::load_bundle(dir, {args.drivetrain});
+    out.bundle = app::recording::load_bundle(dir, {drivetrain_override});
   } catch (const app::recording::BundleCheckError& e) {
     throw CommandError(e.what());
   }
-  for (const auto& note : bundle.notes) std::fprintf(stderr, "calibrate: note: %s\n", note.c_str());
-  const hal::Recording& rec = bundle.recording;
-  const model::Drivetrain& drivetrain = bundle.drivetrain;
+  for (const auto& note : out.bundle.notes)
+    std::fprintf(stderr, "calibrate: note: %s\n", note.c_str());
+  const hal::Recording& rec = out.bundle.recording;
+  const model::Drivetrain& drivetrain = out.bundle.drivetrain;
   const model::Kinematics kinematics(drivetrain);
-
-  // Measurement channels, by the description's measurement points.
   std::array<const std::vector<double>*, mc::kMeasurementPoints> wave{};
   std::array<std::string, mc::kMeasurementPoints> channel{};
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
@@ -205,13 +251,102 @@ void run(const CalibrateArgs& args) {
                          drivetrain.measurement_points[p].location + ")");
     }
     wave[p] = &rec.samples[*idx];
+    const dsp::DspStatus q =
+        dsp::check_waveform(wave[p]->data(), wave[p]->size(), fx.config().flat_threshold);
+    if (q != dsp::DspStatus::kOk)
+      throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(q));
   }
+  const app::signal::SpeedReference speed = speed_reference(rec, dir, kinematics, *wave[0], fx);
+  out.speed_source = speed.source;
+  out.hss_hz = speed.mean_hss_hz();
+  const double fs_hz = rec.sample_rate_hz;
+  const std::size_t revs = fx.config().revolutions;
+  const std::size_t lines = fx.config().samples_per_rev * revs / 2 + 1;
+  std::array<dsp::PointFeatures, mc::kMeasurementPoints> sum{};
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) out.spectrum[p].assign(lines, 0.0);
+  for (std::size_t w = 0; w < std::max<std::size_t>(args.windows, 1); ++w) {
+    // Window w starts at the first pulse of its revolutions (tacho) or w·revs revolutions in.
+    std::size_t first = 0;
+    std::vector<double> pulses;
+    if (!speed.pulses.empty()) {
+      const std::size_t k0 = w * revs;
+      if (k0 + revs + 1 > speed.pulses.size()) break;
+      // Two samples before the pulse: the tracker's cubic needs the sample before it.
+      first = static_cast<std::size_t>(std::max(0.0, std::floor(speed.pulses[k0] * fs_hz) - 2.0));
+      const double t0 = static_cast<double>(first) / fs_hz;
+      for (std::size_t k = k0; k < speed.pulses.size(); ++k) pulses.push_back(speed.pulses[k] - t0);
+    } else {
+      first = static_cast<std::size_t>(
+          std::floor(static_cast<double>(w * revs) / speed.hss_hz * fs_hz));
+    }
+    const dsp::SpeedReference ref{pulses.empty() ? nullptr : pulses.data(), pulses.size(),
+                                  speed.hss_hz};
+    std::array<dsp::PointFeatures, mc::kMeasurementPoints> f{};
+    bool ok = true;
+    for (std::size_t p = 0; p < mc::kMeasurementPoints && ok; ++p) {
+      const std::size_t n = wave[p]->size() > first ? wave[p]->size() - first : 0;
+      const dsp::DspStatus s = fx.extract(wave[p]->data() + first, n, fs_hz, ref, f[p]);
+      if (s == dsp::DspStatus::kTooShort && w > 0) {
+        ok = false;  // no room for another window
+        break;
+      }
+      if (s == dsp::DspStatus::kTooShort) {
+        char text[160];
+        std::snprintf(text, sizeof text,
+                      ": recording of %.2f s is too short: %zu hss revolutions (order resolution "
+                      "1/%zu) need %.2f s",
+                      static_cast<double>(wave[p]->size()) / fs_hz, revs, revs,
+                      fx.required_duration_s(out.hss_hz));
+        throw CommandError(describe(rec, dir, channel[p]) + text);
+      }
+      if (s != dsp::DspStatus::kOk)
+        throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(s));
+      for (std::size_t k = 0; k < lines; ++k)
+        out.spectrum[p][k] += fx.order_spectrum()[k] * fx.order_spectrum()[k];
+    }
+    if (!ok) break;
+    for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+      sum[p].count = f[p].count;
+      sum[p].rms += f[p].rms * f[p].rms;
+      for (std::size_t i = 0; i < f[p].count; ++i) {
+        sum[p].amplitude[i] += f[p].amplitude[i] * f[p].amplitude[i];
+        sum[p].noise_floor[i] += f[p].noise_floor[i] * f[p].noise_floor[i];
+        sum[p].separable[i] = f[p].separable[i];
+      }
+    }
+    ++out.windows;
+  }
+  const double nw = static_cast<double>(out.windows);
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+    for (double& a : out.spectrum[p]) a = std::sqrt(a / nw);
+    dsp::PointFeatures& m = out.measured.measured[p];
+    m = sum[p];
+    m.rms = std::sqrt(sum[p].rms / nw);
+    for (std::size_t i = 0; i < m.count; ++i) {
+      m.amplitude[i] = std::sqrt(sum[p].amplitude[i] / nw);
+      m.noise_floor[i] = std::sqrt(sum[p].noise_floor[i] / nw);
+      m.resolved[i] = m.separable[i] && m.amplitude[i] > 0.0 &&
+                      m.amplitude[i] >= fx.config().resolved_ratio * m.noise_floor[i];
+    }
+    if (m.resolved_count() < mc::kMinTones) {
+      throw CommandError(describe(rec, dir, channel[p]) + ": only " +
+                         std::to_string(m.resolved_count()) + " of " + std::to_string(m.count) +
+                         " mesh harmonics stand out of the noise; f2/f3 need at least " +
+                         std::to_string(mc::kMinTones));
+    }
+  }
+  out.measured.op.rotor_speed_rpm = out.hss_hz / kinematics.overall_ratio() * 60.0;
+  out.measured.op.input_torque_nm = out.bundle.input_torque_nm;
+  return out;
+}
 
-  // Simulator and calibrator (the calibrator fills the mesh orders).
-  dsp::FeatureConfig fc;
-  fc.samples_per_rev = args.samples_per_rev;
-  fc.revolutions = args.revolutions;
-  fc.harmonics = args.harmonics;
+void run(const CalibrateArgs& args) {
+  if (args.bundles.size() > mc::kMaxCalibrationCases) {
+    throw CommandError("calibrate: at most " + std::to_string(mc::kMaxCalibrationCases) +
+                       " bundles (operating points) calibrate jointly; got " +
+                       std::to_string(args.bundles.size()));
+  }
+  if (args.windows == 0 || args.windows > 64) throw CommandError("--windows: expected 1..64");
   mc::CalibratorConfig cc;
   if (args.method == "published") {
     cc.method = mc::CalibrationMethod::kPublishedMogoa;
@@ -223,31 +358,63 @@ void run(const CalibrateArgs& args) {
     throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" +
                        args.method + "'");
   }
+  if (args.space != "standard" && args.space != "paper")
+    throw CommandError("--space: expected 'standard' or 'paper', got '" + args.space + "'");
+  if (args.simulator != "rom" && args.simulator != "lumped")
+    throw CommandError("--simulator: expected 'rom' or 'lumped', got '" + args.simulator + "'");
+
+  // The drivetrain: --drivetrain, else the first bundle's; every bundle must name the same.
+  app::recording::CheckedBundle first;
+  try {
+    first = app::recording::load_bundle(args.bundles.front(), {args.drivetrain});
+  } catch (const app::recording::BundleCheckError& e) {
+    throw CommandError(e.what());
+  }
+  const model::Drivetrain drivetrain = first.drivetrain;
+  const std::string drivetrain_source =
+      args.drivetrain.empty() ? first.drivetrain_source : args.drivetrain;
+  const model::Kinematics kinematics(drivetrain);
+
+  dsp::FeatureConfig fc;
+  fc.samples_per_rev = args.samples_per_rev;
+  fc.revolutions = args.revolutions;
+  fc.harmonics = args.harmonics;
   cc.mogoa.population = args.population;
   cc.mogoa.max_iterations = args.iterations;
   cc.mogoa.seed = args.seed;
   cc.trust_region.max_evaluations = args.evaluations;
   cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
-  mc::LumpedSimulatorConfig sc;
-  sc.harmonics = args.harmonics;
-  sc.max_duration_s =
-      4.0 * static_cast<double>(args.revolutions + 4) /
-      (std::max(rec.operating_point.rotor_speed_rpm, 1e-3) / 60.0 * kinematics.overall_ratio());
-  // Simulated waveform rate: ≥ 4× the highest mesh harmonic.
-  const double top_hz =
-      kinematics.mesh_hz(kinematics.stage_count() - 1, rec.operating_point.rotor_speed_rpm) *
-      static_cast<double>(args.harmonics);
-  sc.sample_rate_hz = std::max(4096.0, std::exp2(std::ceil(std::log2(4.0 * top_hz))));
+  const model::DynamicsParameters prior = mc::with_nominal_damping(drivetrain.dynamics);
+  if (prior.rayleigh_eta != drivetrain.dynamics.rayleigh_eta) {
+    std::fprintf(stderr,
+                 "calibrate: note: drivetrain '%s' has no damping; starting from eta %.3g 1/s, "
+                 "zeta %.3g s\n",
+                 drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
+  }
+  cc.space = args.space == "paper" ? mc::CalibrationSpace::paper(prior)
+                                   : mc::CalibrationSpace::standard(prior);
+
+  // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
+  const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
   std::unique_ptr<mc::VibrationSimulator> simulator;
   if (args.simulator == "lumped") {
+    mc::LumpedSimulatorConfig sc;
+    sc.harmonics = args.harmonics;
+    double slowest_rpm = 1e9;
+    (void)slowest_rpm;
+    sc.max_duration_s = 4.0 * static_cast<double>(args.revolutions + 4) /
+                        (std::max(first.recording.operating_point.rotor_speed_rpm, 1e-3) / 60.0 *
+                         kinematics.overall_ratio());
+    const double top_hz = kinematics.mesh_hz(kinematics.stage_count() - 1,
+                                             drivetrain.turbine.rated_rotor_speed_rpm > 0
+                                                 ? drivetrain.turbine.rated_rotor_speed_rpm
+                                                 : 20.0) *
+                          static_cast<double>(args.harmonics);
+    sc.sample_rate_hz = std::max(4096.0, std::exp2(std::ceil(std::log2(4.0 * top_hz))));
     simulator = std::make_unique<mc::LumpedSimulator>(drivetrain, sc);
-  } else if (args.simulator == "rom") {
-    // The ROM at the recording's rate would cost most: ≥ 6× the top harmonic
-    // (dynamics_simulator.hpp), after 0.5 s of settling from the static deflection.
-    simulator = std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom,
-                                                        mc::rom_sample_rate_hz(top_hz), 0.5);
   } else {
-    throw CommandError("--simulator: expected 'rom' or 'lumped', got '" + args.simulator + "'");
+    simulator = std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom,
+                                                        rate_hz, 0.5);
   }
   auto calibrator = std::make_unique<mc::Calibrator>(*simulator, drivetrain, fc, cc);
   if (calibrator->status() != dsp::DspStatus::kOk) {
@@ -256,105 +423,73 @@ void run(const CalibrateArgs& args) {
   }
   dsp::FeatureExtractor fx(calibrator->feature_config());
 
-  // Channel quality before anything is computed from it.
-  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    const dsp::DspStatus q =
-        dsp::check_waveform(wave[p]->data(), wave[p]->size(), fx.config().flat_threshold);
-    if (q != dsp::DspStatus::kOk)
-      throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(q));
-  }
-  const app::signal::SpeedReference speed = speed_reference(rec, dir, kinematics, *wave[0], fx);
-  const dsp::SpeedReference ref{speed.pulses.empty() ? nullptr : speed.pulses.data(),
-                                speed.pulses.size(), speed.hss_hz};
-  const double hss_hz = speed.mean_hss_hz();
-
-  std::array<dsp::PointFeatures, mc::kMeasurementPoints> measured{};
-  std::array<std::vector<double>, mc::kMeasurementPoints> measured_spectrum;
-  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    const dsp::DspStatus s =
-        fx.extract(wave[p]->data(), wave[p]->size(), rec.sample_rate_hz, ref, measured[p]);
-    if (s == dsp::DspStatus::kTooShort) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    ": recording of %.2f s is too short: %zu hss revolutions (order resolution "
-                    "1/%zu) need %.2f s",
-                    static_cast<double>(wave[p]->size()) / rec.sample_rate_hz,
-                    fx.config().revolutions, fx.config().revolutions,
-                    fx.required_duration_s(hss_hz));
-      throw CommandError(describe(rec, dir, channel[p]) + text);
-    }
-    if (s != dsp::DspStatus::kOk)
-      throw CommandError(describe(rec, dir, channel[p]) + ": " + dsp::to_string(s));
-    measured_spectrum[p].assign(
-        fx.order_spectrum(),
-        fx.order_spectrum() + (fx.config().samples_per_rev * fx.config().revolutions / 2 + 1));
-    if (measured[p].resolved_count() < mc::kMinTones) {
-      throw CommandError(describe(rec, dir, channel[p]) + ": only " +
-                         std::to_string(measured[p].resolved_count()) + " of " +
-                         std::to_string(measured[p].count) +
-                         " mesh harmonics stand out of the noise; f2/f3 need at least " +
-                         std::to_string(mc::kMinTones));
+  std::vector<MeasuredBundle> bundles;
+  for (const std::string& b : args.bundles) {
+    bundles.push_back(measure(b, args, fx, args.drivetrain.empty() ? drivetrain_source : args.drivetrain));
+    if (bundles.back().bundle.drivetrain.name != drivetrain.name) {
+      throw CommandError(b + ": drivetrain '" + bundles.back().bundle.drivetrain.name +
+                         "' differs from the first bundle's '" + drivetrain.name +
+                         "'; a joint calibration fits one drivetrain (--drivetrain to choose)");
     }
   }
+  std::vector<mc::CalibrationCase> cases;
+  for (const MeasuredBundle& b : bundles) cases.push_back(b.measured);
+  if (!calibrator->set_measurements(cases.data(), cases.size()))
+    throw CommandError("calibrate: too many features for the calibration's capacity");
 
-  mc::OperatingPoint op{rec.operating_point.rotor_speed_rpm, 0.0};
-  // Mean rotor speed from the speed reference; torque as recorded, else from the wind.
-  op.rotor_speed_rpm = hss_hz / kinematics.overall_ratio() * 60.0;
-  op.input_torque_nm = bundle.input_torque_nm;  // recorded, or the wind model's (noted above)
-  calibrator->set_measurement(measured, op);
-
-  const model::DynamicsParameters before = mc::with_nominal_damping(drivetrain.dynamics);
-  if (before.rayleigh_eta != drivetrain.dynamics.rayleigh_eta) {
-    std::fprintf(stderr,
-                 "calibrate: note: drivetrain '%s' has no damping; starting from eta %.3g 1/s, "
-                 "zeta %.3g s\n",
-                 drivetrain.name.c_str(), before.rayleigh_eta, before.rayleigh_zeta);
-  }
-
-  // Spectra of a parameter set, for the residual.
-  const std::size_t last_line = static_cast<std::size_t>(
-      kResidualBandHz / hss_hz * static_cast<double>(fx.config().revolutions));
-  auto simulated_spectra = [&](const model::DynamicsParameters& params) {
-    std::array<std::vector<double>, mc::kMeasurementPoints> out;
+  // Spectra of a parameter set at bundle c, for the residual.
+  auto residual_of = [&](const model::DynamicsParameters& params, std::size_t c) {
+    const MeasuredBundle& b = bundles[c];
+    std::array<std::vector<double>, mc::kMeasurementPoints> sim;
     std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
-    const double ref_hz = hss_hz;
-    if (!simulator->simulate(params, op, fx.required_duration_s(ref_hz) + 1.0 / ref_hz, w))
-      return out;
+    const double ref_hz = b.hss_hz;
+    const bool ok = simulator->simulate(params, b.measured.op,
+                                        fx.required_duration_s(ref_hz) + 1.0 / ref_hz, w);
     for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
       dsp::PointFeatures unused;
-      if (fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, ref_hz}, unused) ==
-          dsp::DspStatus::kOk) {
-        out[p].assign(fx.order_spectrum(), fx.order_spectrum() + measured_spectrum[p].size());
+      if (ok && fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, ref_hz},
+                           unused) == dsp::DspStatus::kOk) {
+        sim[p].assign(fx.order_spectrum(), fx.order_spectrum() + b.spectrum[p].size());
       } else {
-        out[p].assign(measured_spectrum[p].size(), 0.0);
+        sim[p].assign(b.spectrum[p].size(), 0.0);
       }
     }
-    return out;
+    const auto last_line = static_cast<std::size_t>(
+        kResidualBandHz / b.hss_hz * static_cast<double>(fx.config().revolutions));
+    return residual(b.spectrum, sim, last_line);
   };
 
-  mc::PointIndicators fit_before{};
-  if (!calibrator->evaluate(before, fit_before))
+  std::array<mc::PointIndicators, mc::kMaxCalibrationCases> fit_before{};
+  if (!calibrator->evaluate_cases(prior, fit_before))
     throw CommandError("simulation failed at the starting parameters");
-  const double residual_before = residual(measured_spectrum, simulated_spectra(before), last_line);
+  std::vector<double> residual_before;
+  bool needs = false;
+  for (std::size_t c = 0; c < bundles.size(); ++c) {
+    residual_before.push_back(residual_of(prior, c));
+    needs = needs || mc::needs_calibration(fit_before[c]);
+  }
 
+  const mc::CalibrationSpace& space = calibrator->space();
   if (!args.quiet) {
-    std::printf("bundle %s: %s, rotor %.3f rpm (speed from %s), torque %.0f N·m\n",
-                dir.string().c_str(), drivetrain.name.c_str(), op.rotor_speed_rpm,
-                speed.source.c_str(), op.input_torque_nm);
-    std::printf("simulator: %s\n",
-                args.simulator == "rom"
-                    ? "dynamics ROM (model/dynamics, simulate_rom)"
-                    : "lumped stand-in (3 shafts, mesh transmission error; not the dynamics ROM)");
-    print_params("parameters before:", before);
-    print_fit("fit before:", fit_before);
-    std::printf("residual before: %.3f\n", residual_before);
+    std::printf("drivetrain %s; simulator: %s\n", drivetrain.name.c_str(),
+                args.simulator == "rom" ? "dynamics ROM (model/dynamics, simulate_rom)"
+                                        : "lumped stand-in (not the dynamics ROM)");
+    for (std::size_t c = 0; c < bundles.size(); ++c) {
+      const MeasuredBundle& b = bundles[c];
+      std::printf("bundle %s: rotor %.3f rpm (speed from %s), torque %.0f N·m, %zu window%s\n",
+                  b.dir.string().c_str(), b.measured.op.rotor_speed_rpm, b.speed_source.c_str(),
+                  b.measured.op.input_torque_nm, b.windows, b.windows == 1 ? "" : "s");
+      print_fit("fit before:", fit_before[c]);
+      std::printf("residual before: %.3f\n", residual_before[c]);
+    }
   }
 
   mc::CalibrationResult result;
-  result.parameters = before;
-  result.indicators = fit_before;
-  result.fits = !mc::needs_calibration(fit_before);
-  const bool run_optimizer = args.force || mc::needs_calibration(fit_before);
+  result.parameters = prior;
+  result.case_indicators = fit_before;
+  result.indicators = fit_before[0];
+  result.fits = !needs;
+  const bool run_optimizer = args.force || needs;
   double seconds = 0.0;
   if (!run_optimizer) {
     if (!args.quiet) std::printf("every indicator within its threshold: no calibration needed\n");
@@ -362,67 +497,104 @@ void run(const CalibrateArgs& args) {
     if (!args.quiet) {
       if (cc.method == mc::CalibrationMethod::kTrustRegion) {
         std::printf(
-            "calibrating: trust-region least squares on the features, at most %zu evaluations\n",
-            args.evaluations);
+            "calibrating %zu variables (%s space): identification (%zu probes), then at most %zu "
+            "evaluations of the fit\n",
+            space.size(), args.space.c_str(), space.size(), args.evaluations);
       } else {
-        std::printf("calibrating: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
-                    args.method.c_str(), args.population, args.iterations,
+        std::printf("calibrating %zu variables: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
+                    space.size(), args.method.c_str(), args.population, args.iterations,
                     static_cast<unsigned long long>(args.seed));
       }
     }
     const auto t0 = std::chrono::steady_clock::now();
-    calibrator->start(before);
+    calibrator->start(prior);
     mc::StepStatus st;
+    std::size_t last_print = 0;
     while ((st = calibrator->step()) == mc::StepStatus::kRunning) {
-      const bool tr = cc.method == mc::CalibrationMethod::kTrustRegion;
-      if (!args.quiet && tr) {
-        std::printf("  evaluation %3zu  best worst-indicator/threshold %.3f  trust radius %.3g%s\n",
-                    calibrator->evaluations(), calibrator->best_ratio(), calibrator->trust_radius(),
+      const std::size_t e = calibrator->evaluations();
+      if (!args.quiet && (e >= last_print + 10 || e == 1)) {
+        last_print = e;
+        std::printf("  evaluation %4zu  %s  best worst-indicator/threshold %.3f%s\n", e,
+                    calibrator->identifying() && cc.method == mc::CalibrationMethod::kTrustRegion
+                        ? "identifying"
+                        : "fitting    ",
+                    calibrator->best_ratio(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
-      } else if (!args.quiet &&
-                 (calibrator->iteration() % 5 == 0 || calibrator->iteration() <= 1)) {
-        std::printf("  iteration %3zu  evaluations %5zu  best worst-indicator/threshold %.3f%s\n",
-                    calibrator->iteration(), calibrator->evaluations(), calibrator->best_ratio(),
-                    calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
+        std::fflush(stdout);
       }
     }
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!calibrator->read_result(result)) throw CommandError("calibration published no result");
     if (!args.quiet) {
-      std::printf("done: %zu evaluations in %.1f s; first fitting evaluation: %zu\n",
-                  result.evaluations, seconds, result.evaluations_to_threshold);
+      std::printf("done: %zu evaluations in %.1f s; first fitting evaluation: %zu; %zu of %zu "
+                  "variables identified\n",
+                  result.evaluations, seconds, result.evaluations_to_threshold, result.identified,
+                  result.variables);
     }
   }
-  const double residual_after =
-      residual(measured_spectrum, simulated_spectra(result.parameters), last_line);
+  std::vector<double> residual_after;
+  for (std::size_t c = 0; c < bundles.size(); ++c)
+    residual_after.push_back(residual_of(result.parameters, c));
+  const bool success = result.fits && !result.at_bound;
   if (!args.quiet) {
-    print_params("parameters calibrated:", result.parameters);
-    print_fit("fit calibrated:", result.indicators);
-    std::printf("residual calibrated: %.3f\n", residual_after);
-    std::printf("%s\n",
-                result.fits
-                    ? "CALIBRATED: every indicator within its threshold at both points"
-                    : "NOT CALIBRATED: some indicator remains above its threshold (marked *)");
+    if (run_optimizer) {
+      std::printf("variables (value = prior unless identified; sd/pr = posterior/prior sd):\n");
+      print_variables(space, result);
+    }
+    for (std::size_t c = 0; c < bundles.size(); ++c) {
+      std::printf("bundle %s:\n", bundles[c].dir.string().c_str());
+      print_fit("fit calibrated:", result.case_indicators[c]);
+      std::printf("residual calibrated: %.3f\n", residual_after[c]);
+    }
+    if (success) {
+      std::printf("CALIBRATED: every indicator within its threshold at both points%s\n",
+                  bundles.size() > 1 ? " of every bundle" : "");
+    } else if (result.fits) {
+      std::printf("NOT CALIBRATED: the indicators are within their thresholds only with a "
+                  "variable at its bound (marked AT ... BOUND): the recording asks for more than "
+                  "its physical range — missing physics or a wrong prior\n");
+    } else {
+      std::printf("NOT CALIBRATED: some indicator remains above its threshold (marked *)\n");
+    }
   }
 
   if (!args.json.empty()) {
     nlohmann::json j;
-    j["format"] = "drivetwin-calibration/1";
-    j["bundle"] = dir.filename().string().empty() ? dir.parent_path().filename().string()
-                                                  : dir.filename().string();
-    j["operating_point"] = {{"rotor_speed_rpm", op.rotor_speed_rpm},
-                            {"input_torque_nm", op.input_torque_nm}};
-    j["speed_source"] = speed.source;
+    j["format"] = "drivetwin-calibration/2";
+    const auto name_of = [](const fs::path& dir) {
+      return dir.filename().string().empty() ? dir.parent_path().filename().string()
+                                             : dir.filename().string();
+    };
+    j["bundle"] = name_of(bundles.front().dir);
+    j["operating_point"] = {{"rotor_speed_rpm", bundles.front().measured.op.rotor_speed_rpm},
+                            {"input_torque_nm", bundles.front().measured.op.input_torque_nm}};
+    j["speed_source"] = bundles.front().speed_source;
     j["simulator"] = args.simulator == "rom" ? "dynamics-rom" : "lumped-stand-in";
     j["method"] = args.method;
-    j["fit_before"] = fit_json(fit_before);
-    j["fit_calibrated"] = fit_json(result.indicators);
-    j["residual_before"] = residual_before;
-    j["residual_calibrated"] = residual_after;
-    j["parameters_before"] = params_json(before);
-    j["parameters_calibrated"] = params_json(result.parameters);
+    j["space"] = args.space;
+    j["fit_before"] = fit_json(fit_before[0]);
+    j["fit_calibrated"] = fit_json(result.case_indicators[0]);
+    j["residual_before"] = residual_before[0];
+    j["residual_calibrated"] = residual_after[0];
+    nlohmann::json cases_json = nlohmann::json::array();
+    for (std::size_t c = 0; c < bundles.size(); ++c) {
+      cases_json.push_back({{"bundle", name_of(bundles[c].dir)},
+                            {"operating_point",
+                             {{"rotor_speed_rpm", bundles[c].measured.op.rotor_speed_rpm},
+                              {"input_torque_nm", bundles[c].measured.op.input_torque_nm}}},
+                            {"windows", bundles[c].windows},
+                            {"fit_before", fit_json(fit_before[c])},
+                            {"fit_calibrated", fit_json(result.case_indicators[c])},
+                            {"residual_before", residual_before[c]},
+                            {"residual_calibrated", residual_after[c]}});
+    }
+    j["cases"] = cases_json;
+    j["variables"] = variables_json(space, result, run_optimizer);
     j["calibration_ran"] = run_optimizer;
     j["fits"] = result.fits;
+    j["at_bound"] = result.at_bound;
+    j["calibrated"] = success;
+    j["identified"] = result.identified;
     j["evaluations"] = result.evaluations;
     j["evaluations_to_threshold"] = result.evaluations_to_threshold;
     j["seconds"] = seconds;
@@ -430,20 +602,56 @@ void run(const CalibrateArgs& args) {
     out << j.dump(2) << "\n";
     if (!out) throw CommandError(args.json + ": cannot write");
   }
-  if (!result.fits) app::cli::exit_status() = 2;
+  if (!args.update.empty()) {
+    if (!success) {
+      std::fprintf(stderr, "calibrate: --update %s: not written (the result is NOT CALIBRATED)\n",
+                   args.update.c_str());
+    } else {
+      // FILE's own description when it exists (its other keys are kept), else the one calibrated.
+      model::Drivetrain d = drivetrain;
+      std::error_code ec;
+      if (fs::exists(args.update, ec)) {
+        try {
+          d = app::config::load_drivetrain(args.update);
+        } catch (const app::config::DrivetrainFileError& e) {
+          throw CommandError(std::string("--update: ") + e.what());
+        }
+      }
+      d.dynamics = result.parameters;
+      const std::string tmp = args.update + ".tmp";
+      {
+        std::ofstream out(tmp);
+        out << app::config::to_toml(d);
+        if (!out) throw CommandError("--update: " + tmp + ": cannot write");
+      }
+      if (std::rename(tmp.c_str(), args.update.c_str()) != 0)
+        throw CommandError("--update: " + args.update + ": cannot replace");
+      if (!args.quiet) std::printf("wrote the calibrated parameters into %s\n", args.update.c_str());
+    }
+  }
+  if (!success) app::cli::exit_status() = 2;
 }
 
 void setup_calibrate(CLI::App& sub) {
   auto args = std::make_shared<CalibrateArgs>();
-  sub.add_option("bundle", args->bundle, "Recording bundle directory (drivetwin-recording/1)")
+  sub.add_option("bundles", args->bundles,
+                 "Recording bundle directories (drivetwin-recording/1); several: one parameter "
+                 "set fitted to all (joint calibration over operating points)")
       ->required();
   sub.add_option("--json", args->json, "Write the result as JSON to this file");
+  sub.add_option("--update", args->update,
+                 "Write the calibrated parameters into this drivetrain description (when "
+                 "CALIBRATED)");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
   sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA");
+  sub.add_option("--space", args->space,
+                 "standard (default: damping, stiffness, transmission error, housing modes) or "
+                 "paper (the paper's 8 variables)");
   sub.add_option("--simulator", args->simulator,
                  "rom (default, the dynamics ROM) or lumped (stand-in)");
   sub.add_option("--evaluations", args->evaluations,
-                 "trust-region: model evaluations at most (default 60)");
+                 "trust-region: model evaluations of the fit at most (default 60; the "
+                 "identification's probes come on top)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)");
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
   sub.add_option(
@@ -451,6 +659,8 @@ void setup_calibrate(CLI::App& sub) {
       "Random seed (default 1; trust region: 1 probes along the axes, others a random basis)");
   sub.add_option("--revolutions", args->revolutions,
                  "hss revolutions per analysis block (default 64)");
+  sub.add_option("--windows", args->windows,
+                 "Analysis blocks per bundle, averaged (default 4, as many as the recording has)");
   sub.add_option("--samples-per-rev", args->samples_per_rev,
                  "Angle-domain samples per hss revolution (default 1024)");
   sub.add_option("--harmonics", args->harmonics,
@@ -463,7 +673,7 @@ void setup_calibrate(CLI::App& sub) {
 
 const bool kCalibrateRegistered = app::cli::register_command(
     {"calibrate",
-     "Similarity indicators f1/f2/f3 against a recording; MOGOA calibration when above threshold",
+     "Similarity indicators f1/f2/f3 against recordings; calibration when above threshold",
      &setup_calibrate});
 
 }  // namespace

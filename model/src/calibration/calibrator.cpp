@@ -1,8 +1,12 @@
 #include "model/calibration/calibrator.hpp"
 
+#include <Eigen/Cholesky>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 namespace model::calibration {
@@ -31,44 +35,36 @@ dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics&
   }
   return config;
 }
+
+CalibratorConfig with_space(CalibratorConfig c, const Drivetrain& d) {
+  if (c.space.size() == 0) c.space = CalibrationSpace::standard(d.dynamics);
+  return c;
+}
+
+// φ of one point (see the header): ln RMS, then ln of every tone's amplitude.
+// A floor keeps the logarithm finite for a tone the model does not excite.
+constexpr double kLogFloor = 1e-300;
+void log_features(const dsp::PointFeatures& f, double* phi) {
+  phi[0] = std::log(std::max(f.rms, kLogFloor));
+  for (std::size_t i = 0; i < f.count; ++i)
+    phi[1 + i] = std::log(std::max(f.amplitude[i], kLogFloor));
+}
+
+constexpr double kBoundTolerance = 1e-3;  // [prior σ] a fitted variable this close is at its bound
 }  // namespace
 
-// ---- CalibrationSpace --------------------------------------------------------
-
-double CalibrationSpace::lower(std::size_t i) const {
-  if (i == 0) return std::log(eta_min_1_s);
-  if (i == 1) return std::log(zeta_min_s);
-  return std::log(i < 5 ? mesh_scale_min : bearing_scale_min);
-}
-
-double CalibrationSpace::upper(std::size_t i) const {
-  if (i == 0) return std::log(eta_max_1_s);
-  if (i == 1) return std::log(zeta_max_s);
-  return std::log(i < 5 ? mesh_scale_max : bearing_scale_max);
-}
-
-DynamicsParameters CalibrationSpace::to_parameters(const double* x,
-                                                   const DynamicsParameters& base) const {
-  DynamicsParameters p = base;
-  p.rayleigh_eta = std::exp(x[0]);
-  p.rayleigh_zeta = std::exp(x[1]);
-  for (std::size_t s = 0; s < 3; ++s) {
-    p.mesh_stiffness_scale[s] = std::exp(x[2 + s]);
-    p.bearing_stiffness_scale[s] = std::exp(x[5 + s]);
+const char* to_string(VariableStatus s) {
+  switch (s) {
+    case VariableStatus::kNotIdentified:
+      return "not identified";
+    case VariableStatus::kIdentified:
+      return "identified";
+    case VariableStatus::kAtLowerBound:
+      return "AT LOWER BOUND";
+    case VariableStatus::kAtUpperBound:
+      return "AT UPPER BOUND";
   }
-  return p;
-}
-
-void CalibrationSpace::to_variables(const DynamicsParameters& p, double* x) const {
-  auto log_clamped = [&](double v, std::size_t i) {
-    return std::clamp(v > 0.0 ? std::log(v) : lower(i), lower(i), upper(i));
-  };
-  x[0] = log_clamped(p.rayleigh_eta, 0);
-  x[1] = log_clamped(p.rayleigh_zeta, 1);
-  for (std::size_t s = 0; s < 3; ++s) {
-    x[2 + s] = log_clamped(p.mesh_stiffness_scale[s], 2 + s);
-    x[5 + s] = log_clamped(p.bearing_stiffness_scale[s], 5 + s);
-  }
+  return "?";
 }
 
 bool needs_calibration(const PointIndicators& indicators) {
@@ -76,35 +72,73 @@ bool needs_calibration(const PointIndicators& indicators) {
                      [](const Indicators& i) { return !within_thresholds(i); });
 }
 
-// ---- Calibrator ----------------------------------------------------------------
+// ---- Calibrator ----------------------------------------------------------------------------
 
 Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain,
                        const dsp::FeatureConfig& features, const CalibratorConfig& config)
     : simulator_(simulator),
       kinematics_(drivetrain),
-      config_(config),
+      config_(with_space(config, drivetrain)),
       features_(with_mesh_orders(features, kinematics_, drivetrain)) {
   problem_.owner = this;
   feature_problem_.owner = this;
-  const dsp::FeatureConfig& fc = features_.config();
-  feature_count_ =
-      std::min(kMeasurementPoints * (1 + fc.mesh_count * fc.harmonics), kMaxLsqFeatures);
+  const auto n = static_cast<Eigen::Index>(config_.space.size());
+  model_.setZero(0, n);
+  last_model_.setZero(0, n);
+  posterior_.setZero(n, n);
+  unit_.setZero(n);
 }
 
 void Calibrator::set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured,
                                  const OperatingPoint& op) {
-  measured_ = measured;
-  op_ = op;
+  CalibrationCase c;
+  c.measured = measured;
+  c.op = op;
+  set_measurements(&c, 1);
 }
 
-bool Calibrator::simulate_features(const DynamicsParameters& params,
+bool Calibrator::set_measurements(const CalibrationCase* cases, std::size_t count) {
+  if (count == 0 || count > kMaxCalibrationCases) return false;
+  const dsp::FeatureConfig& fc = features_.config();
+  const std::size_t per_case = kMeasurementPoints * (1 + fc.mesh_count * fc.harmonics);
+  if (count * per_case + config_.space.size() > kMaxLsqFeatures) return false;
+  case_count_ = count;
+  for (std::size_t c = 0; c < count; ++c) cases_[c] = cases[c];
+  feature_count_ = count * per_case;
+  // Targets and weights (header): ln RMS with 1/σ_RMS; each resolved tone with
+  // 1/√(σ_model² + (floor/A)²); unresolved tones 0.
+  target_.fill(0.0);
+  weight_.fill(0.0);
+  std::size_t offset = 0;
+  for (std::size_t c = 0; c < count; ++c) {
+    for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
+      const dsp::PointFeatures& m = cases_[c].measured[pt];
+      log_features(m, target_.data() + offset);
+      weight_[offset] = 1.0 / config_.rms_model_sd;
+      for (std::size_t i = 0; i < m.count; ++i) {
+        if (!m.resolved[i]) continue;
+        const double noise = m.amplitude[i] > 0.0 ? m.noise_floor[i] / m.amplitude[i] : 1.0;
+        weight_[offset + 1 + i] =
+            1.0 / std::sqrt(config_.tone_model_sd * config_.tone_model_sd + noise * noise);
+      }
+      offset += 1 + m.count;
+    }
+  }
+  const auto n = static_cast<Eigen::Index>(config_.space.size());
+  model_.setZero(static_cast<Eigen::Index>(feature_count_), n);
+  last_model_valid_ = false;
+  return true;
+}
+
+bool Calibrator::simulate_features(const DynamicsParameters& params, std::size_t c,
                                    std::array<dsp::PointFeatures, kMeasurementPoints>& out) {
-  const double ref_hz = reference_hz(kinematics_, op_.rotor_speed_rpm);
+  const OperatingPoint& op = cases_[c].op;
+  const double ref_hz = reference_hz(kinematics_, op.rotor_speed_rpm);
   if (features_.config_status() != dsp::DspStatus::kOk || !(ref_hz > 0.0)) return false;
   std::array<WaveformView, kMeasurementPoints> waves{};
   // Two extra revolutions: the tracker starts one sample in and interpolates cubically.
   const double duration_s = features_.required_duration_s(ref_hz) + 1.0 / ref_hz;
-  if (!simulator_.simulate(params, op_, duration_s, waves)) return false;
+  if (!simulator_.simulate(params, op, duration_s, waves)) return false;
   for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
     const dsp::DspStatus s =
         features_.extract(waves[pt].samples, waves[pt].count, waves[pt].sample_rate_hz,
@@ -114,47 +148,81 @@ bool Calibrator::simulate_features(const DynamicsParameters& params,
   return true;
 }
 
-bool Calibrator::evaluate(const DynamicsParameters& params, PointIndicators& out) {
-  std::array<dsp::PointFeatures, kMeasurementPoints> simulated{};
-  if (!simulate_features(params, simulated)) return false;
-  for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt)
-    out[pt] = compute_indicators(simulated[pt], measured_[pt]);
+bool Calibrator::evaluate_cases(const DynamicsParameters& params,
+                                std::array<PointIndicators, kMaxCalibrationCases>& out) {
+  for (std::size_t c = 0; c < case_count_; ++c) {
+    std::array<dsp::PointFeatures, kMeasurementPoints> simulated{};
+    if (!simulate_features(params, c, simulated)) return false;
+    for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt)
+      out[c][pt] = compute_indicators(simulated[pt], cases_[c].measured[pt]);
+  }
   return true;
 }
 
-namespace {
-// φ of one point (see the header): ln RMS, then ln of every tone's amplitude.
-// A floor keeps the logarithm finite for a tone the model does not excite.
-constexpr double kLogFloor = 1e-300;
-void log_features(const dsp::PointFeatures& f, double* phi) {
-  phi[0] = std::log(std::max(f.rms, kLogFloor));
-  for (std::size_t i = 0; i < f.count; ++i)
-    phi[1 + i] = std::log(std::max(f.amplitude[i], kLogFloor));
+bool Calibrator::evaluate(const DynamicsParameters& params, PointIndicators& out) {
+  std::array<PointIndicators, kMaxCalibrationCases> all{};
+  if (case_count_ == 0 || !evaluate_cases(params, all)) return false;
+  out = all[0];
+  return true;
 }
-}  // namespace
 
-bool Calibrator::evaluate_variables(const double* x, double* f, double* phi) {
+bool Calibrator::evaluate_variables(const double* z, double* f, double* phi) {
   ++problem_.evaluations;
   for (std::size_t k = 0; k < kCalibrationObjectives; ++k) f[k] = kIndicatorPenalty;
-  const DynamicsParameters p = config_.space.to_parameters(x, base_);
-  std::array<dsp::PointFeatures, kMeasurementPoints> simulated{};
-  if (!simulate_features(p, simulated)) return false;
-  PointIndicators ind{};
+  const DynamicsParameters p = config_.space.to_parameters(z, base_);
+  bool fits_all = true;
   double worst = 0.0;
-  for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
-    ind[pt] = compute_indicators(simulated[pt], measured_[pt]);
-    f[3 * pt + 0] = ind[pt].f1;
-    f[3 * pt + 1] = ind[pt].f2;
-    f[3 * pt + 2] = ind[pt].f3;
-    worst = std::max(
-        worst, ind[pt].valid ? worst_threshold_ratio(ind[pt]) : std::numeric_limits<double>::max());
-    if (phi) log_features(simulated[pt], phi + pt * (1 + simulated[pt].count));
+  std::size_t offset = 0;
+  for (std::size_t k = 0; k < kCalibrationObjectives; ++k) f[k] = 0.0;
+  for (std::size_t c = 0; c < case_count_; ++c) {
+    std::array<dsp::PointFeatures, kMeasurementPoints> simulated{};
+    if (!simulate_features(p, c, simulated)) {
+      for (std::size_t k = 0; k < kCalibrationObjectives; ++k) f[k] = kIndicatorPenalty;
+      return false;
+    }
+    for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
+      const Indicators ind = compute_indicators(simulated[pt], cases_[c].measured[pt]);
+      f[3 * pt + 0] = std::max(f[3 * pt + 0], ind.f1);
+      f[3 * pt + 1] = std::max(f[3 * pt + 1], ind.f2);
+      f[3 * pt + 2] = std::max(f[3 * pt + 2], ind.f3);
+      fits_all = fits_all && within_thresholds(ind);
+      worst = std::max(worst,
+                       ind.valid ? worst_threshold_ratio(ind) : std::numeric_limits<double>::max());
+      if (phi) log_features(simulated[pt], phi + offset);
+      offset += 1 + simulated[pt].count;
+    }
   }
   problem_.best_ratio = std::min(problem_.best_ratio, worst);
-  if (problem_.evaluations_to_threshold == 0 && !needs_calibration(ind)) {
+  if (problem_.evaluations_to_threshold == 0 && fits_all) {
     problem_.evaluations_to_threshold = problem_.evaluations;
   }
   return true;
+}
+
+double Calibrator::data_cost(const double* phi) const {
+  double c = 0.0;
+  for (std::size_t i = 0; i < feature_count_; ++i) {
+    const double r = weight_[i] * (phi[i] - target_[i]);
+    c += r * r;
+  }
+  return c;
+}
+
+void Calibrator::consider(const double* z, const double* f, double cost) {
+  const std::size_t n = config_.space.size();
+  bool fits = true;
+  static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
+  for (std::size_t k = 0; k < kCalibrationObjectives; ++k) fits = fits && f[k] <= kThreshold[k % 3];
+  if (fits && (!have_fit_ || cost < best_fit_cost_)) {
+    have_fit_ = true;
+    best_fit_cost_ = cost;
+    std::copy(z, z + n, best_fit_z_.begin());
+  }
+  if (!have_any_ || cost < best_any_cost_) {
+    have_any_ = true;
+    best_any_cost_ = cost;
+    std::copy(z, z + n, best_any_z_.begin());
+  }
 }
 
 void Calibrator::Problem::evaluate(const double* x, double* f) {
@@ -162,68 +230,155 @@ void Calibrator::Problem::evaluate(const double* x, double* f) {
 }
 
 bool Calibrator::FeatureProblem::evaluate(const double* x, double* phi) {
-  std::array<double, kCalibrationObjectives> f{};
-  const bool ok = owner->evaluate_variables(x, f.data(), phi);
-  if (ok) owner->archive_add(x, f.data());
-  return ok;
+  Calibrator& o = *owner;
+  // The fitted variables from x, the others where the run started.
+  o.z_work_ = o.z_start_;
+  for (std::size_t i = 0; i < o.fit_count_; ++i) o.z_work_[o.fit_index_[i]] = x[i];
+  const bool ok = o.evaluate_variables(o.z_work_.data(), o.f_work_.data(), phi);
+  if (std::getenv("CALIB_DEBUG")) {  // TEMP
+    std::fprintf(stderr, "fit eval ok %d data cost %.1f x:", ok, ok ? o.data_cost(phi) : -1.0);
+    for (std::size_t i = 0; i < o.fit_count_; ++i) std::fprintf(stderr, " %.2f", x[i]);
+    std::fprintf(stderr, "\n");
+  }
+  if (!ok) return false;
+  // The prior's residuals: one per fitted variable, its z (target 0, weight 1).
+  double prior = 0.0;
+  for (std::size_t i = 0; i < o.fit_count_; ++i) {
+    phi[o.feature_count_ + i] = x[i];
+    prior += x[i] * x[i];
+  }
+  for (std::size_t i = 0; i < o.config_.space.size(); ++i) {
+    if (std::find(o.fit_index_.begin(), o.fit_index_.begin() + static_cast<long>(o.fit_count_), i) ==
+        o.fit_index_.begin() + static_cast<long>(o.fit_count_))
+      prior += o.z_work_[i] * o.z_work_[i];
+  }
+  o.consider(o.z_work_.data(), o.f_work_.data(), o.data_cost(phi) + prior);
+  return true;
 }
 
-void Calibrator::archive_add(const double* x, const double* f) {
-  // Pareto archive for minimisation: drop what the new member dominates; skip it
-  // when dominated or equal. Full: the new member replaces the one with the
-  // largest worst-indicator/threshold when it is better by that measure.
-  auto dominates = [](const double* a, const double* b) {
-    bool better = false;
-    for (std::size_t k = 0; k < kCalibrationObjectives; ++k) {
-      if (a[k] > b[k]) return false;
-      if (a[k] < b[k]) better = true;
+void Calibrator::identify(const FeatureJacobian& j, bool select,
+                          std::array<double, kMaxCalibrationVariables>& ratio) {
+  const std::size_t n = config_.space.size();
+  const auto m = static_cast<Eigen::Index>(feature_count_);
+  // J_w = diag(w)·J.
+  residual_ = j;
+  for (Eigen::Index r = 0; r < m; ++r) residual_.row(r) *= weight_[static_cast<std::size_t>(r)];
+  if (select) {
+    fit_count_ = 0;
+    const double needed = 1.0 / (config_.identify_ratio * config_.identify_ratio) - 1.0;
+    std::array<bool, kMaxCalibrationVariables> chosen{};
+    for (std::size_t step = 0; step < n; ++step) {
+      std::size_t best = n;
+      double best_info = -1.0;
+      for (std::size_t k = 0; k < n; ++k) {
+        if (chosen[k]) continue;
+        const double info = residual_.col(static_cast<Eigen::Index>(k)).squaredNorm();
+        if (info > best_info) {
+          best_info = info;
+          best = k;
+        }
+      }
+      if (best == n || (config_.identify && !(best_info >= needed))) break;
+      if (!config_.identify && !(best_info > 0.0)) break;
+      chosen[best] = true;
+      fit_index_[fit_count_++] = best;
+      // Remove the chosen direction from the others (Gram–Schmidt on the residual columns).
+      const auto b = static_cast<Eigen::Index>(best);
+      const double norm2 = residual_.col(b).squaredNorm();
+      if (norm2 > 0.0) {
+        for (std::size_t k = 0; k < n; ++k) {
+          if (chosen[k]) continue;
+          const auto c = static_cast<Eigen::Index>(k);
+          const double proj = residual_.col(b).dot(residual_.col(c)) / norm2;
+          residual_.col(c) -= proj * residual_.col(b);
+        }
+      }
     }
-    return better;
-  };
-  for (std::size_t a = 0; a < archive_n_; ++a) {
-    if (dominates(archive_f_[a].data(), f) ||
-        std::equal(f, f + kCalibrationObjectives, archive_f_[a].begin())) {
-      return;
+    std::sort(fit_index_.begin(), fit_index_.begin() + static_cast<long>(fit_count_));
+  }
+  // Ratios for the selection: the chosen ones' joint posterior (J_Sᵀ J_S + I)⁻¹, the others'
+  // information left after the chosen, 1/√(1 + ‖residual‖²).
+  residual_ = j;
+  for (Eigen::Index r = 0; r < m; ++r) residual_.row(r) *= weight_[static_cast<std::size_t>(r)];
+  const auto k = static_cast<Eigen::Index>(fit_count_);
+  posterior_.setIdentity(k, k);
+  for (Eigen::Index a = 0; a < k; ++a) {
+    for (Eigen::Index b = 0; b < k; ++b) {
+      posterior_(a, b) += residual_.col(static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(a)]))
+                              .dot(residual_.col(static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(b)])));
     }
   }
-  std::size_t kept = 0;
-  for (std::size_t a = 0; a < archive_n_; ++a) {
-    if (!dominates(f, archive_f_[a].data())) {
-      archive_f_[kept] = archive_f_[a];
-      archive_x_[kept] = archive_x_[a];
-      ++kept;
-    }
+  posterior_llt_.compute(posterior_);
+  std::array<bool, kMaxCalibrationVariables> in{};
+  for (Eigen::Index a = 0; a < k; ++a) {
+    in[fit_index_[static_cast<std::size_t>(a)]] = true;
+    unit_.setZero(k);
+    unit_(a) = 1.0;
+    posterior_llt_.matrixL().solveInPlace(unit_);
+    ratio[fit_index_[static_cast<std::size_t>(a)]] = std::sqrt(unit_.squaredNorm());
   }
-  archive_n_ = kept;
-  std::size_t slot = archive_n_;
-  if (archive_n_ == kMaxArchive) {
-    std::size_t worst = 0;
-    for (std::size_t a = 1; a < archive_n_; ++a) {
-      if (problem_.preference(archive_f_[a].data()) > problem_.preference(archive_f_[worst].data()))
-        worst = a;
+  // Project the chosen columns out of the others.
+  for (Eigen::Index a = 0; a < k; ++a) {
+    const auto b = static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(a)]);
+    // Orthonormalise the chosen columns in place among themselves first.
+    for (Eigen::Index c = 0; c < a; ++c) {
+      const auto q = static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(c)]);
+      residual_.col(b) -= residual_.col(q).dot(residual_.col(b)) * residual_.col(q);
     }
-    if (problem_.preference(f) >= problem_.preference(archive_f_[worst].data())) return;
-    slot = worst;
-  } else {
-    ++archive_n_;
+    const double norm = residual_.col(b).norm();
+    if (norm > 0.0) residual_.col(b) /= norm;
   }
-  std::copy(f, f + kCalibrationObjectives, archive_f_[slot].begin());
-  std::copy(x, x + kCalibrationVariables, archive_x_[slot].begin());
+  for (std::size_t v = 0; v < n; ++v) {
+    if (in[v]) continue;
+    const auto c = static_cast<Eigen::Index>(v);
+    for (Eigen::Index a = 0; a < k; ++a) {
+      const auto q = static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(a)]);
+      residual_.col(c) -= residual_.col(q).dot(residual_.col(c)) * residual_.col(q);
+    }
+    ratio[v] = 1.0 / std::sqrt(1.0 + residual_.col(c).squaredNorm());
+  }
+}
+
+bool Calibrator::begin_fit() {
+  // Identified variables (header): orthogonal forward selection on the probes' model.
+  identify(model_, true, ratio_start_);
+  if (fit_count_ == 0) return false;
+  // The trust region over them, its model from the probes plus the prior rows.
+  const auto m = static_cast<Eigen::Index>(feature_count_ + fit_count_);
+  fit_model_.setZero(m, static_cast<Eigen::Index>(fit_count_));
+  for (std::size_t k = 0; k < fit_count_; ++k) {
+    fit_model_.col(static_cast<Eigen::Index>(k)).head(static_cast<Eigen::Index>(feature_count_)) =
+        model_.col(static_cast<Eigen::Index>(fit_index_[k]));
+    fit_model_(static_cast<Eigen::Index>(feature_count_ + k), static_cast<Eigen::Index>(k)) = 1.0;
+  }
+  tr_.emplace(feature_problem_, config_.trust_region);
+  if (!tr_->config_ok()) return false;
+  std::array<double, kMaxLsqFeatures> target = target_;
+  std::array<double, kMaxLsqFeatures> weight = weight_;
+  for (std::size_t k = 0; k < fit_count_; ++k) {
+    target[feature_count_ + k] = 0.0;
+    weight[feature_count_ + k] = 1.0;
+  }
+  tr_->set_target(target.data(), weight.data());
+  std::array<double, kMaxCalibrationVariables> x{};
+  for (std::size_t k = 0; k < fit_count_; ++k) x[k] = z_start_[fit_index_[k]];
+  tr_->start(x.data(), &fit_model_);
+  phase_ = Phase::kFit;
+  return true;
 }
 
 std::size_t Calibrator::iteration() const {
-  if (config_.method == CalibrationMethod::kTrustRegion) return tr_ ? tr_->evaluations() : 0;
+  if (config_.method == CalibrationMethod::kTrustRegion) return problem_.evaluations;
   return mogoa_ ? mogoa_->iteration() : 0;
 }
 
 std::size_t Calibrator::archive_count() const {
-  if (config_.method == CalibrationMethod::kTrustRegion) return archive_n_;
+  if (config_.method == CalibrationMethod::kTrustRegion) return 0;
   return mogoa_ ? mogoa_->archive_count() : 0;
 }
 
 double Calibrator::archive_objective(std::size_t i, std::size_t k) const {
-  if (config_.method == CalibrationMethod::kTrustRegion) return archive_f_[i][k];
-  return mogoa_->archive_objective(i, k);
+  return mogoa_ ? mogoa_->archive_objective(i, k) : 0.0;
 }
 
 bool Calibrator::feature_model(FeatureJacobian& out) const {
@@ -245,7 +400,8 @@ double Calibrator::Problem::preference(const double* f) const {
 bool Calibrator::start(const DynamicsParameters& current,
                        const std::optional<DynamicsParameters>& previous,
                        const FeatureJacobian* previous_model) {
-  if (features_.config_status() != dsp::DspStatus::kOk) {
+  if (features_.config_status() != dsp::DspStatus::kOk || case_count_ == 0 ||
+      config_.space.size() == 0) {
     state_ = StepStatus::kFailed;
     return false;
   }
@@ -253,36 +409,22 @@ bool Calibrator::start(const DynamicsParameters& current,
   problem_.evaluations = 0;
   problem_.evaluations_to_threshold = 0;
   problem_.best_ratio = 1e300;
-  archive_n_ = 0;
+  have_fit_ = have_any_ = false;
   cancel_requested_ = false;
-  std::array<double, kCalibrationVariables> x{};
+  const std::size_t n = config_.space.size();
   if (config_.method == CalibrationMethod::kTrustRegion) {
-    tr_.emplace(feature_problem_, config_.trust_region);
-    if (!tr_->config_ok()) {
-      state_ = StepStatus::kFailed;
-      return false;
-    }
-    // Target and weights of the residual (header): the measured log features;
-    // ln RMS weighted by 1/f1's threshold, each resolved tone by 1/(f3's threshold·√n).
-    std::array<double, kMaxLsqFeatures> target{};
-    std::array<double, kMaxLsqFeatures> weight{};
-    for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
-      const dsp::PointFeatures& m = measured_[pt];
-      const std::size_t offset = pt * (1 + m.count);
-      if (offset + 1 + m.count > kMaxLsqFeatures) break;
-      log_features(m, target.data() + offset);
-      weight[offset] = 1.0 / kF1Threshold;
-      const std::size_t n = std::max<std::size_t>(m.resolved_count(), 1);
-      for (std::size_t i = 0; i < m.count; ++i) {
-        weight[offset + 1 + i] =
-            m.resolved[i] ? 1.0 / (kF3Threshold * std::sqrt(static_cast<double>(n))) : 0.0;
-      }
-    }
-    tr_->set_target(target.data(), weight.data());
-    config_.space.to_variables(previous ? *previous : current, x.data());
-    const FeatureJacobian* model = previous_model;
-    if (!model && previous && last_model_valid_) model = &last_model_;
-    tr_->start(x.data(), model);
+    config_.space.to_variables(previous ? *previous : current, z_start_.data());
+    const FeatureJacobian* given = previous_model;
+    if (!given && previous && last_model_valid_) given = &last_model_;
+    start_model_given_ = given && given->rows() == static_cast<Eigen::Index>(feature_count_) &&
+                         given->cols() == static_cast<Eigen::Index>(n);
+    if (start_model_given_) model_ = *given;
+    phase_ = Phase::kIdentify;
+    probe_ = 0;
+    round_ = 0;
+    round_start_cost_ = std::numeric_limits<double>::infinity();
+    fit_count_ = 0;
+    tr_.reset();
     state_ = StepStatus::kRunning;
     return true;
   }
@@ -295,6 +437,7 @@ bool Calibrator::start(const DynamicsParameters& current,
     return false;
   }
   if (config_.method == CalibrationMethod::kImprovedMogoa) {
+    std::array<double, kMaxCalibrationVariables> x{};
     config_.space.to_variables(current, x.data());
     mogoa_->seed_position(x.data());
     if (previous) {
@@ -312,68 +455,175 @@ StepStatus Calibrator::step() {
     finish(true);
     return state_;
   }
-  const bool more = config_.method == CalibrationMethod::kTrustRegion
-                        ? (tr_->step() && !tr_->finished())
-                        : mogoa_->step();
+  bool more = true;
+  if (config_.method != CalibrationMethod::kTrustRegion) {
+    more = mogoa_->step();
+  } else if (phase_ == Phase::kIdentify) {
+    const std::size_t n = config_.space.size();
+    if (probe_ == 0) {
+      // The start point: its features are the base of the probes.
+      if (!evaluate_variables(z_start_.data(), f_work_.data(), phi_start_.data())) {
+        finish(false);
+        return state_;
+      }
+      double prior = 0.0;
+      for (std::size_t i = 0; i < n; ++i) prior += z_start_[i] * z_start_[i];
+      const double cost = data_cost(phi_start_.data()) + prior;
+      consider(z_start_.data(), f_work_.data(), cost);
+      if (round_ == 0) round_start_cost_ = cost;
+      probe_ = start_model_given_ && round_ == 0 ? n + 1 : 1;
+    } else {
+      // Probe variable probe_ − 1 by probe_step prior σ (backwards at the upper bound).
+      const std::size_t i = probe_ - 1;
+      z_work_ = z_start_;
+      double h = config_.probe_step;
+      if (z_start_[i] + h > config_.space.upper(i)) h = -h;
+      z_work_[i] = z_start_[i] + h;
+      const auto col = static_cast<Eigen::Index>(i);
+      if (evaluate_variables(z_work_.data(), f_work_.data(), phi_work_.data())) {
+        double prior = 0.0;
+        for (std::size_t k = 0; k < n; ++k) prior += z_work_[k] * z_work_[k];
+        consider(z_work_.data(), f_work_.data(), data_cost(phi_work_.data()) + prior);
+        for (std::size_t r = 0; r < feature_count_; ++r)
+          model_(static_cast<Eigen::Index>(r), col) = (phi_work_[r] - phi_start_[r]) / h;
+      } else {
+        model_.col(col).setZero();  // a failed model: treat the direction as insensitive
+      }
+      ++probe_;
+    }
+    if (probe_ > n && !begin_fit()) more = false;
+  } else {
+    more = tr_->step() && !tr_->finished();
+    // A round ends: another one from the best point while rounds improve F by > 1 %.
+    if (!more && have_any_ && round_ + 1 < config_.max_rounds &&
+        best_any_cost_ < 0.99 * round_start_cost_) {
+      begin_round();
+      more = true;
+    }
+  }
   const bool reached = config_.stop_at_threshold && problem_.evaluations_to_threshold != 0;
   if (!more || reached) finish(false);
   return state_;
 }
 
+void Calibrator::begin_round() {
+  // The next round re-identifies at the best point so far.
+  z_start_ = best_any_z_;
+  round_start_cost_ = best_any_cost_;
+  ++round_;
+  phase_ = Phase::kIdentify;
+  probe_ = 0;
+  tr_.reset();
+}
+
 void Calibrator::finish(bool cancelled) {
-  // Choose from the archive (see header): fitting members first, nearest the
-  // ideal point in threshold units.
-  const bool tr = config_.method == CalibrationMethod::kTrustRegion;
-  if (tr && tr_->jacobian_valid()) {
-    last_model_ = tr_->jacobian();  // the warm start's model for the next calibration
-    last_model_valid_ = true;
-  }
-  const std::size_t n = archive_count();
-  std::array<double, kCalibrationObjectives> ideal{};
-  ideal.fill(std::numeric_limits<double>::infinity());
-  std::array<double, kCalibrationObjectives> f{};
-  for (std::size_t a = 0; a < n; ++a) {
-    for (std::size_t k = 0; k < kCalibrationObjectives; ++k)
-      ideal[k] = std::min(ideal[k], archive_objective(a, k));
-  }
-  static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
-  std::size_t best = 0;
-  bool best_fits = false;
-  double best_distance = std::numeric_limits<double>::infinity();
-  for (std::size_t a = 0; a < n; ++a) {
-    bool fits = true;
-    double d2 = 0.0;
-    for (std::size_t k = 0; k < kCalibrationObjectives; ++k) {
-      f[k] = archive_objective(a, k);
-      fits = fits && f[k] <= kThreshold[k % 3];
-      const double d = (f[k] - ideal[k]) / kThreshold[k % 3];
-      d2 += d * d;
-    }
-    if ((fits && !best_fits) || (fits == best_fits && d2 < best_distance)) {
-      best = a;
-      best_fits = fits;
-      best_distance = d2;
-    }
-  }
+  const std::size_t n = config_.space.size();
   CalibrationResult r;
   r.finished = !cancelled;
   r.cancelled = cancelled;
   r.iterations = iteration();
+  r.variables = n;
+  r.cases = case_count_;
+  std::array<double, kMaxCalibrationVariables> z{};
+  bool chosen = false;
+  if (config_.method == CalibrationMethod::kTrustRegion) {
+    // The model over every variable at the end: the fit's (Broyden-updated) columns for the
+    // fitted variables, the probes' for the others.
+    if (phase_ == Phase::kFit && tr_ && tr_->jacobian_valid()) {
+      for (std::size_t k = 0; k < fit_count_; ++k) {
+        model_.col(static_cast<Eigen::Index>(fit_index_[k])) =
+            tr_->jacobian().col(static_cast<Eigen::Index>(k)).head(
+                static_cast<Eigen::Index>(feature_count_));
+      }
+    }
+    const bool model_complete = phase_ == Phase::kFit || start_model_given_;
+    if (model_complete) {
+      last_model_ = model_;
+      last_model_valid_ = true;
+    }
+    if (have_fit_ || have_any_) {
+      z = have_fit_ ? best_fit_z_ : best_any_z_;
+      r.cost = have_fit_ ? best_fit_cost_ : best_any_cost_;
+      chosen = true;
+    }
+    std::array<double, kMaxCalibrationVariables> ratio{};
+    if (model_complete) {
+      identify(model_, false, ratio);
+    } else {
+      ratio.fill(1.0);
+    }
+    r.identified = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      r.posterior_ratio[i] = ratio[i];
+      const bool fitted =
+          phase_ == Phase::kFit &&
+          std::find(fit_index_.begin(), fit_index_.begin() + static_cast<long>(fit_count_), i) !=
+              fit_index_.begin() + static_cast<long>(fit_count_);
+      VariableStatus st = fitted ? VariableStatus::kIdentified : VariableStatus::kNotIdentified;
+      if (fitted && chosen) {
+        if (z[i] <= config_.space.lower(i) + kBoundTolerance) st = VariableStatus::kAtLowerBound;
+        if (z[i] >= config_.space.upper(i) - kBoundTolerance) st = VariableStatus::kAtUpperBound;
+      }
+      r.status[i] = st;
+      r.identified += fitted ? 1 : 0;
+      r.at_bound = r.at_bound || st == VariableStatus::kAtLowerBound ||
+                   st == VariableStatus::kAtUpperBound;
+    }
+  } else if (mogoa_ && mogoa_->archive_count() > 0) {
+    // Pareto archive: fitting members first, nearest the ideal point in threshold units.
+    const std::size_t count = mogoa_->archive_count();
+    std::array<double, kCalibrationObjectives> ideal{};
+    ideal.fill(std::numeric_limits<double>::infinity());
+    for (std::size_t a = 0; a < count; ++a) {
+      for (std::size_t k = 0; k < kCalibrationObjectives; ++k)
+        ideal[k] = std::min(ideal[k], mogoa_->archive_objective(a, k));
+    }
+    static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
+    std::size_t best = 0;
+    bool best_fits = false;
+    double best_distance = std::numeric_limits<double>::infinity();
+    for (std::size_t a = 0; a < count; ++a) {
+      bool fits = true;
+      double d2 = 0.0;
+      for (std::size_t k = 0; k < kCalibrationObjectives; ++k) {
+        const double f = mogoa_->archive_objective(a, k);
+        fits = fits && f <= kThreshold[k % 3];
+        const double d = (f - ideal[k]) / kThreshold[k % 3];
+        d2 += d * d;
+      }
+      if ((fits && !best_fits) || (fits == best_fits && d2 < best_distance)) {
+        best = a;
+        best_fits = fits;
+        best_distance = d2;
+      }
+    }
+    mogoa_->archive_member(best, z.data(), nullptr);
+    chosen = true;
+    for (std::size_t i = 0; i < n; ++i) {
+      r.status[i] = VariableStatus::kIdentified;  // searched (no identification)
+      r.posterior_ratio[i] = 1.0;
+      if (z[i] <= config_.space.lower(i) + kBoundTolerance) r.status[i] = VariableStatus::kAtLowerBound;
+      if (z[i] >= config_.space.upper(i) - kBoundTolerance) r.status[i] = VariableStatus::kAtUpperBound;
+      r.at_bound = r.at_bound || r.status[i] != VariableStatus::kIdentified;
+    }
+    r.identified = n;
+  }
   r.evaluations = problem_.evaluations;
   r.evaluations_to_threshold = problem_.evaluations_to_threshold;
-  if (n > 0) {
-    std::array<double, kCalibrationVariables> x{};
-    if (tr) {
-      x = archive_x_[best];
-    } else {
-      mogoa_->archive_member(best, x.data(), nullptr);
-    }
-    r.parameters = config_.space.to_parameters(x.data(), base_);
+  if (chosen) {
+    r.z = z;
+    r.parameters = config_.space.to_parameters(z.data(), base_);
     // Re-evaluate the choice: the indicators (and their validity) reported are the chosen
     // parameters' own.
-    if (evaluate(r.parameters, r.indicators)) r.fits = !needs_calibration(r.indicators);
+    if (evaluate_cases(r.parameters, r.case_indicators)) {
+      r.fits = true;
+      for (std::size_t c = 0; c < case_count_; ++c)
+        r.fits = r.fits && !needs_calibration(r.case_indicators[c]);
+      r.indicators = r.case_indicators[0];
+    }
   } else {
     r.parameters = base_;
+    config_.space.to_variables(base_, r.z.data());
   }
   state_ = cancelled ? StepStatus::kCancelled : StepStatus::kFinished;
   publish(r);

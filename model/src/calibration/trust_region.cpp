@@ -35,6 +35,16 @@ TrustRegionLeastSquares::TrustRegionLeastSquares(FeatureMap& map, const TrustReg
                config.initial_radius > 0.0 && config.min_radius > 0.0 &&
                config.max_radius >= config.initial_radius && config.max_evaluations > 0;
   if (!config_ok_) return;
+  const auto n = static_cast<Eigen::Index>(n_);
+  const auto m = static_cast<Eigen::Index>(m_);
+  for (Vector* v : {&lower_, &upper_, &x_k_, &best_x_, &x_last_, &probe_best_x_, &g_work_,
+                    &b_work_, &c_work_, &lambda_work_, &s_work_, &u_work_})
+    v->setZero(n);
+  for (Features* f : {&target_, &weight_, &phi_k_, &probe_best_phi_, &phi_work_, &r_work_})
+    f->setZero(m);
+  for (Jacobian* j : {&jacobian_, &probe_dphi_, &wj_}) j->setZero(m, n);
+  for (Square* q : {&basis_, &probe_d_, &normal_, &inverse_d_}) q->setZero(n, n);
+  basis_.setIdentity(n, n);
   for (std::size_t i = 0; i < n_; ++i) {
     lower_(static_cast<Eigen::Index>(i)) = map.lower(i);
     upper_(static_cast<Eigen::Index>(i)) = map.upper(i);
@@ -58,11 +68,11 @@ double TrustRegionLeastSquares::uniform() {
 }
 
 void TrustRegionLeastSquares::make_basis() {
-  basis_.setIdentity();
+  const auto n = static_cast<Eigen::Index>(n_);
+  basis_.setIdentity(n, n);
   if (config_.seed == 0) return;
   // Gaussian columns (Box–Muller), orthonormalised by modified Gram–Schmidt: a
   // uniformly random rotation of the probe directions.
-  const auto n = static_cast<Eigen::Index>(n_);
   for (Eigen::Index j = 0; j < n; ++j) {
     for (Eigen::Index i = 0; i < n; ++i) {
       const double u1 = std::max(uniform(), 1e-300);
@@ -79,13 +89,14 @@ void TrustRegionLeastSquares::make_basis() {
     if (norm > 1e-12) {
       basis_.col(j).head(n) /= norm;
     } else {  // degenerate draw (probability 0): fall back to the axes
-      basis_.setIdentity();
+      basis_.setIdentity(n, n);
       return;
     }
   }
 }
 
 void TrustRegionLeastSquares::set_target(const double* target, const double* weights) {
+  if (!config_ok_) return;
   target_.setZero();
   weight_.setZero();
   for (std::size_t i = 0; i < m_ && i < kMaxLsqFeatures; ++i) {
@@ -123,6 +134,9 @@ bool TrustRegionLeastSquares::evaluate(const Vector& x, Features& phi) {
 
 void TrustRegionLeastSquares::start(const double* x0, const Jacobian* jacobian) {
   if (!config_ok_) return;
+  if (jacobian && (jacobian->rows() != static_cast<Eigen::Index>(m_) ||
+                   jacobian->cols() != static_cast<Eigen::Index>(n_)))
+    jacobian = nullptr;  // not a model of this map: probe
   x_k_.setZero();
   for (std::size_t i = 0; i < n_; ++i) x_k_(static_cast<Eigen::Index>(i)) = x0[i];
   clamp(x_k_);
@@ -182,14 +196,15 @@ bool TrustRegionLeastSquares::step() {
 void TrustRegionLeastSquares::restart() {
   // 6: a random unit direction (Gaussian components, normalised) from the best point.
   const auto n = static_cast<Eigen::Index>(n_);
-  Vector u = Vector::Zero();
+  Vector& u = u_work_;
   for (Eigen::Index i = 0; i < n; ++i) {
     const double u1 = std::max(uniform(), 1e-300);
     u(i) = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * uniform());
   }
   const double norm = u.norm();
   if (norm > 0.0) u /= norm;
-  x_k_ = best_x_ + config_.restart_radius * u;
+  x_k_ = best_x_;
+  x_k_ += config_.restart_radius * u;
   clamp(x_k_);
   cost_k_ = std::numeric_limits<double>::infinity();
   radius_ = config_.initial_radius;
@@ -205,22 +220,22 @@ void TrustRegionLeastSquares::probe_step() {
     probe_best_x_ = x_k_;
     probe_best_phi_ = phi_k_;
     probe_best_cost_ = cost_k_;
-    probe_d_.setIdentity();
+    probe_d_.setIdentity(n, n);
     probe_dphi_.setZero();
   }
   // x_k + Δ·q_i; the opposite direction when that leaves the box; clamped as a last resort.
-  Vector x = x_k_;
-  x.head(n) += radius_ * basis_.col(i).head(n);
+  Vector& x = s_work_;
+  x = x_k_;
+  x += radius_ * basis_.col(i);
   bool inside = true;
   for (Eigen::Index k = 0; k < n; ++k) inside = inside && x(k) >= lower_(k) && x(k) <= upper_(k);
   if (!inside) {
     x = x_k_;
-    x.head(n) -= radius_ * basis_.col(i).head(n);
+    x -= radius_ * basis_.col(i);
   }
   clamp(x);
-  probe_d_.col(i).setZero();
-  probe_d_.col(i).head(n) = (x - x_k_).head(n);
-  if (probe_d_.col(i).head(n).norm() < 1e-3 * radius_) {
+  probe_d_.col(i) = x - x_k_;
+  if (probe_d_.col(i).norm() < 1e-3 * radius_) {
     // Box too thin in this direction: no information, keep J's column at 0.
     probe_d_.col(i).setZero();
     probe_d_(i, i) = 1.0;
@@ -236,11 +251,9 @@ void TrustRegionLeastSquares::probe_step() {
     probe_dphi_.col(i).setZero();  // failed model: treat the direction as insensitive
   }
   if (++probe_ == n_) {
-    // (2): J·D = ΔΦ  →  J = ΔΦ·D⁻¹ (D padded with the identity beyond n).
-    const Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables> d_inv = probe_d_.inverse();
-    jacobian_.noalias() = probe_dphi_ * d_inv;
-    for (Eigen::Index k = n; k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k)
-      jacobian_.col(k).setZero();
+    // (2): J·D = ΔΦ  →  J = ΔΦ·D⁻¹.
+    inverse_d_ = probe_d_.inverse();
+    jacobian_.noalias() = probe_dphi_ * inverse_d_;
     jacobian_valid_ = true;
     if (probe_best_cost_ < cost_k_) {
       x_k_ = probe_best_x_;
@@ -252,55 +265,53 @@ void TrustRegionLeastSquares::probe_step() {
   }
 }
 
-void TrustRegionLeastSquares::compute_step(Vector& s, double& predicted) const {
+void TrustRegionLeastSquares::compute_step(Vector& s, double& predicted) {
   // (3): Levenberg–Marquardt form of the trust-region Gauss–Newton step.
-  const Features r = (weight_.array() * (phi_k_ - target_).array()).matrix();
-  const Jacobian wj = weight_.asDiagonal() * jacobian_;
-  Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables> a;
-  a.noalias() = wj.transpose() * wj;
-  const Vector g = wj.transpose() * r;
-  // Padding variables: unit curvature, zero gradient → zero step.
-  for (Eigen::Index k = static_cast<Eigen::Index>(n_);
-       k < static_cast<Eigen::Index>(kMaxLsqVariables); ++k) {
-    a.row(k).setZero();
-    a.col(k).setZero();
-    a(k, k) = 1.0;
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables>>
-      eig(a);
-  const Vector lambda = eig.eigenvalues().cwiseMax(0.0);
-  const Vector b = eig.eigenvectors().transpose() * g;
+  const auto n = static_cast<Eigen::Index>(n_);
+  Features& r = r_work_;
+  r = (weight_.array() * (phi_k_ - target_).array()).matrix();
+  wj_.noalias() = weight_.asDiagonal() * jacobian_;
+  normal_.noalias() = wj_.transpose() * wj_;
+  Vector& g = g_work_;
+  g.noalias() = wj_.transpose() * r;
+  eigen_.compute(normal_);
+  Vector& lambda = lambda_work_;
+  lambda = eigen_.eigenvalues().cwiseMax(0.0);
+  Vector& b = b_work_;
+  b.noalias() = eigen_.eigenvectors().transpose() * g;
   const double floor = kEigenFloor * std::max(lambda.maxCoeff(), 1e-300);
-  auto step_for = [&](double mu) {
-    Vector c;
-    for (Eigen::Index k = 0; k < c.size(); ++k) {
+  Vector& c = c_work_;
+  auto step_for = [&](double mu, Vector& out) {
+    for (Eigen::Index k = 0; k < n; ++k) {
       const double denom = lambda(k) + mu;
       c(k) = (mu > 0.0 || lambda(k) > floor) && denom > 0.0 ? -b(k) / denom : 0.0;
     }
-    return Vector(eig.eigenvectors() * c);
+    out.noalias() = eigen_.eigenvectors() * c;
   };
-  s = step_for(0.0);
+  step_for(0.0, s);
   if (s.norm() > radius_) {
     double lo = 0.0;
     double hi = g.norm() / radius_;  // ‖s(μ)‖ ≤ ‖g‖/μ = Δ
     for (int it = 0; it < kBisections; ++it) {
       const double mid = 0.5 * (lo + hi);
-      if (step_for(mid).norm() > radius_) {
+      step_for(mid, s);
+      if (s.norm() > radius_) {
         lo = mid;
       } else {
         hi = mid;
       }
     }
-    s = step_for(hi);
+    step_for(hi, s);
   }
-  Vector x = x_k_ + s;
-  clamp(x);
-  s = x - x_k_;
-  predicted = (r + wj * s).squaredNorm();
+  s += x_k_;
+  clamp(s);
+  s -= x_k_;
+  r.noalias() += wj_ * s;
+  predicted = r.squaredNorm();
 }
 
 void TrustRegionLeastSquares::iterate_step() {
-  Vector s;
+  Vector& s = u_work_;
   double predicted = 0.0;
   compute_step(s, predicted);
   const double step_norm = s.norm();
@@ -311,15 +322,17 @@ void TrustRegionLeastSquares::iterate_step() {
     radius_ *= kShrink * kShrink;
     return;
   }
-  const Vector x = x_k_ + s;
+  Vector& x = s_work_;
+  x = x_k_ + s;
   const bool ok = evaluate(x, phi_work_);
   const double c = ok ? cost(phi_work_) : std::numeric_limits<double>::infinity();
   const double rho = ok ? (cost_k_ - c) / (cost_k_ - predicted) : -1.0;
   if (ok) {
     // (5) Broyden's update along s.
-    const Features y = phi_work_ - phi_k_;
-    const Features residual = y - jacobian_ * s;
-    jacobian_.noalias() += residual * s.transpose() / s.squaredNorm();
+    Features& residual = r_work_;
+    residual = phi_work_ - phi_k_;
+    residual.noalias() -= jacobian_ * s;
+    jacobian_.noalias() += residual * (s.transpose() / s.squaredNorm());
   }
   if (rho < kRatioPoor) {
     radius_ = std::max(kShrink * std::min(radius_, step_norm), 0.5 * config_.min_radius);

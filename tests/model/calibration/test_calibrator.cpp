@@ -309,13 +309,17 @@ TEST(CalibrationTrigger, FiresWhenAnyIndicatorOfEitherPointExceedsItsThreshold) 
   EXPECT_TRUE(needs_calibration(invalid));
 }
 
-TEST(CalibrationSpace, RoundTripsParametersThroughItsLogarithmicVariables) {
-  const CalibrationSpace space;
+TEST(CalibrationSpace, RoundTripsParametersThroughItsWhitenedLogarithmicVariables) {
+  // The paper's space around the nominal prior: η doubled is z = ln 2 / σ with σ = ln 2 (one
+  // prior σ); a mesh scale 0.8 is ln 0.8 / 0.25; back to the same parameters.
+  const CalibrationSpace space = CalibrationSpace::paper(nominal_parameters());
+  ASSERT_EQ(space.size(), 8u);
   const DynamicsParameters p = drifted_parameters();
-  std::array<double, kCalibrationVariables> x{};
-  space.to_variables(p, x.data());
-  EXPECT_NEAR(x[0], std::log(4.0), 1e-12);
-  const DynamicsParameters back = space.to_parameters(x.data(), p);
+  std::array<double, kMaxCalibrationVariables> z{};
+  space.to_variables(p, z.data());
+  EXPECT_NEAR(z[0], 1.0, 1e-12);
+  EXPECT_NEAR(z[2], std::log(0.8) / 0.25, 1e-12);
+  const DynamicsParameters back = space.to_parameters(z.data(), p);
   EXPECT_NEAR(back.rayleigh_eta, 4.0, 1e-12);
   EXPECT_NEAR(back.rayleigh_zeta, 4e-5, 1e-17);
   for (std::size_t s = 0; s < 3; ++s) {

@@ -115,8 +115,7 @@ TEST(TrustRegionLeastSquares, AGivenJacobianSkipsTheProbesAndTheFirstStepIsAlrea
   LinearMap map;
   const Eigen::Matrix<double, 5, 1> target = map.a * Eigen::Vector3d(0.1, 0.2, -0.1) + map.c;
   const std::array<double, 5> w{1.0, 1.0, 1.0, 1.0, 1.0};
-  TrustRegionLeastSquares::Jacobian j = TrustRegionLeastSquares::Jacobian::Zero();
-  j.topLeftCorner<5, 3>() = map.a;
+  TrustRegionLeastSquares::Jacobian j = map.a;  // features() × variables()
   TrustRegionLeastSquares tr(map, TrustRegionConfig{});
   tr.set_target(target.data(), w.data());
   const std::array<double, 3> x0{0.0, 0.0, 0.0};

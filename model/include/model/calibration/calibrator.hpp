@@ -1,38 +1,58 @@
 #pragma once
-// Calibration of the twin (VBDM-DT §2.3.2, §3.2): when a similarity
-// indicator of either measurement point exceeds its threshold, an optimiser
-// moves the uncertain dynamics parameters to minimise the six indicators
-// (f1, f2, f3 at point1 and point2) of the simulated against the measured
-// vibration, and the calibrator picks, from the Pareto archive of the
-// parameter sets it evaluated:
-//   the member with every indicator within its threshold that is nearest the
-//   ideal point (the archive's component-wise minimum), distances measured in
-//   units of each indicator's threshold; if no member is within all
-//   thresholds, the member nearest the ideal point.
+// Calibration of the twin (VBDM-DT §2.3.2, §3.2; issue 12): when a similarity indicator
+// of either measurement point exceeds its threshold, the uncertain dynamics parameters
+// are moved until the simulated vibration matches the recorded one.
 //
-// Decision variables (8): Rayleigh η [1/s] and ζ [s], the mesh stiffness
-// scale of each of the 3 stages and the bearing stiffness scale of each of the
-// 3 parallel shafts (model::DynamicsParameters). The optimisers search their
-// logarithms within CalibrationSpace's bounds (ratios, not differences, are
-// what is uncertain about a damping or a stiffness).
+// Variables: a CalibrationSpace (calibration_space.hpp) — by default the standard space
+// of the description's parameters: damping (Rayleigh and band factors), mesh and bearing
+// stiffness, each stage's static transmission error, and the housing modes of both
+// measurement points — searched in whitened units z (0: the prior, 1: one prior σ).
 //
-// Optimisers (CalibrationMethod):
-//  - kTrustRegion (default): derivative-free least squares (trust_region.hpp,
-//    after DFO-GN, Cartis & Roberts 2019) on the features the indicators are
-//    made of. One model evaluation returns the whole feature vector
-//      φ = (ln RMS, ln A_1 … ln A_n) of point1, then of point2
-//    and the residual is r = w ∘ (φ(x) − φ_measured) with
-//      w = 1/0.5 for ln RMS                   (f1's threshold: f1 ≈ |ln RMS ratio|)
-//      w = 1/(0.2·√n_p) for each tone that the measurement resolves, 0 for the others
-//                                             (f3's threshold: Σ r² = mean (ln ratio)² / 0.2²)
-//    so F = ‖r‖² ≈ Σ_points (f1/0.5)² + (f3-like/0.2)²; f2 (shape) follows
-//    when the amplitudes match. Cold start: n = 8 probes build J (9
-//    evaluations), then one evaluation per iteration. Warm start: the previous
-//    calibration's parameters AND its feature Jacobian J (Broyden-updated as
-//    the run goes): the first evaluation is already a step of the model.
-//  - kImprovedMogoa: MOGOA + the current/previous parameters in the initial
-//    population + a preference-guided target (mogoa.hpp).
-//  - kPublishedMogoa: MOGOA as published (random initial population).
+// Features and their weights (trust region): one model evaluation gives, for every
+// calibration case (an operating point; several windows of one recording are averaged
+// into its measured features), φ = (ln RMS, ln A_1 … ln A_n) of point1, then of point2.
+// Each feature carries the uncertainty
+//   σ_tone = √(σ_model² + (noise floor / A)²)   for a tone the recording resolves (else
+//            the tone is left out), σ_model = tone_model_sd (0.1: what a fit can be
+//            expected to reach against a gearbox the model did not simulate);
+//   σ_RMS  = rms_model_sd (0.25: the RMS holds broadband content no mesh model has),
+// and the least-squares cost is
+//   F(z) = Σ ((φ(z) − φ_measured)/σ)² + Σ z²        (Gauss–Newton with the prior, the
+//                                                      second sum as one residual per variable)
+// Identifiability (issue 12): from the feature Jacobian J at the start (one forward
+// difference per variable, `probe_step` prior σ long), J_w = J/σ in whitened units, the
+// variables the recording determines are chosen by orthogonal forward selection (the
+// identifiability ranking of Yao et al., Polym. React. Eng. 11 (2003)): repeatedly the
+// variable whose column of J_w carries the most information not already carried by the
+// chosen ones, ‖residual‖², while that information reduces its posterior σ to at most
+// `identify_ratio` of its prior σ (‖residual‖² ≥ 1/ratio² − 1). Two variables that move
+// the features alike (a bearing stiffness detuning a resonance, a transmission error
+// scaling the tone) thus yield one identified variable, not two unidentified ones. The
+// others stay where the round started (the prior, on a cold start) and are reported as
+// not identified. The fit: the trust region (trust_region.hpp) over the identified
+// variables, its model J taken from the probes (no more probes), the prior's residuals
+// included. Resonances make the features strongly nonlinear, so the identification and
+// the fit repeat from the best point (up to max_rounds rounds, while a round lowers F by
+// more than 1 %). At the end each variable is reported with its posterior σ ratio at the
+// solution (the chosen ones' joint posterior; for the others the information left after
+// the chosen) and whether it is identified, not identified, or at a bound (an identified
+// variable within 1e-3 σ of its bound).
+// The chosen parameters: the evaluated set with every indicator within its threshold and
+// the least F; if none fits, the least F.
+//
+// Joint calibration: set_measurements() takes up to kMaxCalibrationCases operating
+// points; one parameter set is fitted to all of them (features concatenated), the
+// indicators are reported per case.
+//
+// Optimisers (CalibrationMethod): kTrustRegion (default, above); kImprovedMogoa and
+// kPublishedMogoa search the whole space (no identification) on the six indicators
+// (the worst over the cases), choosing from their Pareto archive the member with every
+// indicator within its threshold nearest the ideal point (threshold units), else the
+// nearest — kept for the comparison with the peers (tools/calibration/calibration_bench).
+//
+// Warm start: start(current, previous, previous_model): the trust region starts from
+// `previous` and, with `previous_model` (feature_model() of the last run: the Jacobian of
+// every variable), skips the probes — identification and the first step come from it.
 //
 // Thread context: one thread owns the Calibrator (in the box: the low-priority
 // calibration thread) and calls start() and then step() until it returns a final
@@ -47,12 +67,15 @@
 // either for that to hold: the lumped stand-in does not, the dynamics ROM
 // adapter does, see dynamics_simulator.hpp).
 
+#include <Eigen/Cholesky>
+
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <type_traits>
 
+#include "model/calibration/calibration_space.hpp"
 #include "model/calibration/indicators.hpp"
 #include "model/calibration/mogoa.hpp"
 #include "model/calibration/simulator.hpp"
@@ -63,24 +86,9 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kCalibrationVariables = 8;
 inline constexpr std::size_t kCalibrationObjectives = 3 * kMeasurementPoints;
-
-/// Bounds of the decision variables.
-struct CalibrationSpace {
-  double eta_min_1_s = 0.5, eta_max_1_s = 50.0;             // [1/s] Rayleigh η
-  double zeta_min_s = 1e-6, zeta_max_s = 1e-4;              // [s] Rayleigh ζ
-  double mesh_scale_min = 0.5, mesh_scale_max = 2.0;        // [-]
-  double bearing_scale_min = 0.5, bearing_scale_max = 2.0;  // [-]
-
-  /// Bounds of variable i in the optimiser's (logarithmic) coordinates.
-  double lower(std::size_t i) const;
-  double upper(std::size_t i) const;
-  /// Variables → parameters (fields not calibrated are copied from `base`).
-  DynamicsParameters to_parameters(const double* x, const DynamicsParameters& base) const;
-  /// Parameters → variables (clamped into the bounds).
-  void to_variables(const DynamicsParameters& p, double* x) const;
-};
+/// Operating points (calibration cases) a joint calibration fits at once.
+inline constexpr std::size_t kMaxCalibrationCases = 4;
 
 using PointIndicators = std::array<Indicators, kMeasurementPoints>;
 
@@ -91,21 +99,36 @@ bool needs_calibration(const PointIndicators& indicators);
 enum class CalibrationMethod : std::uint8_t {
   kPublishedMogoa,  // MOGOA as published, random initial population
   kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target
-  kTrustRegion,  // derivative-free least squares on the features (see above); warm start reuses J
+  kTrustRegion,     // identification + Gauss–Newton with the prior (see above); warm start reuses J
 };
 
-/// The trust-region method's model of the features: ∂φ/∂x at the last
-/// calibration (rows: features of FeatureLayout, columns: the 8 variables).
+/// The model of the features the trust region builds: ∂φ/∂z (rows: the data features of
+/// every case, columns: every variable of the space), for a warm start.
 using FeatureJacobian = TrustRegionLeastSquares::Jacobian;
 
 struct CalibratorConfig {
   CalibrationMethod method = CalibrationMethod::kTrustRegion;
   MogoaConfig mogoa{};  // population, iterations, seed (archive_size kept ≤ kMaxArchive)
-  TrustRegionConfig trust_region{};      // budget, radii, probe basis seed
+  TrustRegionConfig trust_region{};      // budget of the fit (probes come on top), radii, seed
   double preference_target_share = 0.5;  // [-] improved method only
   bool stop_at_threshold = false;        // finish as soon as one evaluated solution fits everywhere
-  CalibrationSpace space{};
+  double tone_model_sd = 0.1;            // [ln] model error allowance per tone (header)
+  double rms_model_sd = 0.25;            // [ln] the same for the RMS
+  double identify_ratio = 0.5;           // [-] posterior/prior σ at or below: identified
+  double probe_step = 0.1;               // [prior σ] identification probe length
+  bool identify = true;                  // false: fit every variable (no identification)
+  std::size_t max_rounds = 8;            // [-] identification + fit rounds (header)
+  CalibrationSpace space{};              // empty: CalibrationSpace::standard(description's)
 };
+
+/// How a calibration left a variable.
+enum class VariableStatus : std::uint8_t {
+  kNotIdentified,  // the recording cannot determine it: kept where it started
+  kIdentified,     // fitted
+  kAtLowerBound,   // fitted, ended at its lower bound: not a success
+  kAtUpperBound,
+};
+const char* to_string(VariableStatus s);
 
 /// What a calibration produced; trivially copyable so that the application can publish it
 /// through a lock-free mailbox.
@@ -113,22 +136,38 @@ struct CalibrationResult {
   std::uint32_t generation = 0;  // [-] 1 for the first published result, +1 per publication
   bool finished = false;         // the optimiser ran to its end (or to the threshold)
   bool cancelled = false;
-  bool fits = false;                // every indicator of the chosen parameters within its threshold
+  bool fits = false;  // every indicator of the chosen parameters within its threshold (all cases)
+  bool at_bound = false;            // some fitted variable ended at a bound
   DynamicsParameters parameters{};  // chosen parameters
-  PointIndicators indicators{};     // their indicators
-  std::size_t iterations = 0;       // [-] MOGOA iterations / trust-region steps made
-  std::size_t evaluations = 0;      // [-] model evaluations made
+  PointIndicators indicators{};     // their indicators (the first case)
+  std::array<PointIndicators, kMaxCalibrationCases> case_indicators{};  // every case's
+  std::size_t cases = 0;
+  std::size_t iterations = 0;                // [-] MOGOA iterations / trust-region steps made
+  std::size_t evaluations = 0;               // [-] model evaluations made (probes included)
   std::size_t evaluations_to_threshold = 0;  // [-] at the first fitting evaluation; 0: none
+  std::size_t variables = 0;                 // [-] of the space
+  std::size_t identified = 0;                // [-] variables identified and fitted
+  std::array<VariableStatus, kMaxCalibrationVariables> status{};
+  std::array<double, kMaxCalibrationVariables> z{};                // [prior σ] chosen, whitened
+  std::array<double, kMaxCalibrationVariables> posterior_ratio{};  // [-] posterior/prior σ
+  double cost = 0.0;  // [-] F of the chosen parameters
 };
 static_assert(std::is_trivially_copyable_v<CalibrationResult>);
 
 enum class StepStatus : std::uint8_t { kIdle, kRunning, kFinished, kCancelled, kFailed };
 
+/// One operating point's measurement: the measured features of both points.
+struct CalibrationCase {
+  std::array<dsp::PointFeatures, kMeasurementPoints> measured{};
+  OperatingPoint op{};
+};
+
 class Calibrator {
  public:
   /// @param simulator  the dynamics model (outlives the calibrator)
-  /// @param drivetrain its description (outlives the calibrator)
-  /// @param features   order-tracking/feature configuration; mesh orders are
+  /// @param drivetrain its description (outlives the calibrator); its `dynamics` are the
+  ///                   prior of the standard space when config.space is empty
+  /// @param features   order-tracking/feature configuration; mesh and shaft orders are
   ///                   filled here from the drivetrain (hss as reference shaft)
   Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain,
              const dsp::FeatureConfig& features, const CalibratorConfig& config);
@@ -137,16 +176,24 @@ class Calibrator {
   const dsp::FeatureConfig& feature_config() const { return features_.config(); }
   /// kOk when the configuration can be used; otherwise why not.
   dsp::DspStatus status() const { return features_.config_status(); }
+  const CalibrationSpace& space() const { return config_.space; }
 
-  /// Sets the measurement to calibrate against (measured features of point1, point2).
+  /// Sets one measurement to calibrate against (measured features of point1, point2).
   void set_measurement(const std::array<dsp::PointFeatures, kMeasurementPoints>& measured,
                        const OperatingPoint& op);
+  /// Sets up to kMaxCalibrationCases measurements (operating points) for a joint
+  /// calibration; false (nothing changed) for 0 or too many.
+  bool set_measurements(const CalibrationCase* cases, std::size_t count);
+  std::size_t cases() const { return case_count_; }
 
-  /// Indicators of `params` against the measurement (one simulation).
+  /// Indicators of `params` against the first case (one simulation per case).
   /// @return false when the simulation or the feature extraction failed
   bool evaluate(const DynamicsParameters& params, PointIndicators& out);
+  /// Indicators of every case; out[c] for c < cases().
+  bool evaluate_cases(const DynamicsParameters& params,
+                      std::array<PointIndicators, kMaxCalibrationCases>& out);
 
-  /// Begins a calibration from `current` (the fields not calibrated are kept).
+  /// Begins a calibration from `current` (the fields not in the space are kept).
   /// `previous`, when given, is the last calibration's result (warm start:
   /// the improved MOGOA seeds it into its population; the trust region starts
   /// from it instead of `current`). `previous_model` is that calibration's
@@ -171,27 +218,31 @@ class Calibrator {
   std::size_t evaluations() const { return problem_.evaluations; }
   std::size_t evaluations_to_threshold() const { return problem_.evaluations_to_threshold; }
   std::size_t iteration() const;
-  /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2) of
-  /// member i.
+  /// The current Pareto archive: size and objective k (f1, f2, f3 of point1, then of point2;
+  /// the worst over the cases) of member i.
   std::size_t archive_count() const;
   double archive_objective(std::size_t i, std::size_t k) const;
-  /// The trust region's feature Jacobian after the last run; false when none
-  /// (no trust-region run finished its model yet).
+  /// The feature Jacobian over every variable after the last trust-region run; false when
+  /// none (no trust-region run finished its model yet).
   bool feature_model(FeatureJacobian& out) const;
-  /// Number of features φ (2 × (1 + mesh tones)) and the trust region's radius.
+  /// Number of data features φ (cases × 2 × (1 + mesh tones)) and the trust region's radius.
   std::size_t feature_count() const { return feature_count_; }
   double trust_radius() const { return tr_ ? tr_->radius() : 0.0; }
-  /// Smallest worst_threshold_ratio over both points seen so far (≤ 1: fits).
+  /// Smallest worst_threshold_ratio over both points and every case seen so far (≤ 1: fits).
   double best_ratio() const { return problem_.best_ratio; }
+  /// During/after a trust-region run: true while identifying (the probes).
+  bool identifying() const { return phase_ == Phase::kIdentify; }
 
  private:
-  // The optimiser's view: x (log variables) → 6 indicators.
+  enum class Phase : std::uint8_t { kIdentify, kFit };
+
+  // The MOGOA view: z (whitened, every variable) → 6 indicators (worst over the cases).
   struct Problem : MultiObjectiveProblem {
     Calibrator* owner = nullptr;
     std::size_t evaluations = 0;
     std::size_t evaluations_to_threshold = 0;
     double best_ratio = 1e300;
-    std::size_t variables() const override { return kCalibrationVariables; }
+    std::size_t variables() const override { return owner->config_.space.size(); }
     std::size_t objectives() const override { return kCalibrationObjectives; }
     double lower(std::size_t i) const override { return owner->config_.space.lower(i); }
     double upper(std::size_t i) const override { return owner->config_.space.upper(i); }
@@ -199,22 +250,33 @@ class Calibrator {
     double preference(const double* f) const override;
   };
 
-  // The trust region's view: x (log variables) → φ (log features).
+  // The trust region's view: the identified variables' z → (data features, their z).
   struct FeatureProblem : FeatureMap {
     Calibrator* owner = nullptr;
-    std::size_t variables() const override { return kCalibrationVariables; }
-    std::size_t features() const override { return owner->feature_count_; }
-    double lower(std::size_t i) const override { return owner->config_.space.lower(i); }
-    double upper(std::size_t i) const override { return owner->config_.space.upper(i); }
+    std::size_t variables() const override { return owner->fit_count_; }
+    std::size_t features() const override { return owner->feature_count_ + owner->fit_count_; }
+    double lower(std::size_t i) const override {
+      return owner->config_.space.lower(owner->fit_index_[i]);
+    }
+    double upper(std::size_t i) const override {
+      return owner->config_.space.upper(owner->fit_index_[i]);
+    }
     bool evaluate(const double* x, double* phi) override;
   };
 
-  // One evaluation of x for either optimiser: indicators into f (penalties on
-  // failure), log features into phi when non-null; counts and archives (trust region).
-  bool evaluate_variables(const double* x, double* f, double* phi);
-  bool simulate_features(const DynamicsParameters& params,
+  // One evaluation of z (every variable): indicators (worst over the cases) into f
+  // (penalties on failure), data features into phi when non-null; counts.
+  bool evaluate_variables(const double* z, double* f, double* phi);
+  bool simulate_features(const DynamicsParameters& params, std::size_t c,
                          std::array<dsp::PointFeatures, kMeasurementPoints>& out);
-  void archive_add(const double* x, const double* f);
+  double data_cost(const double* phi) const;
+  void consider(const double* z, const double* f, double cost);
+  // Orthogonal forward selection on j (header); selection into fit_index_/fit_count_ when
+  // `select`, posterior ratios for the current fit_index_ selection into `ratio`.
+  void identify(const FeatureJacobian& j, bool select,
+                std::array<double, kMaxCalibrationVariables>& ratio);
+  void begin_round();
+  bool begin_fit();
   void finish(bool cancelled);
   void publish(const CalibrationResult& result);
 
@@ -222,20 +284,46 @@ class Calibrator {
   Kinematics kinematics_;
   CalibratorConfig config_;
   dsp::FeatureExtractor features_;
-  std::array<dsp::PointFeatures, kMeasurementPoints> measured_{};
-  OperatingPoint op_{};
+  std::array<CalibrationCase, kMaxCalibrationCases> cases_{};
+  std::size_t case_count_ = 0;
   DynamicsParameters base_{};
   Problem problem_;
   FeatureProblem feature_problem_;
   std::optional<Mogoa> mogoa_;
   std::optional<TrustRegionLeastSquares> tr_;
-  std::size_t feature_count_ = 0;
-  FeatureJacobian last_model_ = FeatureJacobian::Zero();
+  std::size_t feature_count_ = 0;  // data features of every case
+  // Data targets and weights (1/σ, 0 for an unresolved tone).
+  std::array<double, kMaxLsqFeatures> target_{};
+  std::array<double, kMaxLsqFeatures> weight_{};
+  // Trust-region run: identification then fit.
+  Phase phase_ = Phase::kIdentify;
+  std::size_t probe_ = 0;  // 0: the start point; i + 1: variable i
+  std::array<double, kMaxCalibrationVariables> z_start_{};
+  std::array<double, kMaxCalibrationVariables> z_work_{};
+  std::array<double, kMaxLsqFeatures> phi_start_{};
+  std::array<double, kMaxLsqFeatures> phi_work_{};
+  std::array<double, kCalibrationObjectives> f_work_{};
+  FeatureJacobian model_;      // data features × every variable
+  FeatureJacobian fit_model_;  // (data + prior rows) × identified variables
+  bool start_model_given_ = false;
+  std::array<std::size_t, kMaxCalibrationVariables> fit_index_{};
+  std::size_t fit_count_ = 0;
+  std::array<double, kMaxCalibrationVariables> ratio_start_{};
+  std::size_t round_ = 0;
+  double round_start_cost_ = 0.0;
+  FeatureJacobian residual_;  // forward selection's work columns
+  using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCalibrationVariables,
+                               kMaxCalibrationVariables>;
+  using Column = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxCalibrationVariables, 1>;
+  Square posterior_;  // J_wᵀJ_w + I
+  Eigen::LLT<Square> posterior_llt_;
+  Column unit_;
+  // Best evaluated sets: fitting every threshold, and overall (least F).
+  std::array<double, kMaxCalibrationVariables> best_fit_z_{}, best_any_z_{};
+  double best_fit_cost_ = 0.0, best_any_cost_ = 0.0;
+  bool have_fit_ = false, have_any_ = false;
+  FeatureJacobian last_model_;
   bool last_model_valid_ = false;
-  // Pareto archive of the trust region's evaluations (MOGOA keeps its own).
-  std::size_t archive_n_ = 0;
-  std::array<std::array<double, kCalibrationVariables>, kMaxArchive> archive_x_{};
-  std::array<std::array<double, kCalibrationObjectives>, kMaxArchive> archive_f_{};
   StepStatus state_ = StepStatus::kIdle;
   bool cancel_requested_ = false;
 

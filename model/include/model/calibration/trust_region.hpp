@@ -44,20 +44,23 @@
 //  Finish: `max_evaluations` reached, or Δ < min_radius without restarts,
 //  or finish() from the owner (e.g. "every indicator within its threshold").
 //
-// Memory: fixed-size Eigen storage (≤ kMaxLsqVariables × kMaxLsqFeatures),
-// nothing allocated after construction. Deterministic (own xoshiro256**).
+// Memory: Eigen storage of fixed capacity (≤ kMaxLsqVariables × kMaxLsqFeatures, sized
+// to the map at construction), every work matrix a member: nothing allocated after
+// construction and nothing large on the stack. Deterministic (own xoshiro256**).
 // Thread context: one owning thread (the calibrator's low-priority worker);
 // step() makes exactly one evaluation of the map (none once finished).
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 
 #include <cstddef>
 #include <cstdint>
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxLsqVariables = 8;  // the calibration's decision variables
-inline constexpr std::size_t kMaxLsqFeatures = 42;  // 2 points × (RMS + 4 meshes × 5 harmonics)
+inline constexpr std::size_t kMaxLsqVariables = 56;  // the calibration's decision variables
+/// 4 operating points × 2 points × (RMS + 4 meshes × 5 harmonics) + one prior row per variable.
+inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 21 + kMaxLsqVariables;
 
 /// A box-bounded map x → φ(x) (the model's feature vector).
 class FeatureMap {
@@ -84,9 +87,13 @@ struct TrustRegionConfig {
 
 class TrustRegionLeastSquares {
  public:
-  using Vector = Eigen::Matrix<double, kMaxLsqVariables, 1>;
-  using Features = Eigen::Matrix<double, kMaxLsqFeatures, 1>;
-  using Jacobian = Eigen::Matrix<double, kMaxLsqFeatures, kMaxLsqVariables>;
+  // Sized to the map (variables() × features()) at construction, capacity fixed.
+  using Vector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLsqVariables, 1>;
+  using Features = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kMaxLsqFeatures, 1>;
+  using Jacobian =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLsqFeatures, kMaxLsqVariables>;
+  using Square =
+      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxLsqVariables, kMaxLsqVariables>;
 
   /// config_ok() is false (and step() does nothing) when the map's sizes exceed the
   /// capacities or are zero, or a radius is not positive.
@@ -97,7 +104,8 @@ class TrustRegionLeastSquares {
   void set_target(const double* target, const double* weights);
 
   /// Begins at x0 (clamped to the box). With `jacobian` (a previous model of φ for
-  /// the same map), the first step evaluates x0 and the next ones already move.
+  /// the same map, features() × variables()), the first step evaluates x0 and the next
+  /// ones already move.
   void start(const double* x0, const Jacobian* jacobian = nullptr);
 
   /// One evaluation of the map. false (nothing evaluated) once finished.
@@ -128,7 +136,7 @@ class TrustRegionLeastSquares {
   void probe_step();
   void restart();
   void iterate_step();
-  void compute_step(Vector& s, double& predicted) const;
+  void compute_step(Vector& s, double& predicted);
 
   FeatureMap& map_;
   TrustRegionConfig config_;
@@ -136,12 +144,11 @@ class TrustRegionLeastSquares {
   std::size_t n_ = 0;
   std::size_t m_ = 0;
   std::uint64_t rng_[4]{};
-  Vector lower_ = Vector::Zero();
-  Vector upper_ = Vector::Zero();
-  Features target_ = Features::Zero();
-  Features weight_ = Features::Zero();
-  Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables> basis_ =
-      Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables>::Identity();
+  Vector lower_;
+  Vector upper_;
+  Features target_;
+  Features weight_;
+  Square basis_;
 
   Phase phase_ = Phase::kBase;
   bool finished_ = true;
@@ -149,23 +156,29 @@ class TrustRegionLeastSquares {
   std::size_t probe_ = 0;
   std::size_t failures_ = 0;
   double radius_ = 0.0;
-  Vector x_k_ = Vector::Zero();
-  Features phi_k_ = Features::Zero();
+  Vector x_k_;
+  Features phi_k_;
   double cost_k_ = 0.0;
-  Vector best_x_ = Vector::Zero();
+  Vector best_x_;
   double best_cost_ = 0.0;
   std::size_t restarts_ = 0;
-  Vector x_last_ = Vector::Zero();
-  Jacobian jacobian_ = Jacobian::Zero();
+  Vector x_last_;
+  Jacobian jacobian_;
   bool jacobian_valid_ = false;
   // Probe bookkeeping of (2).
-  Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables> probe_d_ =
-      Eigen::Matrix<double, kMaxLsqVariables, kMaxLsqVariables>::Zero();
-  Jacobian probe_dphi_ = Jacobian::Zero();
-  Vector probe_best_x_ = Vector::Zero();
-  Features probe_best_phi_ = Features::Zero();
+  Square probe_d_;
+  Jacobian probe_dphi_;
+  Vector probe_best_x_;
+  Features probe_best_phi_;
   double probe_best_cost_ = 0.0;
-  Features phi_work_ = Features::Zero();
+  Features phi_work_;
+  // Work storage of compute_step() and the updates.
+  Jacobian wj_;
+  Square normal_;
+  Square inverse_d_;
+  Eigen::SelfAdjointEigenSolver<Square> eigen_;
+  Features r_work_;
+  Vector g_work_, b_work_, c_work_, lambda_work_, s_work_, u_work_;
 };
 
 }  // namespace model::calibration

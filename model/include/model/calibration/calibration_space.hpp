@@ -1,0 +1,113 @@
+#pragma once
+// The calibration space (issue 12): which dynamics parameters a calibration may move, each
+// with a physical meaning, a prior and bounds.
+//
+// Every variable is searched in whitened coordinates
+//   z = (u − u_prior) / σ_prior,   u = ln(value) for a positive quantity (stiffness, mass,
+//                                   frequency, damping, an error amplitude), else the value,
+// so that z = 0 is the prior, one unit is one prior standard deviation whatever the
+// quantity, and a Gauss–Newton step with the prior term ‖z‖² is regularised toward the
+// prior in the same units everywhere. The prior value is the description's own (the
+// model's defaults, or a previous calibration written back with `calibrate --update`).
+//
+// The standard space (standard()), per the physics each parameter stands for:
+//   damping      Rayleigh η, ζ                         ln, σ = ln 2, bounds ×/÷ 10
+//                band factors at 100 / 500 / 2500 Hz   ln, σ = ln 2, bounds ×/÷ 5
+//   stiffness    mesh stiffness scale per stage        ln, σ = 0.25 (ISO 6336 c_γ), ×/÷ 2
+//                bearing stiffness b1..b6              ln, σ = ln 2 (preload, clearance), ×/÷ 4
+//   excitation   transmission error per stage and harmonic 1..3
+//                                                      ln, σ = ln 3 (the accuracy grade is a
+//                                                      tolerance, not a measurement), ×/÷ 50
+//   transfer     per housing mode (3 per point): frequency  ln, σ = 0.35, ×/÷ 2
+//                damping ratio                         ln, σ = ln 2, 0.005 … 0.2
+//                effective mass at the seat            ln, σ = ln 2, ×/÷ 4
+//                sensor participation                  ln, σ = 0.5, ×/÷ 4
+//                cross participation (other point)     linear, σ = 0.5, −1 … 1
+// The paper's 8 variables (η, ζ, mesh scale per stage, bearing scale per parallel shaft)
+// are paper(); the peers' comparison and the old tests use it.
+//
+// Thread context: built at start-up; const afterwards, any thread.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include "model/drivetrain/description.hpp"
+
+namespace model::calibration {
+
+/// Largest calibration space (the standard one has 53 variables).
+inline constexpr std::size_t kMaxCalibrationVariables = 56;
+
+enum class ParameterField : std::uint8_t {
+  kRayleighEta,
+  kRayleighZeta,
+  kDampingBand,        // index: knot
+  kMeshScale,          // index: stage
+  kBearingShaftScale,  // index: parallel shaft (paper's variables)
+  kBearingFactor,      // index: bearing b1..b6
+  kTransmissionError,  // index: stage·harmonics + h − 1
+  kHousingFrequency,   // index: point·modes + mode
+  kHousingDamping,
+  kHousingMass,
+  kHousingParticipation,
+  kHousingCross,
+};
+
+struct CalibrationVariable {
+  ParameterField field = ParameterField::kRayleighEta;
+  std::uint8_t index = 0;
+  bool logarithmic = true;  // u = ln(value)
+  double prior_sd = 1.0;    // [units of u]
+  double lower = 0.0;       // [units of the value] bounds
+  double upper = 0.0;
+  std::array<char, 40> name{};  // e.g. "housing.point1.mode2.frequency_hz"
+  std::array<char, 8> unit{};   // e.g. "Hz", "m", "-"
+};
+
+class CalibrationSpace {
+ public:
+  /// The paper's 8 variables around `prior` (η, ζ, mesh scale per stage, bearing scale per
+  /// parallel shaft), bounds as the first calibrator had them (η 0.5–50 1/s, ζ 1e-6–1e-4 s,
+  /// scales 0.5–2), prior σ = ln 2 (damping) and 0.25 (scales).
+  static CalibrationSpace paper(const DynamicsParameters& prior);
+  /// The standard space (header) around `prior`. Housing variables only where the prior
+  /// has housing modes (frequency > 0).
+  static CalibrationSpace standard(const DynamicsParameters& prior);
+
+  CalibrationSpace() = default;
+
+  std::size_t size() const { return count_; }
+  const CalibrationVariable& variable(std::size_t i) const { return vars_[i]; }
+  const char* name(std::size_t i) const { return vars_[i].name.data(); }
+  const DynamicsParameters& prior() const { return prior_; }
+
+  /// Bounds of variable i in whitened units.
+  double lower(std::size_t i) const;
+  double upper(std::size_t i) const;
+
+  /// The value of variable i in parameters p, and setting it.
+  static double get(const DynamicsParameters& p, const CalibrationVariable& v);
+  static void set(DynamicsParameters& p, const CalibrationVariable& v, double value);
+
+  /// Whitened z (size()) → parameters: the prior's, with every variable set from z.
+  DynamicsParameters to_parameters(const double* z) const;
+  /// Variables in `base` instead of the prior for the fields not in the space.
+  DynamicsParameters to_parameters(const double* z, const DynamicsParameters& base) const;
+  /// Parameters → whitened z (clamped into the bounds).
+  void to_variables(const DynamicsParameters& p, double* z) const;
+  /// Value of variable i at whitened z_i.
+  double value(std::size_t i, double z) const;
+  /// Whitened z of value v for variable i (unclamped).
+  double whiten(std::size_t i, double v) const;
+
+ private:
+  void add(ParameterField f, std::size_t index, bool logarithmic, double sd, double lower,
+           double upper, const char* name, const char* unit);
+  DynamicsParameters prior_{};
+  std::array<CalibrationVariable, kMaxCalibrationVariables> vars_{};
+  std::array<double, kMaxCalibrationVariables> prior_u_{};
+  std::size_t count_ = 0;
+};
+
+}  // namespace model::calibration
