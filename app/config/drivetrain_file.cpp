@@ -164,6 +164,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"bearing_stiffness_factor", &DynamicsParameters::bearing_stiffness_factor, Range::kPositive},
     {"damping_band_factor", &DynamicsParameters::damping_band_factor, Range::kPositive},
     {"transmission_error_m", &DynamicsParameters::transmission_error_m},
+    {"transmission_error_phase_rad", &DynamicsParameters::transmission_error_phase_rad},
     {"housing_frequency_hz", &DynamicsParameters::housing_frequency_hz, Range::kNonNegative},
     {"housing_damping_ratio", &DynamicsParameters::housing_damping_ratio, Range::kNonNegative},
     {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},

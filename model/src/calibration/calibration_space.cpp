@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <numbers>
 
 namespace model::calibration {
 
@@ -90,6 +91,16 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
       s.add(ParameterField::kTransmissionError, i, true, kLn3, v / 50.0, v * 50.0, name, "m");
     }
   }
+  for (std::size_t st = 0; st < kTransmissionErrorStages; ++st) {
+    for (std::size_t h = 1; h <= kTransmissionErrorHarmonics; ++h) {
+      const std::size_t i = st * kTransmissionErrorHarmonics + h - 1;
+      if (!(prior.transmission_error_m[i] > 0.0)) continue;
+      std::snprintf(name, sizeof name, "transmission_error.stage%zu.h%zu.phase", st + 1, h);
+      // Bounds two turns wide: the phase is periodic, so a bound is never a physical limit.
+      s.add(ParameterField::kTransmissionErrorPhase, i, false, std::numbers::pi / std::sqrt(3.0),
+            -2.0 * std::numbers::pi, 2.0 * std::numbers::pi, name, "rad");
+    }
+  }
   for (std::size_t p = 0; p < kHousingPoints; ++p) {
     for (std::size_t k = 0; k < kHousingModesPerPoint; ++k) {
       const std::size_t i = p * kHousingModesPerPoint + k;
@@ -132,6 +143,8 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.bearing_stiffness_factor[i];
     case ParameterField::kTransmissionError:
       return p.transmission_error_m[i];
+    case ParameterField::kTransmissionErrorPhase:
+      return p.transmission_error_phase_rad[i];
     case ParameterField::kHousingFrequency:
       return p.housing_frequency_hz[i];
     case ParameterField::kHousingDamping:
@@ -169,6 +182,9 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kTransmissionError:
       p.transmission_error_m[i] = value;
+      break;
+    case ParameterField::kTransmissionErrorPhase:
+      p.transmission_error_phase_rad[i] = value;
       break;
     case ParameterField::kHousingFrequency:
       p.housing_frequency_hz[i] = value;

@@ -898,6 +898,12 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
                       std::to_string(i) + ")");
       return std::nullopt;
     }
+    if (!std::isfinite(dp.transmission_error_phase_rad[i])) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: transmission_error_phase_rad must be finite (index " +
+                      std::to_string(i) + ")");
+      return std::nullopt;
+    }
   }
   for (std::size_t i = 0; i < dp.housing_frequency_hz.size(); ++i) {
     const double f = dp.housing_frequency_hz[i];
@@ -1228,13 +1234,15 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const MeshStiffness k_rp = mesh_stiffness(rp_pair, dp.mesh_stiffness_scale[0]);
   const double gamma_rs = ring_sun_phase(planet.teeth);
   // Static transmission error of stage `stage` (DynamicsParameters::transmission_error_m):
-  // e(t) = Σ_h a_h cos(2π h (order·N_rotor + phase)), the mesh's own cycle; none when 0.
+  // e(t) = Σ_h a_h cos(2π h (order·N_rotor + phase) + φ_h), the mesh's own cycle; none when 0.
   const auto add_transmission_error = [&](VaryingStiffness& v, std::size_t stage) {
     const double* a = &dp.transmission_error_m[stage * kTransmissionErrorHarmonics];
     if (std::all_of(a, a + kTransmissionErrorHarmonics, [](double x) { return x == 0.0; })) return;
     MeshExcitation x;
     x.amplitude_m = 1.0;
-    x.pattern = {transmission_error_table(a, kTransmissionErrorHarmonics), v.order, v.phase_cycles};
+    const double* phase = &dp.transmission_error_phase_rad[stage * kTransmissionErrorHarmonics];
+    x.pattern = {transmission_error_table(a, kTransmissionErrorHarmonics, phase), v.order,
+                 v.phase_cycles};
     v.excitations.push_back(x);
   };
   for (int n = 0; n < ps.planets; ++n) {

@@ -146,13 +146,15 @@ double transmission_error_prior_m(const GearPair& pair, int grade, int harmonic)
   return 0.25 * f_pair_m / h * helical;
 }
 
-PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count) {
+PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count,
+                                       const double* phases_rad) {
   PeriodicTable t = PeriodicTable::constant(0.0);
   for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
     const double x = static_cast<double>(i) / static_cast<double>(PeriodicTable::kSize);
     double e = 0.0;
     for (std::size_t h = 1; h <= count; ++h)
-      e += amplitudes_m[h - 1] * std::cos(2.0 * std::numbers::pi * static_cast<double>(h) * x);
+      e += amplitudes_m[h - 1] * std::cos(2.0 * std::numbers::pi * static_cast<double>(h) * x +
+                                          (phases_rad ? phases_rad[h - 1] : 0.0));
     t.values[i] = e;
   }
   return t;

@@ -18,6 +18,9 @@
 //   excitation   transmission error per stage and harmonic 1..3
 //                                                      ln, σ = ln 3 (the accuracy grade is a
 //                                                      tolerance, not a measurement), ×/÷ 50
+//                and its phase against the engagement cycle
+//                                                      linear, σ = π/√3 (uniform: unknown),
+//                                                      −2π … 2π (periodic: never a real bound)
 //   transfer     per housing mode (3 per point): frequency  ln, σ = 0.35, ×/÷ 2
 //                damping ratio                         ln, σ = ln 2, 0.005 … 0.2
 //                effective mass at the seat            ln, σ = ln 2, ×/÷ 4
@@ -36,8 +39,8 @@
 
 namespace model::calibration {
 
-/// Largest calibration space (the standard one has 53 variables).
-inline constexpr std::size_t kMaxCalibrationVariables = 56;
+/// Largest calibration space (the standard one has 62 variables).
+inline constexpr std::size_t kMaxCalibrationVariables = 64;
 
 enum class ParameterField : std::uint8_t {
   kRayleighEta,
@@ -47,6 +50,7 @@ enum class ParameterField : std::uint8_t {
   kBearingShaftScale,  // index: parallel shaft (paper's variables)
   kBearingFactor,      // index: bearing b1..b6
   kTransmissionError,  // index: stage·harmonics + h − 1
+  kTransmissionErrorPhase,  // index: as kTransmissionError
   kHousingFrequency,   // index: point·modes + mode
   kHousingDamping,
   kHousingMass,

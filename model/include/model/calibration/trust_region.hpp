@@ -58,7 +58,7 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxLsqVariables = 56;  // the calibration's decision variables
+inline constexpr std::size_t kMaxLsqVariables = 64;  // the calibration's decision variables
 /// 4 operating points × 2 points × (RMS + 4 meshes × 5 harmonics) + one prior row per variable.
 inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 21 + kMaxLsqVariables;
 
@@ -106,7 +106,9 @@ class TrustRegionLeastSquares {
   /// Begins at x0 (clamped to the box). With `jacobian` (a previous model of φ for
   /// the same map, features() × variables()), the first step evaluates x0 and the next
   /// ones already move.
-  void start(const double* x0, const Jacobian* jacobian = nullptr);
+  /// With `phi0` as well (φ at x0, features() values, already evaluated by the owner), x0 is
+  /// not evaluated again: the first step already moves (or probes).
+  void start(const double* x0, const Jacobian* jacobian = nullptr, const double* phi0 = nullptr);
 
   /// One evaluation of the map. false (nothing evaluated) once finished.
   bool step();

@@ -191,6 +191,13 @@ struct DynamicsParameters {
   /// (index stage·kTransmissionErrorHarmonics + h − 1) of the mesh frequency, along the
   /// line of action; 0: no geometric excitation (only the stiffness variation).
   std::array<double, kTransmissionErrorStages * kTransmissionErrorHarmonics> transmission_error_m{};
+  /// [rad] phase of each of those harmonics against the mesh's tooth-engagement cycle (the
+  /// cycle of its stiffness variation): e(τ) = Σ_h a_h cos(2π h τ + φ_h). Where the geometric
+  /// error peaks within the engagement is unknown for a real gearbox (profile modifications,
+  /// manufacturing), and it decides whether the error adds to or cancels the stiffness
+  /// variation's own excitation of that harmonic; 0: in phase (the model before the phases).
+  std::array<double, kTransmissionErrorStages * kTransmissionErrorHarmonics>
+      transmission_error_phase_rad{};
   /// Housing modes seen at the bearing seat of each measurement point (index
   /// point·kHousingModesPerPoint + mode). A point whose frequencies are all 0 keeps the
   /// model's single seat mass on a spring (StructuralParameters).

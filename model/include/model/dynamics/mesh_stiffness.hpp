@@ -99,7 +99,9 @@ double transmission_error_prior_m(const GearPair& pair, int grade, int harmonic)
 
 /// e(cycles) = Σ_{h=1..count} a_h·cos(2π·h·cycles) [m], the table of a mesh element's
 /// static transmission error (a MeshExcitation of VaryingStiffness).
-PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count);
+/// phases_rad: φ_h of each harmonic (nullptr: all 0).
+PeriodicTable transmission_error_table(const double* amplitudes_m, std::size_t count,
+                                       const double* phases_rad = nullptr);
 
 /// Relative mesh phases [cycles, in [0, 1)] of planet n at carrier angle ψ_n
 /// (Parker & Lin 2004, eq. (2)–(3)): sun–planet γ_sn = z_s·ψ_n/2π, ring–planet
