@@ -188,6 +188,68 @@ void print_variables(const mc::CalibrationSpace& space, const mc::CalibrationRes
   }
 }
 
+// One compared mesh tone of one point, measured and simulated before and after.
+struct ToneRow {
+  std::size_t point = 0;
+  std::size_t stage = 0;     // 0: planetary, 1: intermediate, 2: high-speed
+  std::size_t harmonic = 1;  // of the mesh frequency
+  double order = 0.0;        // [hss orders]
+  double measured = 0.0;     // [m/s²] averaged over the windows
+  double floor = 0.0;        // [m/s²] what noise alone reads
+  bool resolved = false;     // compared (above the noise, separable)
+  double before = 0.0;       // [m/s²] simulated at the prior
+  double after = 0.0;        // [m/s²] simulated at the calibrated parameters
+};
+
+const char* stage_name(std::size_t stage) {
+  static constexpr const char* kNames[] = {"planetary", "intermediate", "high-speed"};
+  return stage < 3 ? kNames[stage] : "stage";
+}
+
+// The tones of each point, strongest measured first, with the rank of each after calibration.
+void print_tones(const std::vector<ToneRow>& rows) {
+  static constexpr const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+    std::vector<const ToneRow*> mine;
+    for (const ToneRow& r : rows)
+      if (r.point == p) mine.push_back(&r);
+    std::vector<const ToneRow*> by_after = mine;
+    std::stable_sort(mine.begin(), mine.end(),
+                     [](const ToneRow* a, const ToneRow* b) { return a->measured > b->measured; });
+    std::stable_sort(by_after.begin(), by_after.end(),
+                     [](const ToneRow* a, const ToneRow* b) { return a->after > b->after; });
+    std::printf("  %s mesh tones [m/s²], strongest measured first (rank after calibration):\n"
+                "    %-16s %7s %10s %10s %10s %10s  %s\n",
+                kNames[p], "mesh", "order", "measured", "floor", "before", "after", "");
+    for (const ToneRow* r : mine) {
+      const auto rank = static_cast<std::size_t>(
+          std::find(by_after.begin(), by_after.end(), r) - by_after.begin() + 1);
+      char mesh[32];
+      std::snprintf(mesh, sizeof mesh, "%s %zux", stage_name(r->stage), r->harmonic);
+      std::printf("    %-16s %7.3f %10.4g %10.4g %10.4g %10.4g  #%zu%s\n", mesh, r->order,
+                  r->measured, r->floor, r->before, r->after, rank,
+                  r->resolved ? "" : "  (not compared: below the noise or not separable)");
+    }
+  }
+}
+
+nlohmann::json tones_json(const std::vector<ToneRow>& rows) {
+  static constexpr const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
+  nlohmann::json list = nlohmann::json::array();
+  for (const ToneRow& r : rows) {
+    list.push_back({{"point", kNames[r.point]},
+                    {"stage", stage_name(r.stage)},
+                    {"harmonic", r.harmonic},
+                    {"order", r.order},
+                    {"measured", r.measured},
+                    {"noise_floor", r.floor},
+                    {"compared", r.resolved},
+                    {"simulated_before", r.before},
+                    {"simulated_after", r.after}});
+  }
+  return list;
+}
+
 // Share of the measured order-spectrum energy (0–5 kHz, both points) the
 // simulation does not explain: Σ(a_m − a_s)² / Σ a_m², clipped to [0, 1].
 double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
@@ -437,35 +499,45 @@ void run(const CalibrateArgs& args) {
   if (!calibrator->set_measurements(cases.data(), cases.size()))
     throw CommandError("calibrate: too many features for the calibration's capacity");
 
-  // Spectra of a parameter set at bundle c, for the residual.
-  auto residual_of = [&](const model::DynamicsParameters& params, std::size_t c) {
+  // A parameter set simulated at bundle c: its features and order spectra.
+  struct Simulated {
+    std::array<dsp::PointFeatures, mc::kMeasurementPoints> features{};
+    std::array<std::vector<double>, mc::kMeasurementPoints> spectrum;
+  };
+  auto simulate_at = [&](const model::DynamicsParameters& params, std::size_t c) {
     const MeasuredBundle& b = bundles[c];
-    std::array<std::vector<double>, mc::kMeasurementPoints> sim;
+    Simulated out;
     std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
     const double ref_hz = b.hss_hz;
     const bool ok = simulator->simulate(params, b.measured.op,
                                         fx.required_duration_s(ref_hz) + 1.0 / ref_hz, w);
     for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-      dsp::PointFeatures unused;
       if (ok && fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, ref_hz},
-                           unused) == dsp::DspStatus::kOk) {
-        sim[p].assign(fx.order_spectrum(), fx.order_spectrum() + b.spectrum[p].size());
+                           out.features[p]) == dsp::DspStatus::kOk) {
+        out.spectrum[p].assign(fx.order_spectrum(), fx.order_spectrum() + b.spectrum[p].size());
       } else {
-        sim[p].assign(b.spectrum[p].size(), 0.0);
+        out.features[p] = {};
+        out.spectrum[p].assign(b.spectrum[p].size(), 0.0);
       }
     }
+    return out;
+  };
+  auto residual_of_simulated = [&](const Simulated& sim, std::size_t c) {
+    const MeasuredBundle& b = bundles[c];
     const auto last_line = static_cast<std::size_t>(
         kResidualBandHz / b.hss_hz * static_cast<double>(fx.config().revolutions));
-    return residual(b.spectrum, sim, last_line);
+    return residual(b.spectrum, sim.spectrum, last_line);
   };
 
   std::array<mc::PointIndicators, mc::kMaxCalibrationCases> fit_before{};
   if (!calibrator->evaluate_cases(prior, fit_before))
     throw CommandError("simulation failed at the starting parameters");
   std::vector<double> residual_before;
+  std::vector<Simulated> sim_before;
   bool needs = false;
   for (std::size_t c = 0; c < bundles.size(); ++c) {
-    residual_before.push_back(residual_of(prior, c));
+    sim_before.push_back(simulate_at(prior, c));
+    residual_before.push_back(residual_of_simulated(sim_before.back(), c));
     needs = needs || mc::needs_calibration(fit_before[c]);
   }
 
@@ -515,9 +587,10 @@ void run(const CalibrateArgs& args) {
       if (!args.quiet && (e >= last_print + 10 || e == 1)) {
         last_print = e;
         std::printf("  evaluation %4zu  %s  best worst-indicator/threshold %.3f%s\n", e,
-                    calibrator->identifying() && cc.method == mc::CalibrationMethod::kTrustRegion
-                        ? "identifying"
-                        : "fitting    ",
+                    cc.method != mc::CalibrationMethod::kTrustRegion ? "fitting    "
+                    : calibrator->reading_excitation()                ? "excitation "
+                    : calibrator->identifying()                       ? "identifying"
+                                                                      : "fitting    ",
                     calibrator->best_ratio(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
         std::fflush(stdout);
@@ -533,8 +606,34 @@ void run(const CalibrateArgs& args) {
     }
   }
   std::vector<double> residual_after;
-  for (std::size_t c = 0; c < bundles.size(); ++c)
-    residual_after.push_back(residual_of(result.parameters, c));
+  std::vector<Simulated> sim_after;
+  for (std::size_t c = 0; c < bundles.size(); ++c) {
+    sim_after.push_back(simulate_at(result.parameters, c));
+    residual_after.push_back(residual_of_simulated(sim_after.back(), c));
+  }
+  // Every compared tone: its order, the measured amplitude and floor, before and after.
+  auto tone_rows = [&](std::size_t c) {
+    std::vector<ToneRow> rows;
+    const MeasuredBundle& b = bundles[c];
+    const double rpm = b.measured.op.rotor_speed_rpm;
+    for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+      const dsp::PointFeatures& m = b.measured.measured[p];
+      for (std::size_t i = 0; i < m.count; ++i) {
+        ToneRow r;
+        r.point = p;
+        r.stage = i / fc.harmonics;
+        r.harmonic = i % fc.harmonics + 1;
+        r.order = kinematics.mesh_hz(r.stage, rpm) / b.hss_hz * static_cast<double>(r.harmonic);
+        r.measured = m.amplitude[i];
+        r.floor = m.noise_floor[i];
+        r.resolved = m.resolved[i];
+        r.before = sim_before[c].features[p].amplitude[i];
+        r.after = sim_after[c].features[p].amplitude[i];
+        rows.push_back(r);
+      }
+    }
+    return rows;
+  };
   const bool success = result.fits && !result.at_bound;
   if (!args.quiet) {
     if (run_optimizer) {
@@ -545,6 +644,7 @@ void run(const CalibrateArgs& args) {
       std::printf("bundle %s:\n", bundles[c].dir.string().c_str());
       print_fit("fit calibrated:", result.case_indicators[c]);
       std::printf("residual calibrated: %.3f\n", residual_after[c]);
+      print_tones(tone_rows(c));
     }
     if (success) {
       std::printf("CALIBRATED: every indicator within its threshold at both points%s\n",
@@ -586,7 +686,8 @@ void run(const CalibrateArgs& args) {
                             {"fit_before", fit_json(fit_before[c])},
                             {"fit_calibrated", fit_json(result.case_indicators[c])},
                             {"residual_before", residual_before[c]},
-                            {"residual_calibrated", residual_after[c]}});
+                            {"residual_calibrated", residual_after[c]},
+                            {"tones", tones_json(tone_rows(c))}});
     }
     j["cases"] = cases_json;
     j["variables"] = variables_json(space, result, run_optimizer);

@@ -199,6 +199,12 @@ bool Calibrator::evaluate_variables(const double* z, double* f, double* phi) {
   return true;
 }
 
+double Calibrator::prior_cost(const double* z) const {
+  double c = 0.0;
+  for (std::size_t i = 0; i < config_.space.size(); ++i) c += z[i] * z[i];
+  return config_.prior_weight * config_.prior_weight * c;
+}
+
 double Calibrator::data_cost(const double* phi) const {
   double c = 0.0;
   for (std::size_t i = 0; i < feature_count_; ++i) {
@@ -235,24 +241,10 @@ bool Calibrator::FeatureProblem::evaluate(const double* x, double* phi) {
   o.z_work_ = o.z_start_;
   for (std::size_t i = 0; i < o.fit_count_; ++i) o.z_work_[o.fit_index_[i]] = x[i];
   const bool ok = o.evaluate_variables(o.z_work_.data(), o.f_work_.data(), phi);
-  if (std::getenv("CALIB_DEBUG")) {  // TEMP
-    std::fprintf(stderr, "fit eval ok %d data cost %.1f x:", ok, ok ? o.data_cost(phi) : -1.0);
-    for (std::size_t i = 0; i < o.fit_count_; ++i) std::fprintf(stderr, " %.2f", x[i]);
-    std::fprintf(stderr, "\n");
-  }
   if (!ok) return false;
-  // The prior's residuals: one per fitted variable, its z (target 0, weight 1).
-  double prior = 0.0;
-  for (std::size_t i = 0; i < o.fit_count_; ++i) {
-    phi[o.feature_count_ + i] = x[i];
-    prior += x[i] * x[i];
-  }
-  for (std::size_t i = 0; i < o.config_.space.size(); ++i) {
-    if (std::find(o.fit_index_.begin(), o.fit_index_.begin() + static_cast<long>(o.fit_count_), i) ==
-        o.fit_index_.begin() + static_cast<long>(o.fit_count_))
-      prior += o.z_work_[i] * o.z_work_[i];
-  }
-  o.consider(o.z_work_.data(), o.f_work_.data(), o.data_cost(phi) + prior);
+  // The prior's residuals: one per fitted variable, its z (target 0, weight prior_weight).
+  for (std::size_t i = 0; i < o.fit_count_; ++i) phi[o.feature_count_ + i] = x[i];
+  o.consider(o.z_work_.data(), o.f_work_.data(), o.data_cost(phi) + o.prior_cost(o.z_work_.data()));
   return true;
 }
 
@@ -357,12 +349,15 @@ bool Calibrator::begin_fit() {
   std::array<double, kMaxLsqFeatures> weight = weight_;
   for (std::size_t k = 0; k < fit_count_; ++k) {
     target[feature_count_ + k] = 0.0;
-    weight[feature_count_ + k] = 1.0;
+    weight[feature_count_ + k] = config_.prior_weight;
   }
   tr_->set_target(target.data(), weight.data());
   std::array<double, kMaxCalibrationVariables> x{};
   for (std::size_t k = 0; k < fit_count_; ++k) x[k] = z_start_[fit_index_[k]];
-  tr_->start(x.data(), &fit_model_);
+  // The round's start point was evaluated already (phi_start_): the fit's first step moves.
+  phi_work_ = phi_start_;
+  for (std::size_t k = 0; k < fit_count_; ++k) phi_work_[feature_count_ + k] = x[k];
+  tr_->start(x.data(), &fit_model_, phi_work_.data());
   phase_ = Phase::kFit;
   return true;
 }
@@ -420,6 +415,16 @@ bool Calibrator::start(const DynamicsParameters& current,
                          given->cols() == static_cast<Eigen::Index>(n);
     if (start_model_given_) model_ = *given;
     phase_ = Phase::kIdentify;
+    excitation_iteration_ = 0;
+    if (!start_model_given_ && config_.excitation_iterations > 0) {
+      for (std::size_t i = 0; i < n; ++i) {
+        if (config_.space.variable(i).field == ParameterField::kTransmissionError)
+          phase_ = Phase::kExcitation;
+      }
+      excitation_slope_.fill(1.0);
+      excitation_step_.fill(0.0);
+      excitation_misfit_.fill(0.0);
+    }
     probe_ = 0;
     round_ = 0;
     round_start_cost_ = std::numeric_limits<double>::infinity();
@@ -458,6 +463,11 @@ StepStatus Calibrator::step() {
   bool more = true;
   if (config_.method != CalibrationMethod::kTrustRegion) {
     more = mogoa_->step();
+  } else if (phase_ == Phase::kExcitation) {
+    if (!excitation_step()) {
+      finish(false);
+      return state_;
+    }
   } else if (phase_ == Phase::kIdentify) {
     const std::size_t n = config_.space.size();
     if (probe_ == 0) {
@@ -466,9 +476,7 @@ StepStatus Calibrator::step() {
         finish(false);
         return state_;
       }
-      double prior = 0.0;
-      for (std::size_t i = 0; i < n; ++i) prior += z_start_[i] * z_start_[i];
-      const double cost = data_cost(phi_start_.data()) + prior;
+      const double cost = data_cost(phi_start_.data()) + prior_cost(z_start_.data());
       consider(z_start_.data(), f_work_.data(), cost);
       if (round_ == 0) round_start_cost_ = cost;
       probe_ = start_model_given_ && round_ == 0 ? n + 1 : 1;
@@ -481,9 +489,8 @@ StepStatus Calibrator::step() {
       z_work_[i] = z_start_[i] + h;
       const auto col = static_cast<Eigen::Index>(i);
       if (evaluate_variables(z_work_.data(), f_work_.data(), phi_work_.data())) {
-        double prior = 0.0;
-        for (std::size_t k = 0; k < n; ++k) prior += z_work_[k] * z_work_[k];
-        consider(z_work_.data(), f_work_.data(), data_cost(phi_work_.data()) + prior);
+        consider(z_work_.data(), f_work_.data(),
+                 data_cost(phi_work_.data()) + prior_cost(z_work_.data()));
         for (std::size_t r = 0; r < feature_count_; ++r)
           model_(static_cast<Eigen::Index>(r), col) = (phi_work_[r] - phi_start_[r]) / h;
       } else {
@@ -504,6 +511,58 @@ StepStatus Calibrator::step() {
   const bool reached = config_.stop_at_threshold && problem_.evaluations_to_threshold != 0;
   if (!more || reached) finish(false);
   return state_;
+}
+
+bool Calibrator::excitation_step() {
+  const std::size_t n = config_.space.size();
+  if (!evaluate_variables(z_start_.data(), f_work_.data(), phi_work_.data())) {
+    // The start itself failed: nothing to read. A later read-out that failed: keep the best.
+    if (excitation_iteration_ == 0) return false;
+    z_start_ = best_any_z_;
+    phase_ = Phase::kIdentify;
+    return true;
+  }
+  consider(z_start_.data(), f_work_.data(),
+           data_cost(phi_work_.data()) + prior_cost(z_start_.data()));
+  ++excitation_iteration_;
+  if (excitation_iteration_ > config_.excitation_iterations) {
+    z_start_ = best_any_z_;  // the read-out's best (the start included)
+    phase_ = Phase::kIdentify;
+    return true;
+  }
+  const dsp::FeatureConfig& fc = features_.config();
+  const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
+  for (std::size_t i = 0; i < n; ++i) {
+    const CalibrationVariable& v = config_.space.variable(i);
+    if (v.field != ParameterField::kTransmissionError) continue;
+    const std::size_t stage = v.index / kTransmissionErrorHarmonics;
+    const std::size_t h = v.index % kTransmissionErrorHarmonics + 1;
+    if (stage >= fc.mesh_count || h > fc.harmonics) continue;
+    const std::size_t tone = 1 + stage * fc.harmonics + (h - 1);
+    double sum = 0.0;
+    std::size_t count = 0;
+    for (std::size_t block = 0; block < case_count_ * kMeasurementPoints; ++block) {
+      const std::size_t k = block * per_point + tone;
+      if (weight_[k] > 0.0) {  // a tone the recording resolves
+        sum += target_[k] - phi_work_[k];
+        ++count;
+      }
+    }
+    if (count == 0) continue;
+    const double misfit = sum / static_cast<double>(count);
+    if (excitation_iteration_ > 1 && std::abs(excitation_step_[i]) > 1e-3) {
+      const double slope = (excitation_misfit_[i] - misfit) / excitation_step_[i];
+      excitation_slope_[i] = std::clamp(slope, 0.1, 2.0);
+    }
+    excitation_misfit_[i] = misfit;
+    // The step in ln e, then in whitened units, within the bounds.
+    const double z_old = z_start_[i];
+    const double z_new = std::clamp(z_old + misfit / excitation_slope_[i] / v.prior_sd,
+                                    config_.space.lower(i), config_.space.upper(i));
+    excitation_step_[i] = (z_new - z_old) * v.prior_sd;
+    z_start_[i] = z_new;
+  }
+  return true;
 }
 
 void Calibrator::begin_round() {

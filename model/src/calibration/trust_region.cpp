@@ -132,7 +132,8 @@ bool TrustRegionLeastSquares::evaluate(const Vector& x, Features& phi) {
   return true;
 }
 
-void TrustRegionLeastSquares::start(const double* x0, const Jacobian* jacobian) {
+void TrustRegionLeastSquares::start(const double* x0, const Jacobian* jacobian,
+                                    const double* phi0) {
   if (!config_ok_) return;
   if (jacobian && (jacobian->rows() != static_cast<Eigen::Index>(m_) ||
                    jacobian->cols() != static_cast<Eigen::Index>(n_)))
@@ -152,6 +153,15 @@ void TrustRegionLeastSquares::start(const double* x0, const Jacobian* jacobian) 
   if (jacobian) jacobian_ = *jacobian;
   phase_ = Phase::kBase;
   finished_ = false;
+  if (phi0) {
+    // The base is known: as Phase::kBase would have left it, without the evaluation.
+    for (std::size_t i = 0; i < m_; ++i) phi_k_(static_cast<Eigen::Index>(i)) = phi0[i];
+    cost_k_ = cost(phi_k_);
+    best_x_ = x_k_;
+    best_cost_ = cost_k_;
+    phase_ = jacobian_valid_ ? Phase::kIterate : Phase::kProbe;
+    probe_ = 0;
+  }
 }
 
 bool TrustRegionLeastSquares::step() {

@@ -135,6 +135,10 @@ class ToneCalibratorTest : public ::testing::Test {
     cc.trust_region.max_evaluations = budget;
     cc.trust_region.restarts = false;
     cc.stop_at_threshold = stop_at_fit;
+    // The map depends on the paper's 8 variables only, exactly and with full rank: the exact
+    // fit is unique, so no regularisation toward a prior (which would bias it).
+    cc.space = CalibrationSpace::paper(nominal_parameters());
+    cc.prior_weight = 0.0;
     auto cal = std::make_unique<Calibrator>(simulator_, drivetrain_, small_features(), cc);
     std::array<WaveformView, kMeasurementPoints> w{};
     EXPECT_TRUE(simulator_.simulate(truth, op_, 3.0, w));
@@ -215,18 +219,18 @@ TEST_F(ToneCalibratorTest, AWarmStartWithThePreviousModelRecalibratesInFarFewerE
   EXPECT_LE(w.evaluations_to_threshold, 2u);
 }
 
-TEST_F(ToneCalibratorTest, TheTrustRegionIsDeterministicUnderASeed) {
+TEST_F(ToneCalibratorTest, TheTrustRegionIsDeterministic) {
+  // The calibrator probes along its variables itself and the seed only draws restart points
+  // (none here): two runs of one configuration give the same evaluations, bit for bit.
   auto a = make(drifted_parameters(), 9, 11);
   auto b = make(drifted_parameters(), 9, 11);
-  auto c = make(drifted_parameters(), 10, 11);
   const CalibrationResult ra = run(*a, nominal_parameters());
   const CalibrationResult rb = run(*b, nominal_parameters());
-  const CalibrationResult rc = run(*c, nominal_parameters());
-  EXPECT_EQ(ra.evaluations, 11u);
+  EXPECT_GT(ra.evaluations, 9u);  // the start and 8 probes, then the fit
+  EXPECT_EQ(ra.evaluations, rb.evaluations);
   EXPECT_EQ(ra.parameters.rayleigh_eta, rb.parameters.rayleigh_eta);
   EXPECT_EQ(ra.parameters.bearing_stiffness_scale, rb.parameters.bearing_stiffness_scale);
   EXPECT_EQ(ra.indicators[1].f3, rb.indicators[1].f3);
-  EXPECT_NE(ra.parameters.rayleigh_eta, rc.parameters.rayleigh_eta);
 }
 
 TEST_F(ToneCalibratorTest, CancelStopsTheTrustRegionAtTheNextStepAndPublishesACancelledResult) {
@@ -271,6 +275,8 @@ class CalibratorTest : public ::testing::Test {
     cc.mogoa.population = population;
     cc.mogoa.max_iterations = iterations;
     cc.mogoa.seed = seed;
+    // The lumped stand-in has the paper's 8 variables only.
+    cc.space = CalibrationSpace::paper(nominal_parameters());
     auto cal = std::make_unique<Calibrator>(*simulator_, drivetrain_, small_features(), cc);
     // Measured features, extracted with the calibrator's own configuration.
     std::array<WaveformView, kMeasurementPoints> w{};

@@ -119,7 +119,7 @@ TEST(Mogoa, ArchiveHoldsOnlyMutuallyNonDominatedSolutionsWithinItsCapacity) {
 }
 
 TEST(Mogoa, RefusesSizesBeyondItsFixedCapacity) {
-  zdt::Problem problem(zdt::Kind::kZdt1, 40);  // 40 variables > kMaxVariables
+  zdt::Problem problem(zdt::Kind::kZdt1, model::calibration::kMaxVariables + 1);
   Mogoa m(problem, MogoaConfig{});
   EXPECT_FALSE(m.config_ok());
   EXPECT_FALSE(m.step());

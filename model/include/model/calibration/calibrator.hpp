@@ -17,8 +17,18 @@
 //            expected to reach against a gearbox the model did not simulate);
 //   σ_RMS  = rms_model_sd (0.25: the RMS holds broadband content no mesh model has),
 // and the least-squares cost is
-//   F(z) = Σ ((φ(z) − φ_measured)/σ)² + Σ z²        (Gauss–Newton with the prior, the
-//                                                      second sum as one residual per variable)
+//   F(z) = Σ ((φ(z) − φ_measured)/σ)² + w² Σ z²     (Gauss–Newton with the prior, the
+//                                                      second sum as one residual per variable;
+//                                                      w = prior_weight, 1: the prior as stated)
+// Excitation first (cold start): a tone at a mesh harmonic is, to first order, proportional
+// to that harmonic's transmission error e (the mesh force k·e), and e is what nobody knows
+// for a real gearbox — an accuracy grade bounds it within a decade, no more. So a cold run
+// first reads each harmonic's level from the recording: ln e += m / s, where m is the mean
+// over the measurement points (and cases) of ln(A_measured / A_simulated) of the tones the
+// recording resolves, and s the slope d ln A / d ln e (1 at first, then as measured by the
+// previous read-out, within [0.1, 2]); `excitation_iterations` evaluations, the best point
+// kept. Harmonics no point resolves keep their prior. Then identification and fit as below.
+//
 // Identifiability (issue 12): from the feature Jacobian J at the start (one forward
 // difference per variable, `probe_step` prior σ long), J_w = J/σ in whitened units, the
 // variables the recording determines are chosen by orthogonal forward selection (the
@@ -114,10 +124,14 @@ struct CalibratorConfig {
   bool stop_at_threshold = false;        // finish as soon as one evaluated solution fits everywhere
   double tone_model_sd = 0.1;            // [ln] model error allowance per tone (header)
   double rms_model_sd = 0.25;            // [ln] the same for the RMS
+  double prior_weight = 1.0;             // [-] weight of the prior's residuals z (header); 0:
+                                         // no regularisation (an exact, fully determined map)
   double identify_ratio = 0.5;           // [-] posterior/prior σ at or below: identified
   double probe_step = 0.1;               // [prior σ] identification probe length
   bool identify = true;                  // false: fit every variable (no identification)
   std::size_t max_rounds = 8;            // [-] identification + fit rounds (header)
+  std::size_t excitation_iterations = 3;  // [-] cold start: evaluations reading the excitation
+                                          // levels from the tones first (header); 0: none
   CalibrationSpace space{};              // empty: CalibrationSpace::standard(description's)
 };
 
@@ -232,9 +246,11 @@ class Calibrator {
   double best_ratio() const { return problem_.best_ratio; }
   /// During/after a trust-region run: true while identifying (the probes).
   bool identifying() const { return phase_ == Phase::kIdentify; }
+  /// During a cold trust-region run: true while the excitation levels are read (header).
+  bool reading_excitation() const { return phase_ == Phase::kExcitation; }
 
  private:
-  enum class Phase : std::uint8_t { kIdentify, kFit };
+  enum class Phase : std::uint8_t { kExcitation, kIdentify, kFit };
 
   // The MOGOA view: z (whitened, every variable) → 6 indicators (worst over the cases).
   struct Problem : MultiObjectiveProblem {
@@ -270,12 +286,15 @@ class Calibrator {
   bool simulate_features(const DynamicsParameters& params, std::size_t c,
                          std::array<dsp::PointFeatures, kMeasurementPoints>& out);
   double data_cost(const double* phi) const;
+  double prior_cost(const double* z) const;  // prior_weight² Σ z² over every variable
   void consider(const double* z, const double* f, double cost);
   // Orthogonal forward selection on j (header); selection into fit_index_/fit_count_ when
   // `select`, posterior ratios for the current fit_index_ selection into `ratio`.
   void identify(const FeatureJacobian& j, bool select,
                 std::array<double, kMaxCalibrationVariables>& ratio);
   void begin_round();
+  // One evaluation of the excitation read-out (header); false when it failed.
+  bool excitation_step();
   bool begin_fit();
   void finish(bool cancelled);
   void publish(const CalibrationResult& result);
@@ -298,6 +317,12 @@ class Calibrator {
   // Trust-region run: identification then fit.
   Phase phase_ = Phase::kIdentify;
   std::size_t probe_ = 0;  // 0: the start point; i + 1: variable i
+  // Excitation read-out: per variable the mean tone misfit [ln], the last step [ln] and the
+  // measured slope d ln A / d ln e.
+  std::size_t excitation_iteration_ = 0;
+  std::array<double, kMaxCalibrationVariables> excitation_misfit_{};
+  std::array<double, kMaxCalibrationVariables> excitation_step_{};
+  std::array<double, kMaxCalibrationVariables> excitation_slope_{};
   std::array<double, kMaxCalibrationVariables> z_start_{};
   std::array<double, kMaxCalibrationVariables> z_work_{};
   std::array<double, kMaxLsqFeatures> phi_start_{};
