@@ -69,7 +69,7 @@ struct CalibrateArgs {
   std::string method = "trust-region";
   std::string simulator = "rom";
   std::string space = "standard";
-  std::size_t evaluations = 60;
+  std::size_t evaluations = 10;
   std::size_t population = 20;
   std::size_t iterations = 50;
   std::uint64_t seed = 1;
@@ -569,8 +569,8 @@ void run(const CalibrateArgs& args) {
     if (!args.quiet) {
       if (cc.method == mc::CalibrationMethod::kTrustRegion) {
         std::printf(
-            "calibrating %zu variables (%s space): identification (%zu probes), then at most %zu "
-            "evaluations of the fit\n",
+            "calibrating %zu variables (%s space): up to 8 rounds of excitation solve, "
+            "identification (%zu probes) and at most %zu evaluations of the fit\n",
             space.size(), args.space.c_str(), space.size(), args.evaluations);
       } else {
         std::printf("calibrating %zu variables: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
@@ -751,8 +751,9 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--simulator", args->simulator,
                  "rom (default, the dynamics ROM) or lumped (stand-in)");
   sub.add_option("--evaluations", args->evaluations,
-                 "trust-region: model evaluations of the fit at most (default 60; the "
-                 "identification's probes come on top)");
+                 "trust-region: model evaluations of each round's fit at most (default 10; "
+                 "up to 8 rounds, each with its excitation solve and identification probes on "
+                 "top)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)");
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
   sub.add_option(

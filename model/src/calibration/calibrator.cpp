@@ -82,6 +82,20 @@ Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetra
       features_(with_mesh_orders(features, kinematics_, drivetrain)) {
   problem_.owner = this;
   feature_problem_.owner = this;
+  // The error harmonics whose amplitude and phase are both calibrated: solved (header).
+  te_amplitude_.fill(config_.space.size());
+  te_phase_.fill(config_.space.size());
+  for (std::size_t i = 0; i < config_.space.size(); ++i) {
+    const CalibrationVariable& v = config_.space.variable(i);
+    if (v.index >= te_amplitude_.size()) continue;
+    if (v.field == ParameterField::kTransmissionError) te_amplitude_[v.index] = i;
+    if (v.field == ParameterField::kTransmissionErrorPhase) te_phase_[v.index] = i;
+  }
+  for (std::size_t k = 0; k < te_amplitude_.size(); ++k) {
+    has_excitation_ = has_excitation_ || (config_.solve_excitation &&
+                                          te_amplitude_[k] < config_.space.size() &&
+                                          te_phase_[k] < config_.space.size());
+  }
   const auto n = static_cast<Eigen::Index>(config_.space.size());
   model_.setZero(0, n);
   last_model_.setZero(0, n);
@@ -180,6 +194,7 @@ bool Calibrator::evaluate_variables(const double* z, double* f, double* phi) {
       for (std::size_t k = 0; k < kCalibrationObjectives; ++k) f[k] = kIndicatorPenalty;
       return false;
     }
+    last_features_[c] = simulated;
     for (std::size_t pt = 0; pt < kMeasurementPoints; ++pt) {
       const Indicators ind = compute_indicators(simulated[pt], cases_[c].measured[pt]);
       f[3 * pt + 0] = std::max(f[3 * pt + 0], ind.f1);
@@ -416,15 +431,8 @@ bool Calibrator::start(const DynamicsParameters& current,
     if (start_model_given_) model_ = *given;
     phase_ = Phase::kIdentify;
     excitation_iteration_ = 0;
-    if (!start_model_given_ && config_.excitation_iterations > 0) {
-      for (std::size_t i = 0; i < n; ++i) {
-        if (config_.space.variable(i).field == ParameterField::kTransmissionError)
-          phase_ = Phase::kExcitation;
-      }
-      excitation_slope_.fill(1.0);
-      excitation_step_.fill(0.0);
-      excitation_misfit_.fill(0.0);
-    }
+    // A cold start solves the excitation first; a warm start steps with its previous model.
+    if (has_excitation_ && !start_model_given_) phase_ = Phase::kExcitation;
     probe_ = 0;
     round_ = 0;
     round_start_cost_ = std::numeric_limits<double>::infinity();
@@ -513,56 +521,152 @@ StepStatus Calibrator::step() {
   return state_;
 }
 
+bool Calibrator::simulate_cases(const DynamicsParameters& params) {
+  for (std::size_t c = 0; c < case_count_; ++c) {
+    if (!simulate_features(params, c, excitation_features_[c])) return false;
+  }
+  return true;
+}
+
 bool Calibrator::excitation_step() {
-  const std::size_t n = config_.space.size();
-  if (!evaluate_variables(z_start_.data(), f_work_.data(), phi_work_.data())) {
-    // The start itself failed: nothing to read. A later read-out that failed: keep the best.
-    if (excitation_iteration_ == 0) return false;
+  const dsp::FeatureConfig& fc = features_.config();
+  const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
+  const std::size_t blocks = case_count_ * kMeasurementPoints;
+  // The tones of excitation_features_ as complex amplitudes, per feature index.
+  const auto read_tones = [&](std::array<std::complex<double>, kMaxLsqFeatures>& out) {
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const dsp::PointFeatures& f = excitation_features_[b / kMeasurementPoints][b % kMeasurementPoints];
+      for (std::size_t i = 0; i < f.count && 1 + i < per_point; ++i)
+        out[b * per_point + 1 + i] = std::polar(f.amplitude[i], f.phase[i]);
+    }
+  };
+  if (excitation_iteration_ == 0) {
+    // P: every calibrated error at zero.
+    DynamicsParameters p = config_.space.to_parameters(z_start_.data(), base_);
+    for (std::size_t k = 0; k < te_amplitude_.size(); ++k) {
+      if (te_amplitude_[k] < config_.space.size() && te_phase_[k] < config_.space.size())
+        p.transmission_error_m[k] = 0.0;
+    }
+    ++problem_.evaluations;
+    ++excitation_iteration_;
+    if (!simulate_cases(p)) {
+      phase_ = Phase::kIdentify;  // cannot separate the excitation: fit without the solve
+      return true;
+    }
+    read_tones(tone_parametric_);
+    return true;
+  }
+  // The current point: its tones give T; considered like any evaluation.
+  const bool ok = evaluate_variables(z_start_.data(), f_work_.data(), phi_work_.data());
+  if (!ok) {
     z_start_ = best_any_z_;
     phase_ = Phase::kIdentify;
-    return true;
+    return have_any_;  // the round's start itself failed: nothing to go on from
   }
   consider(z_start_.data(), f_work_.data(),
            data_cost(phi_work_.data()) + prior_cost(z_start_.data()));
-  ++excitation_iteration_;
   if (excitation_iteration_ > config_.excitation_iterations) {
-    z_start_ = best_any_z_;  // the read-out's best (the start included)
+    z_start_ = best_any_z_;  // the best of the solves (or the round's start)
     phase_ = Phase::kIdentify;
     return true;
   }
+  ++excitation_iteration_;
+  for (std::size_t c = 0; c < case_count_; ++c) excitation_features_[c] = last_features_[c];
+  read_tones(tone_current_);
+  solve_excitation();
+  return true;
+}
+
+void Calibrator::solve_excitation() {
   const dsp::FeatureConfig& fc = features_.config();
+  const std::size_t n = config_.space.size();
   const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
-  for (std::size_t i = 0; i < n; ++i) {
-    const CalibrationVariable& v = config_.space.variable(i);
-    if (v.field != ParameterField::kTransmissionError) continue;
-    const std::size_t stage = v.index / kTransmissionErrorHarmonics;
-    const std::size_t h = v.index % kTransmissionErrorHarmonics + 1;
+  const std::size_t blocks = case_count_ * kMeasurementPoints;
+  const double pw2 = config_.prior_weight * config_.prior_weight;
+  constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+  for (std::size_t k = 0; k < te_amplitude_.size(); ++k) {
+    const std::size_t a = te_amplitude_[k];
+    const std::size_t ph = te_phase_[k];
+    if (a >= n || ph >= n) continue;
+    const std::size_t stage = k / kTransmissionErrorHarmonics;
+    const std::size_t h = k % kTransmissionErrorHarmonics + 1;
     if (stage >= fc.mesh_count || h > fc.harmonics) continue;
     const std::size_t tone = 1 + stage * fc.harmonics + (h - 1);
-    double sum = 0.0;
+    const std::complex<double> x0 =
+        std::polar(config_.space.value(a, z_start_[a]), config_.space.value(ph, z_start_[ph]));
+    if (std::abs(x0) <= 0.0) continue;
+    // The resolved tones of this harmonic: P, T, target, weight.
+    std::array<std::complex<double>, 2 * kMaxCalibrationCases> pp{}, tt{};
+    std::array<double, 2 * kMaxCalibrationCases> target{}, weight{};
     std::size_t count = 0;
-    for (std::size_t block = 0; block < case_count_ * kMeasurementPoints; ++block) {
-      const std::size_t k = block * per_point + tone;
-      if (weight_[k] > 0.0) {  // a tone the recording resolves
-        sum += target_[k] - phi_work_[k];
-        ++count;
-      }
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t idx = b * per_point + tone;
+      if (!(weight_[idx] > 0.0)) continue;
+      pp[count] = tone_parametric_[idx];
+      tt[count] = (tone_current_[idx] - tone_parametric_[idx]) / x0;
+      target[count] = target_[idx];
+      weight[count] = weight_[idx];
+      ++count;
     }
     if (count == 0) continue;
-    const double misfit = sum / static_cast<double>(count);
-    if (excitation_iteration_ > 1 && std::abs(excitation_step_[i]) > 1e-3) {
-      const double slope = (excitation_misfit_[i] - misfit) / excitation_step_[i];
-      excitation_slope_[i] = std::clamp(slope, 0.1, 2.0);
+    const double za_lo = config_.space.lower(a);
+    const double za_hi = config_.space.upper(a);
+    const auto cost = [&](double za, double phi) {
+      const std::complex<double> x = std::polar(config_.space.value(a, za), phi);
+      double c = 0.0;
+      for (std::size_t i = 0; i < count; ++i) {
+        const double r = weight[i] * (std::log(std::max(std::abs(pp[i] + tt[i] * x), 1e-300)) -
+                                      target[i]);
+        c += r * r;
+      }
+      const double zp = config_.space.whiten(ph, phi);
+      return c + pw2 * (za * za + zp * zp);
+    };
+    // Coarse grid over the phase (one turn) and the amplitude (its bounds), then finer around
+    // the best cell.
+    constexpr int kPhases = 72;
+    constexpr int kAmplitudes = 61;
+    double best = std::numeric_limits<double>::infinity();
+    double best_za = z_start_[a];
+    double best_phi = config_.space.value(ph, z_start_[ph]);
+    for (int i = 0; i < kPhases; ++i) {
+      const double phi = -0.5 * kTwoPi + kTwoPi * i / kPhases;
+      for (int j = 0; j < kAmplitudes; ++j) {
+        const double za = za_lo + (za_hi - za_lo) * j / (kAmplitudes - 1);
+        const double c = cost(za, phi);
+        if (c < best) {
+          best = c;
+          best_za = za;
+          best_phi = phi;
+        }
+      }
     }
-    excitation_misfit_[i] = misfit;
-    // The step in ln e, then in whitened units, within the bounds.
-    const double z_old = z_start_[i];
-    const double z_new = std::clamp(z_old + misfit / excitation_slope_[i] / v.prior_sd,
-                                    config_.space.lower(i), config_.space.upper(i));
-    excitation_step_[i] = (z_new - z_old) * v.prior_sd;
-    z_start_[i] = z_new;
+    const double dphi = kTwoPi / kPhases;
+    const double dza = (za_hi - za_lo) / (kAmplitudes - 1);
+    for (int level = 0; level < 3; ++level) {
+      const double cphi = best_phi;
+      const double cza = best_za;
+      const double sphi = dphi / std::pow(10.0, level);
+      const double sza = dza / std::pow(10.0, level);
+      for (int i = -10; i <= 10; ++i) {
+        const double phi = cphi + sphi * i / 10.0;
+        for (int j = -10; j <= 10; ++j) {
+          const double za = std::clamp(cza + sza * j / 10.0, za_lo, za_hi);
+          const double c = cost(za, phi);
+          if (c < best) {
+            best = c;
+            best_za = za;
+            best_phi = phi;
+          }
+        }
+      }
+    }
+    // The phase back into (−π, π].
+    best_phi = std::remainder(best_phi, kTwoPi);
+    z_start_[a] = best_za;
+    z_start_[ph] = std::clamp(config_.space.whiten(ph, best_phi), config_.space.lower(ph),
+                              config_.space.upper(ph));
   }
-  return true;
 }
 
 void Calibrator::begin_round() {
@@ -570,7 +674,8 @@ void Calibrator::begin_round() {
   z_start_ = best_any_z_;
   round_start_cost_ = best_any_cost_;
   ++round_;
-  phase_ = Phase::kIdentify;
+  phase_ = has_excitation_ ? Phase::kExcitation : Phase::kIdentify;
+  excitation_iteration_ = 0;
   probe_ = 0;
   tr_.reset();
 }

@@ -169,6 +169,7 @@ DspStatus FeatureExtractor::extract(const double* x, std::size_t n, double fs_hz
         c += row[r] * spectrum[static_cast<std::size_t>(fit_bins_[r])];
     }
     out.amplitude[i] = 2.0 * std::abs(c);
+    out.phase[i] = std::arg(c);
     // Noise floor: with noise of E|X(k)|² = s² on the fitted lines, E|c|² = s²·‖row‖²; s from
     // the median of the neighbouring lines outside every known lobe (Rayleigh: median = s·√ln2).
     const double line = static_cast<double>(h) * config_.mesh_orders[m] * lines_per_order;

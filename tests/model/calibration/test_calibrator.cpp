@@ -6,9 +6,12 @@
 //    parameters, which the model reproduces up to the added noise.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <complex>
 #include <cstdlib>
+#include <span>
 #include <memory>
 #include <new>
 #include <optional>
@@ -76,6 +79,18 @@ class ToneSimulator : public VibrationSimulator {
   ToneSimulator(const model::Drivetrain& d, double max_duration_s) : kinematics_(d) {
     for (auto& w : wave_) w.resize(static_cast<std::size_t>(max_duration_s * kSampleRateHz));
   }
+  // Excitation mode: tone t of point p is also driven by transmission-error harmonic t as a
+  // linear system would be, A = P + T·(e/e_ref)·exp(iφ), with fixed complex P (the stiffness
+  // variation's own tone) and T (the path) per point and tone.
+  void set_excitation(bool on) { excitation_ = on; }
+  static constexpr double kReferenceError = 1e-6;  // [m] e_ref
+  static std::complex<double> parametric(std::size_t p, std::size_t t) {
+    return std::polar(0.3, 0.7 * static_cast<double>(t) + static_cast<double>(p));
+  }
+  static std::complex<double> path(std::size_t p, std::size_t t) {
+    return std::polar(1.0 + 0.5 * static_cast<double>(p),
+                      1.1 * static_cast<double>(t) - 0.4 * static_cast<double>(p));
+  }
   static double gain(std::size_t point, std::size_t tone, std::size_t param) {
     return 0.6 * std::sin(1.3 * static_cast<double>(1 + tone + 9 * point) *
                               static_cast<double>(1 + param) +
@@ -103,8 +118,14 @@ class ToneSimulator : public VibrationSimulator {
         const double w = 2.0 * 3.14159265358979323846 * f_hz / kSampleRateHz;
         // A·cos(w·i + φ) by a rotating phasor (cheap under QEMU; drift ~1e-12 over a recording).
         const double a = std::exp(log_a);
-        double re = a * std::cos(0.3 * static_cast<double>(t));
-        double im = a * std::sin(0.3 * static_cast<double>(t));
+        std::complex<double> z = std::polar(a, 0.3 * static_cast<double>(t));
+        if (excitation_) {
+          z = a * (parametric(p, t) +
+                   path(p, t) * std::polar(params.transmission_error_m[t] / kReferenceError,
+                                           params.transmission_error_phase_rad[t]));
+        }
+        double re = z.real();
+        double im = z.imag();
         const double c = std::cos(w);
         const double sn = std::sin(w);
         for (std::size_t i = 0; i < n; ++i) {
@@ -122,6 +143,7 @@ class ToneSimulator : public VibrationSimulator {
  private:
   model::Kinematics kinematics_;
   std::array<std::vector<double>, kMeasurementPoints> wave_;
+  bool excitation_ = false;
 };
 
 class ToneCalibratorTest : public ::testing::Test {
@@ -129,6 +151,11 @@ class ToneCalibratorTest : public ::testing::Test {
   // Runs end at convergence (no restarts) or, with `stop_at_fit`, at the first fitting evaluation.
   std::unique_ptr<Calibrator> make(const DynamicsParameters& truth, std::uint64_t seed = 0,
                                    std::size_t budget = 40, bool stop_at_fit = false) {
+    CalibratorConfig cc = paper_config(seed, budget, stop_at_fit);
+    return make_with(truth, cc, {&op_, 1});
+  }
+  static CalibratorConfig paper_config(std::uint64_t seed = 0, std::size_t budget = 40,
+                                       bool stop_at_fit = false) {
     CalibratorConfig cc;
     cc.method = CalibrationMethod::kTrustRegion;
     cc.trust_region.seed = seed;
@@ -139,20 +166,29 @@ class ToneCalibratorTest : public ::testing::Test {
     // fit is unique, so no regularisation toward a prior (which would bias it).
     cc.space = CalibrationSpace::paper(nominal_parameters());
     cc.prior_weight = 0.0;
+    return cc;
+  }
+  // A calibrator of `cc` against recordings of `truth` at each operating point (joint when
+  // more than one).
+  std::unique_ptr<Calibrator> make_with(const DynamicsParameters& truth, const CalibratorConfig& cc,
+                                        std::span<const OperatingPoint> ops) {
     auto cal = std::make_unique<Calibrator>(simulator_, drivetrain_, small_features(), cc);
-    std::array<WaveformView, kMeasurementPoints> w{};
-    EXPECT_TRUE(simulator_.simulate(truth, op_, 3.0, w));
-    // The waveform views point into the simulator's buffers: copy before the calibrator simulates.
-    model::dsp::FeatureExtractor fx(cal->feature_config());
-    std::array<model::dsp::PointFeatures, kMeasurementPoints> measured{};
-    const double hss_hz =
-        op_.rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
-    for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
-      EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz},
-                           measured[p]),
-                model::dsp::DspStatus::kOk);
+    std::vector<CalibrationCase> cases(ops.size());
+    for (std::size_t c = 0; c < ops.size(); ++c) {
+      std::array<WaveformView, kMeasurementPoints> w{};
+      EXPECT_TRUE(simulator_.simulate(truth, ops[c], 3.0, w));
+      // The views point into the simulator's buffers: extract before the calibrator simulates.
+      model::dsp::FeatureExtractor fx(cal->feature_config());
+      const double hss_hz =
+          ops[c].rotor_speed_rpm / 60.0 * model::Kinematics(drivetrain_).overall_ratio();
+      for (std::size_t p = 0; p < kMeasurementPoints; ++p) {
+        EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz},
+                             cases[c].measured[p]),
+                  model::dsp::DspStatus::kOk);
+      }
+      cases[c].op = ops[c];
     }
-    cal->set_measurement(measured, op_);
+    EXPECT_TRUE(cal->set_measurements(cases.data(), cases.size()));
     return cal;
   }
   static CalibrationResult run(Calibrator& cal, const DynamicsParameters& current,
@@ -253,6 +289,132 @@ TEST_F(ToneCalibratorTest, TrustRegionStepsDoNotAllocate) {
   while (cal->step() == StepStatus::kRunning) {
   }
   EXPECT_EQ(g_allocations.load(), before);
+}
+
+TEST_F(ToneCalibratorTest, VariablesTheRecordingCannotDetermineAreReportedAndKeptAtTheirPriors) {
+  // The standard space (62 variables with transmission error and housing modes in the prior);
+  // the tones depend on η, ζ and the mesh scales only, so those 5 are identified and every
+  // other variable must be reported not identified and left exactly at its prior.
+  DynamicsParameters prior = model::paper_2mw().dynamics;
+  prior.rayleigh_eta = nominal_parameters().rayleigh_eta;
+  prior.rayleigh_zeta = nominal_parameters().rayleigh_zeta;
+  DynamicsParameters truth = prior;
+  truth.rayleigh_eta *= 2.0;
+  truth.rayleigh_zeta *= 2.0;
+  truth.mesh_stiffness_scale = {0.8, 0.8, 0.8};
+  CalibratorConfig cc = paper_config(0, 40);
+  cc.space = CalibrationSpace::standard(prior);
+  cc.prior_weight = 1.0;  // the prior as stated: the estimate is biased toward it, slightly
+  auto cal = make_with(truth, cc, {&op_, 1});
+  const CalibrationResult r = run(*cal, prior);
+  ASSERT_EQ(r.variables, cc.space.size());
+  std::size_t identified = 0;
+  for (std::size_t i = 0; i < cc.space.size(); ++i) {
+    const CalibrationVariable& v = cc.space.variable(i);
+    const bool depends = v.field == ParameterField::kRayleighEta ||
+                         v.field == ParameterField::kRayleighZeta ||
+                         v.field == ParameterField::kMeshScale;
+    if (depends) {
+      EXPECT_EQ(r.status[i], VariableStatus::kIdentified) << cc.space.name(i);
+      identified += r.status[i] == VariableStatus::kIdentified ? 1 : 0;
+    } else {
+      EXPECT_EQ(r.status[i], VariableStatus::kNotIdentified) << cc.space.name(i);
+      // At the prior up to the round trip through the whitened logarithm.
+      const double p0 = CalibrationSpace::get(prior, v);
+      EXPECT_NEAR(CalibrationSpace::get(r.parameters, v), p0, 1e-9 * std::max(1.0, std::abs(p0)))
+          << cc.space.name(i);
+    }
+  }
+  EXPECT_EQ(identified, 5u);
+  EXPECT_EQ(r.identified, 5u);
+  EXPECT_TRUE(r.fits);
+  // The prior's pull: a few per cent at most against 18 tones weighted 1/0.1.
+  EXPECT_NEAR(r.parameters.rayleigh_zeta / truth.rayleigh_zeta, 1.0, 0.05);
+  for (std::size_t s = 0; s < 3; ++s)
+    EXPECT_NEAR(r.parameters.mesh_stiffness_scale[s] / truth.mesh_stiffness_scale[s], 1.0, 0.05);
+}
+
+TEST_F(ToneCalibratorTest, AVariableTheRecordingPushesPastItsBoundIsReportedAtTheBound) {
+  // The truth's high-speed mesh scale 0.3 lies below the space's bound 0.5: the fit must end
+  // on the bound and say so, never claim a calibration.
+  DynamicsParameters truth = nominal_parameters();
+  truth.mesh_stiffness_scale[2] = 0.3;
+  auto cal = make(truth);
+  const CalibrationResult r = run(*cal, nominal_parameters());
+  const CalibrationSpace space = CalibrationSpace::paper(nominal_parameters());
+  bool found = false;
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const CalibrationVariable& v = space.variable(i);
+    if (v.field != ParameterField::kMeshScale || v.index != 2) continue;
+    found = true;
+    EXPECT_EQ(r.status[i], VariableStatus::kAtLowerBound);
+    EXPECT_NEAR(r.parameters.mesh_stiffness_scale[2], 0.5, 1e-3);
+  }
+  EXPECT_TRUE(found);
+  EXPECT_TRUE(r.at_bound);
+}
+
+TEST_F(ToneCalibratorTest, AJointCalibrationFitsOneParameterSetToTwoOperatingPoints) {
+  const std::array<OperatingPoint, 2> ops{{{8.33, 361747.0}, {14.8, 1.23e6}}};
+  auto cal = make_with(drifted_parameters(), paper_config(0, 40), ops);
+  ASSERT_EQ(cal->cases(), 2u);
+  const CalibrationResult r = run(*cal, nominal_parameters());
+  EXPECT_EQ(r.cases, 2u);
+  EXPECT_TRUE(r.fits);
+  for (std::size_t c = 0; c < 2; ++c) {
+    for (const Indicators& i : r.case_indicators[c]) EXPECT_LT(worst_threshold_ratio(i), 0.1) << c;
+  }
+  EXPECT_NEAR(r.parameters.mesh_stiffness_scale[1] / 0.8, 1.0, 0.01);
+}
+
+TEST_F(ToneCalibratorTest, TheExcitationSolveMatchesEveryToneFromItsParametricAndPathParts) {
+  // Tones A = P + T·e·exp(iφ) (the ToneSimulator's excitation mode), the recording's errors
+  // 0.2–5 × the prior with phases all round: the solve (one evaluation for P, one for T) must
+  // bring every tone at both points within 2 % by its third evaluation, before any probe.
+  simulator_.set_excitation(true);
+  DynamicsParameters prior = nominal_parameters();
+  prior.transmission_error_m.fill(ToneSimulator::kReferenceError);
+  DynamicsParameters truth = prior;
+  constexpr std::array<double, 9> kScale{3.0, 0.2, 1.5, 5.0, 0.5, 0.8, 0.3, 2.5, 1.2};
+  constexpr std::array<double, 9> kPhase{2.0, -1.0, 0.5, -2.8, 1.4, 3.0, -0.3, -1.9, 0.9};
+  for (std::size_t t = 0; t < 9; ++t) {
+    truth.transmission_error_m[t] *= kScale[t];
+    truth.transmission_error_phase_rad[t] = kPhase[t];
+  }
+  CalibratorConfig cc = paper_config(0, 20, true);
+  cc.space = CalibrationSpace::standard(prior);
+  cc.prior_weight = 1.0;
+  auto cal = make_with(truth, cc, {&op_, 1});
+  PointIndicators before{};
+  ASSERT_TRUE(cal->evaluate(prior, before));
+  ASSERT_TRUE(needs_calibration(before));
+  const CalibrationResult r = run(*cal, prior);
+  EXPECT_TRUE(r.fits);
+  EXPECT_GT(r.evaluations_to_threshold, 0u);
+  EXPECT_LE(r.evaluations_to_threshold, 3u);
+  for (const Indicators& i : r.indicators) EXPECT_LT(i.f3, 0.02);
+}
+
+TEST_F(ToneCalibratorTest, CalibratingTheModelsOwnRecordingAtItsParametersMovesNothing) {
+  // The null test: the recording is the model's own at the starting parameters (excitation
+  // included); a calibration forced on it must find nothing to move — every variable within
+  // 1e-3 prior σ of where it started — and fit everywhere.
+  simulator_.set_excitation(true);
+  DynamicsParameters start = nominal_parameters();
+  start.transmission_error_m.fill(2.0 * ToneSimulator::kReferenceError);
+  start.transmission_error_phase_rad.fill(0.7);
+  CalibratorConfig cc = paper_config(0, 20);
+  cc.space = CalibrationSpace::standard(start);
+  cc.prior_weight = 1.0;
+  auto cal = make_with(start, cc, {&op_, 1});
+  const CalibrationResult r = run(*cal, start);
+  EXPECT_TRUE(r.fits);
+  std::array<double, kMaxCalibrationVariables> z0{};
+  cc.space.to_variables(start, z0.data());
+  std::array<double, kMaxCalibrationVariables> z1{};
+  cc.space.to_variables(r.parameters, z1.data());
+  for (std::size_t i = 0; i < cc.space.size(); ++i)
+    EXPECT_NEAR(z1[i], z0[i], 1e-3) << cc.space.name(i);
 }
 
 class CalibratorTest : public ::testing::Test {

@@ -17,6 +17,8 @@
 #include <array>
 #include <atomic>
 #include <cmath>
+#include <complex>
+#include <numbers>
 #include <cstdlib>
 #include <new>
 #include <numbers>
@@ -417,5 +419,49 @@ TEST(Rom, TransmissionErrorDrivesTheSensorsAsTheFrequencyResponsePredicts) {
         frequency_response::sensor_response(m, hss.directions.col(0), hss.mean_n_m * 2e-6, f, s);
     const double got = line_amplitude(s == 0 ? p1 : p2, 1.0 / kDt, f);
     EXPECT_NEAR(got / expect, 1.0, 0.02) << "sensor " << s << ": " << got << " vs " << expect;
+  }
+}
+
+TEST(Rom, ATransmissionErrorPhaseShiftsItsToneByThatPhaseAndLeavesItsAmplitude) {
+  // Time-invariant model (constant mesh and bearing stiffness), one harmonic of the hss mesh's
+  // transmission error: the sensors' tone is the linear response to k̄·a·cos(2π f t + φ), so a
+  // phase φ must shift the tone at both sensors by exactly φ and leave its amplitude — the
+  // property of any linear time-invariant system, independent of the model's numbers.
+  const auto tone = [](double phase_rad, int sensor) {
+    model::Drivetrain d = model::paper_2mw();
+    d.dynamics.transmission_error_m.fill(0.0);
+    d.dynamics.transmission_error_m[2 * model::kTransmissionErrorHarmonics] = 2e-6;  // hss, 1×
+    d.dynamics.transmission_error_phase_rad[2 * model::kTransmissionErrorHarmonics] = phase_rad;
+    d.dynamics.bearing_stiffness_fluctuation = 0.0;
+    FullModel m = paper_model(d);
+    for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
+    const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
+    EXPECT_TRUE(data);
+    Rom rom(*data);
+    const RomInputs in{8.33, 0.0};
+    rom.reset(in);
+    RomOutputs out;
+    const double f = m.meshes[7].order * 8.33 / 60.0;
+    const int settle = 12800;
+    const int keep = 12800;
+    std::complex<double> c(0.0, 0.0);
+    for (int i = 0; i < settle + keep; ++i) {
+      rom.step(in, out);
+      if (i >= settle) {
+        const double t = static_cast<double>(i) * kDt;
+        c += out.acceleration_m_s2[static_cast<std::size_t>(sensor)] *
+             std::polar(1.0, -2.0 * std::numbers::pi * f * t);
+      }
+    }
+    return c / static_cast<double>(keep);
+  };
+  const double phi = std::numbers::pi / 3.0;
+  for (int s = 0; s < 2; ++s) {
+    const std::complex<double> a0 = tone(0.0, s);
+    const std::complex<double> a1 = tone(phi, s);
+    EXPECT_NEAR(std::abs(a1) / std::abs(a0), 1.0, 1e-3) << "sensor " << s;
+    EXPECT_NEAR(std::remainder(std::arg(a1) - std::arg(a0) - phi, 2.0 * std::numbers::pi), 0.0,
+                1e-3)
+        << "sensor " << s;
   }
 }

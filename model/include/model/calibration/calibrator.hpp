@@ -20,14 +20,21 @@
 //   F(z) = Σ ((φ(z) − φ_measured)/σ)² + w² Σ z²     (Gauss–Newton with the prior, the
 //                                                      second sum as one residual per variable;
 //                                                      w = prior_weight, 1: the prior as stated)
-// Excitation first (cold start): a tone at a mesh harmonic is, to first order, proportional
-// to that harmonic's transmission error e (the mesh force k·e), and e is what nobody knows
-// for a real gearbox — an accuracy grade bounds it within a decade, no more. So a cold run
-// first reads each harmonic's level from the recording: ln e += m / s, where m is the mean
-// over the measurement points (and cases) of ln(A_measured / A_simulated) of the tones the
-// recording resolves, and s the slope d ln A / d ln e (1 at first, then as measured by the
-// previous read-out, within [0.1, 2]); `excitation_iterations` evaluations, the best point
-// kept. Harmonics no point resolves keep their prior. Then identification and fit as below.
+// Excitation first (every round): the complex tone of mesh harmonic (s, h) at a point is
+//   A = P + T · e · exp(iφ)
+// — P the tone of the stiffness variation alone (parametric excitation), T the path from that
+// harmonic's transmission error to the sensor, e and φ the error's amplitude and phase: the
+// model is linear in the error's force k·e. e and φ are what nobody knows for a real gearbox
+// (an accuracy grade bounds e within a decade, no more). So each round first solves them for
+// the structure at hand (variable projection): one evaluation with every calibrated error at
+// zero gives P, one at the current errors gives T, and for every harmonic the recording
+// resolves at some point (e, φ) minimise Σ_points w²(ln|P + T e e^{iφ}| − ln A_measured)² plus
+// their prior terms — a grid over φ and ln e, no simulation. The solved errors are evaluated;
+// `excitation_iterations` re-solve from that evaluation (T again, the stiffness variation's
+// cross-terms between harmonics make the map slightly nonlinear); the best point is kept.
+// With two points and two unknowns per harmonic the point-to-point ratio still constrains
+// the structure: when P is small the ratio is T's, which only the transfer path can change.
+// Harmonics no point resolves keep their prior. Then identification and fit as below.
 //
 // Identifiability (issue 12): from the feature Jacobian J at the start (one forward
 // difference per variable, `probe_step` prior σ long), J_w = J/σ in whitened units, the
@@ -80,6 +87,7 @@
 #include <Eigen/Cholesky>
 
 #include <array>
+#include <complex>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -130,8 +138,9 @@ struct CalibratorConfig {
   double probe_step = 0.1;               // [prior σ] identification probe length
   bool identify = true;                  // false: fit every variable (no identification)
   std::size_t max_rounds = 8;            // [-] identification + fit rounds (header)
-  std::size_t excitation_iterations = 3;  // [-] cold start: evaluations reading the excitation
-                                          // levels from the tones first (header); 0: none
+  std::size_t excitation_iterations = 2;  // [-] re-solves of the excitation per round after
+                                          // its first solve (header); 0: one solve only
+  bool solve_excitation = true;           // false: no excitation solve (header)
   CalibrationSpace space{};              // empty: CalibrationSpace::standard(description's)
 };
 
@@ -317,12 +326,21 @@ class Calibrator {
   // Trust-region run: identification then fit.
   Phase phase_ = Phase::kIdentify;
   std::size_t probe_ = 0;  // 0: the start point; i + 1: variable i
-  // Excitation read-out: per variable the mean tone misfit [ln], the last step [ln] and the
-  // measured slope d ln A / d ln e.
+  // Excitation solve (header): step 0 evaluates the errors at zero (P), then each step
+  // evaluates the current point (its tones give T) and solves.
   std::size_t excitation_iteration_ = 0;
-  std::array<double, kMaxCalibrationVariables> excitation_misfit_{};
-  std::array<double, kMaxCalibrationVariables> excitation_step_{};
-  std::array<double, kMaxCalibrationVariables> excitation_slope_{};
+  std::array<std::complex<double>, kMaxLsqFeatures> tone_parametric_{};  // P per tone feature
+  std::array<std::complex<double>, kMaxLsqFeatures> tone_current_{};     // A at z_start_
+  std::array<std::array<dsp::PointFeatures, kMeasurementPoints>, kMaxCalibrationCases>
+      excitation_features_{};
+  // The amplitude and phase variables of each error harmonic (index into the space; n: none).
+  std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_amplitude_{};
+  std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_phase_{};
+  bool has_excitation_ = false;
+  std::array<std::array<dsp::PointFeatures, kMeasurementPoints>, kMaxCalibrationCases>
+      last_features_{};  // of the last evaluate_variables()
+  bool simulate_cases(const DynamicsParameters& params);  // into excitation_features_
+  void solve_excitation();
   std::array<double, kMaxCalibrationVariables> z_start_{};
   std::array<double, kMaxCalibrationVariables> z_work_{};
   std::array<double, kMaxLsqFeatures> phi_start_{};

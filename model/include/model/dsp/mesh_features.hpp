@@ -64,6 +64,9 @@ struct FeatureConfig {
 struct PointFeatures {
   double rms = 0.0;  // [unit of x] of the whole waveform, mean removed
   std::array<double, kMaxAmplitudes> amplitude{};  // [unit of x] index mesh·harmonics + (h − 1)
+  /// [rad] phase of each tone at the analysis block's first sample (comparable between
+  /// waveforms that start at the same shaft angle, e.g. two simulations of one model)
+  std::array<double, kMaxAmplitudes> phase{};
   /// [unit of x] what noise alone would read as this tone's amplitude: the RMS of the fit's
   /// estimate when the spectrum around it is noise of the level of the neighbourhood's
   /// median line (known lines' lobes excluded).
