@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
+#include "support/run_command.hpp"
 #include "wind/synthetic_wind.hpp"
 
 namespace {
@@ -27,9 +27,7 @@ struct SynthResult {
 };
 
 SynthResult run_synth(const std::vector<std::string>& args) {
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run(args);
-  testing::internal::GetCapturedStdout();
+  const test_support::CommandResult r = test_support::run_command(args);
   return {r.exit_code, r.error};
 }
 
