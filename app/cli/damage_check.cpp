@@ -17,12 +17,15 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
+#include "cli/sample_rate_check.hpp"
 #include "config/drivetrain_file.hpp"
 #include "fatigue/damage_history.hpp"
 #include "fatigue/dynamics_spectrum.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
+#include "recording/bundle_check.hpp"
 
 namespace {
 
@@ -40,6 +43,13 @@ struct CheckArgs {
 
 void run(const CheckArgs& a) {
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
+  const std::string rate_error = app::cli::check_sample_rate(
+      "--sample-rate", a.sample_rate_hz, d, app::recording::operating_range(d).max_rotor_speed_rpm,
+      a.cutoff_hz, "--cutoff");
+  if (!rate_error.empty()) throw CommandError(rate_error);
+  // The file before the spectrum (minutes): a missing or malformed file is said at once.
+  hal::ScadaCsvReader reader;
+  if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
   const mf::ChannelSet channels(d, mf::ChannelOptions{});
   if (!channels.valid()) throw CommandError("drivetrain '" + d.name + "': " + channels.error());
   app::fatigue::DynamicsSpectrumSettings ds;
@@ -55,8 +65,6 @@ void run(const CheckArgs& a) {
       channels, grid, mf::SpectrumSource::kDynamics,
       app::fatigue::dynamics_simulator(d, channels, ds, &sim_error), &error);
   if (spectrum.channel_count == 0) throw CommandError(error + ": " + sim_error);
-  hal::ScadaCsvReader reader;
-  if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
   app::fatigue::HistoryOptions ho;
   ho.period_s = a.period_s;
   ho.max_rows = a.rows;
@@ -130,11 +138,20 @@ void setup_damage_check(CLI::App& sub) {
                  "SCADA CSV with t_s, rotor_speed_rpm, torque_nm (bundle columns)")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--rows", args->rows, "Rows to compare")->capture_default_str();
-  sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
+  // The same ranges as `damage`'s (--period, --rom-rate, --rom-cutoff); the rate against
+  // the turbine's mesh lines and the cut-off is checked once the drivetrain is loaded.
+  sub.add_option("--rows", args->rows, "Rows to compare")
+      ->capture_default_str()
+      ->check(app::cli::integer_in(1, 100000, "rows"));
+  sub.add_option("--period", args->period_s, "Row period [s]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 86400.0, "s", true));
   sub.add_option("--sample-rate", args->sample_rate_hz, "ROM sample rate [Hz]")
-      ->capture_default_str();
-  sub.add_option("--cutoff", args->cutoff_hz, "ROM mode cut-off [Hz]")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(256.0, 1e6, "Hz"));
+  sub.add_option("--cutoff", args->cutoff_hz, "ROM mode cut-off [Hz]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(10.0, 2500.0, "Hz"));
   sub.callback([args] { run(*args); });
 }
 

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/wind_options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/wind/cp_surface.hpp"
@@ -249,16 +250,19 @@ void setup_fit_cp(CLI::App& sub) {
   app::config::add_drivetrain_option(sub, args->drivetrain);
   sub.add_option("--columns", args->columns,
                  "Column mapping: bundle, kelmarsh or 'field=Column;...'");
-  sub.add_option("--from", args->from,
-                 "Fit rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
-  sub.add_option("--to", args->to, "Fit rows before this UTC time");
+  sub.add_option("--from", args->from, "Fit rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])")
+      ->check(app::cli::utc_time());
+  sub.add_option("--to", args->to, "Fit rows before this UTC time")->check(app::cli::utc_time());
   sub.add_option("--test-from", args->test_from,
-                 "Also report the MAPE of the fitted description on rows from this time");
-  sub.add_option("--test-to", args->test_to, "... up to this time");
+                 "Also report the MAPE of the fitted description on rows from this time")
+      ->check(app::cli::utc_time());
+  sub.add_option("--test-to", args->test_to, "... up to this time")->check(app::cli::utc_time());
   sub.add_option("--fit-months", args->fit_months,
-                 "Fit only rows of these calendar months (UTC): e.g. 1-3, 12,1,2 or DJF,MAM");
+                 "Fit only rows of these calendar months (UTC): e.g. 1-3, 12,1,2 or DJF,MAM")
+      ->check(app::cli::month_list());
   sub.add_option("--test-months", args->test_months,
-                 "Also report the MAPE on rows of these calendar months, e.g. 4-12");
+                 "Also report the MAPE on rows of these calendar months, e.g. 4-12")
+      ->check(app::cli::month_list());
   sub.add_flag("--breakdown", args->breakdown,
                "Print the held-out (else fitting) window's MAPE and bias per month and region "
                "and per wind-speed bin, as Markdown tables");

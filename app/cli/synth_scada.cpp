@@ -36,6 +36,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -419,26 +420,35 @@ void setup_synth_scada(CLI::App& sub) {
       ->check(app::cli::number_in(0.0, 1.0, "", true, true));
   sub.add_option("--slow-weight", args->persistence.slow_weight,
                  "Two-scale persistence: variance share of the slow component")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", true));
   sub.add_option("--slow-time-constant", args->persistence.slow_time_constant_s,
                  "Two-scale persistence: slow component's time constant [s]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::positive("s"));
   sub.add_option("--fast-lag1", args->persistence.fast_lag1_10min,
                  "Two-scale persistence: fast component's lag-1 correlation per 10 minutes")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--seasonal-amplitude", args->persistence.seasonal_amplitude,
                  "Annual cycle: relative amplitude of the mean wind (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--seasonal-peak-day", args->persistence.seasonal_peak_day,
                  "Annual cycle: windiest day [days since 1 January]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 366.0, "days", false, true));
   sub.add_option("--diurnal-amplitude", args->persistence.diurnal_amplitude,
                  "Diurnal cycle: relative amplitude of the mean wind (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--diurnal-peak-hour", args->persistence.diurnal_peak_hour,
                  "Diurnal cycle: windiest hour [h UTC]")
-      ->capture_default_str();
-  sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 24.0, "h", false, true));
+  sub.add_option("--seed", args->seed, "Random seed")
+      ->capture_default_str()
+      ->check(app::cli::integer_in(0, std::numeric_limits<long long>::max(), "seed"));
   sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")
       ->capture_default_str()
       ->check(app::cli::number_in(app::cli::kInf * -1.0, app::cli::kInf));
@@ -451,28 +461,34 @@ void setup_synth_scada(CLI::App& sub) {
   std::vector<CLI::Option*> turbulent_only;
   turbulent_only.push_back(sub.add_option("--resolution", args->resolution_s,
                                           "Turbulent mode: output row period [s], divides 600")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(sub.add_option(
       "--from-10min", args->from_10min,
       "Turbulent mode: 10-minute mean winds from this SCADA file (bundle or Kelmarsh "
       "columns; builtin:NAME for an embedded file, e.g. builtin:kelmarsh-day.csv)"));
   CLI::Option* mean_wind =
       sub.add_option("--mean-wind", args->mean_wind,
-                     "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)");
+                     "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)")
+          ->check(app::cli::number_in(0.0, 70.0, "m/s", false, true));
   turbulent_only.push_back(mean_wind);
   turbulent_only.push_back(sub.add_option("--hub-height", args->hub_height_m,
                                           "Turbulent mode: hub height [m] (Kaimal length scale)")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 500.0, "m", true)));
   turbulent_only.push_back(
       sub.add_option("--rotor-inertia", args->rotor_inertia,
                      "Turbulent mode: rotor polar inertia [kg m^2] (assumed, see README)")
-          ->capture_default_str());
+          ->capture_default_str()
+          ->check(app::cli::positive("kg m^2")));
   turbulent_only.push_back(
       sub.add_option("--step", args->step_s, "Turbulent mode: rotor model time step [s]")
-          ->capture_default_str());
+          ->capture_default_str()
+          ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(sub.add_option("--wind-sample", args->wind_sample_s,
                                           "Turbulent mode: wind series sample period [s]")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(
       sub.add_flag("--point-wind", args->point_wind,
                    "Turbulent mode: the hub point's wind (an upper bound) instead of the "
