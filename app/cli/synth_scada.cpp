@@ -33,6 +33,8 @@
 // whose mean wind is below cut-in or at/above cut-out is parked (speed, torque, power 0);
 // an operating row after a parked one starts at the rotor's steady state for its mean.
 // `--out-10min FILE` also writes the 10-minute means of the same run (same columns).
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -47,6 +49,7 @@
 #include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
+#include "fatigue/progress.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/full_model.hpp"
@@ -85,6 +88,7 @@ struct SynthArgs {
   double wind_sample_s = 0.25;
   std::string out_10min;
   bool point_wind = false;
+  bool no_progress = false;
 };
 
 constexpr double kSynthSegmentS = 600.0;  // [s] one SCADA row: the turbulence segment
@@ -311,7 +315,12 @@ void run_synth_turbulent(const SynthArgs& a) {
   long long out_rows = 0;
   double max_torque = 0.0;
   double max_pitch = 0.0;
+  // ~3 s per simulated day on the shared machine: a progress line over the 10-minute means.
+  app::fatigue::ProgressLine progress(app::fatigue::show_progress(a.no_progress, STDERR_FILENO),
+                                      "rotor model over the 10-minute means", "means",
+                                      static_cast<double>(means.size()));
   for (std::size_t i = 0; i < means.size(); ++i) {
+    progress.update(static_cast<double>(i));
     const double v_mean = means[i].wind_mps;
     const bool contiguous_next =
         i + 1 < means.size() && means[i + 1].t_s - means[i].t_s < kSynthSegmentS + 1e-6;
@@ -369,6 +378,8 @@ void run_synth_turbulent(const SynthArgs& a) {
                       seg_torque * inv, seg_pitch * inv);
     }
   }
+  progress.update(static_cast<double>(means.size()));
+  progress.finish();
   const bool write_error = std::fclose(f) != 0;
   const bool write_error10 = f10 != nullptr && std::fclose(f10) != 0;
   if (write_error) throw CommandError("--out: write error on '" + a.out + "'");
@@ -446,6 +457,7 @@ void setup_synth_scada(CLI::App& sub) {
                  "Diurnal cycle: windiest hour [h UTC]")
       ->capture_default_str()
       ->check(app::cli::number_in(0.0, 24.0, "h", false, true));
+  sub.add_flag("--no-progress", args->no_progress, "No progress line on a terminal");
   sub.add_option("--seed", args->seed, "Random seed")
       ->capture_default_str()
       ->check(app::cli::integer_in(0, std::numeric_limits<long long>::max(), "seed"));
