@@ -313,6 +313,7 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   std::unique_ptr<model::dynamics::RomData> rom =
       model::dynamics::build_rom(drivetrain, parameters, rs, &error);
   if (!rom) fail("drivetrain '" + drivetrain.name + "': reduced-order model: " + error);
+  if (opt.on_rom_built) opt.on_rom_built(*rom);
 
   // ---- twin settings ----
   ts.publish_divisor = static_cast<int>(cfg.publish_divisor);
