@@ -33,6 +33,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <numeric>
 #include <optional>
@@ -40,6 +41,7 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/calibration/calibrator.hpp"
@@ -68,7 +70,7 @@ struct CalibrateArgs {
   std::string drivetrain;  // overrides the bundles' drivetrain when set
   std::string method = "trust-region";
   std::string simulator = "rom";
-  std::string space = "standard";
+  std::string space;  // "": standard with the ROM, paper with the lumped stand-in
   std::size_t evaluations = 10;
   std::size_t population = 20;
   std::size_t iterations = 50;
@@ -164,6 +166,22 @@ nlohmann::json variables_json(const mc::CalibrationSpace& space, const mc::Calib
   return list;
 }
 
+nlohmann::json params_json(const model::DynamicsParameters& p) {
+  return {{"rayleigh_eta_1_s", p.rayleigh_eta},
+          {"rayleigh_zeta_s", p.rayleigh_zeta},
+          {"mesh_stiffness_scale", p.mesh_stiffness_scale},
+          {"bearing_stiffness_scale", p.bearing_stiffness_scale},
+          {"bearing_stiffness_factor", p.bearing_stiffness_factor},
+          {"damping_band_factor", p.damping_band_factor},
+          {"transmission_error_m", p.transmission_error_m},
+          {"transmission_error_phase_rad", p.transmission_error_phase_rad},
+          {"housing_frequency_hz", p.housing_frequency_hz},
+          {"housing_damping_ratio", p.housing_damping_ratio},
+          {"housing_modal_mass_kg", p.housing_modal_mass_kg},
+          {"housing_participation", p.housing_participation},
+          {"housing_cross_participation", p.housing_cross_participation}};
+}
+
 void print_fit(const char* title, const mc::PointIndicators& ind) {
   std::printf("%s\n  point   f1 (<=0.5)  f2 (<=0.2)  f3 (<=0.2)  tones\n", title);
   static constexpr const char* kNames[mc::kMeasurementPoints] = {"point1", "point2"};
@@ -218,12 +236,13 @@ void print_tones(const std::vector<ToneRow>& rows) {
                      [](const ToneRow* a, const ToneRow* b) { return a->measured > b->measured; });
     std::stable_sort(by_after.begin(), by_after.end(),
                      [](const ToneRow* a, const ToneRow* b) { return a->after > b->after; });
-    std::printf("  %s mesh tones [m/s²], strongest measured first (rank after calibration):\n"
-                "    %-16s %7s %10s %10s %10s %10s  %s\n",
-                kNames[p], "mesh", "order", "measured", "floor", "before", "after", "");
+    std::printf(
+        "  %s mesh tones [m/s²], strongest measured first (rank after calibration):\n"
+        "    %-16s %7s %10s %10s %10s %10s  %s\n",
+        kNames[p], "mesh", "order", "measured", "floor", "before", "after", "");
     for (const ToneRow* r : mine) {
-      const auto rank = static_cast<std::size_t>(
-          std::find(by_after.begin(), by_after.end(), r) - by_after.begin() + 1);
+      const auto rank = static_cast<std::size_t>(std::find(by_after.begin(), by_after.end(), r) -
+                                                 by_after.begin() + 1);
       char mesh[32];
       std::snprintf(mesh, sizeof mesh, "%s %zux", stage_name(r->stage), r->harmonic);
       std::printf("    %-16s %7.3f %10.4g %10.4g %10.4g %10.4g  #%zu%s\n", mesh, r->order,
@@ -420,8 +439,9 @@ void run(const CalibrateArgs& args) {
     throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" +
                        args.method + "'");
   }
-  if (args.space != "standard" && args.space != "paper")
-    throw CommandError("--space: expected 'standard' or 'paper', got '" + args.space + "'");
+  // The lumped stand-in knows only the paper's 8 variables.
+  const std::string space_name =
+      !args.space.empty() ? args.space : (args.simulator == "lumped" ? "paper" : "standard");
   if (args.simulator != "rom" && args.simulator != "lumped")
     throw CommandError("--simulator: expected 'rom' or 'lumped', got '" + args.simulator + "'");
 
@@ -453,7 +473,7 @@ void run(const CalibrateArgs& args) {
                  "zeta %.3g s\n",
                  drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
   }
-  cc.space = args.space == "paper" ? mc::CalibrationSpace::paper(prior)
+  cc.space = space_name == "paper" ? mc::CalibrationSpace::paper(prior)
                                    : mc::CalibrationSpace::standard(prior);
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
@@ -475,8 +495,8 @@ void run(const CalibrateArgs& args) {
     sc.sample_rate_hz = std::max(4096.0, std::exp2(std::ceil(std::log2(4.0 * top_hz))));
     simulator = std::make_unique<mc::LumpedSimulator>(drivetrain, sc);
   } else {
-    simulator = std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom,
-                                                        rate_hz, 0.5);
+    simulator =
+        std::make_unique<mc::DynamicsSimulator>(drivetrain, mc::DynamicsModel::kRom, rate_hz, 0.5);
   }
   auto calibrator = std::make_unique<mc::Calibrator>(*simulator, drivetrain, fc, cc);
   if (calibrator->status() != dsp::DspStatus::kOk) {
@@ -487,7 +507,8 @@ void run(const CalibrateArgs& args) {
 
   std::vector<MeasuredBundle> bundles;
   for (const std::string& b : args.bundles) {
-    bundles.push_back(measure(b, args, fx, args.drivetrain.empty() ? drivetrain_source : args.drivetrain));
+    bundles.push_back(
+        measure(b, args, fx, args.drivetrain.empty() ? drivetrain_source : args.drivetrain));
     if (bundles.back().bundle.drivetrain.name != drivetrain.name) {
       throw CommandError(b + ": drivetrain '" + bundles.back().bundle.drivetrain.name +
                          "' differs from the first bundle's '" + drivetrain.name +
@@ -524,8 +545,8 @@ void run(const CalibrateArgs& args) {
   };
   auto residual_of_simulated = [&](const Simulated& sim, std::size_t c) {
     const MeasuredBundle& b = bundles[c];
-    const auto last_line = static_cast<std::size_t>(
-        kResidualBandHz / b.hss_hz * static_cast<double>(fx.config().revolutions));
+    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
+                                                    static_cast<double>(fx.config().revolutions));
     return residual(b.spectrum, sim.spectrum, last_line);
   };
 
@@ -571,11 +592,12 @@ void run(const CalibrateArgs& args) {
         std::printf(
             "calibrating %zu variables (%s space): up to 8 rounds of excitation solve, "
             "identification (%zu probes) and at most %zu evaluations of the fit\n",
-            space.size(), args.space.c_str(), space.size(), args.evaluations);
+            space.size(), space_name.c_str(), space.size(), args.evaluations);
       } else {
-        std::printf("calibrating %zu variables: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
-                    space.size(), args.method.c_str(), args.population, args.iterations,
-                    static_cast<unsigned long long>(args.seed));
+        std::printf(
+            "calibrating %zu variables: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
+            space.size(), args.method.c_str(), args.population, args.iterations,
+            static_cast<unsigned long long>(args.seed));
       }
     }
     const auto t0 = std::chrono::steady_clock::now();
@@ -588,9 +610,9 @@ void run(const CalibrateArgs& args) {
         last_print = e;
         std::printf("  evaluation %4zu  %s  best worst-indicator/threshold %.3f%s\n", e,
                     cc.method != mc::CalibrationMethod::kTrustRegion ? "fitting    "
-                    : calibrator->reading_excitation()                ? "excitation "
-                    : calibrator->identifying()                       ? "identifying"
-                                                                      : "fitting    ",
+                    : calibrator->reading_excitation()               ? "excitation "
+                    : calibrator->identifying()                      ? "identifying"
+                                                                     : "fitting    ",
                     calibrator->best_ratio(),
                     calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
         std::fflush(stdout);
@@ -599,10 +621,11 @@ void run(const CalibrateArgs& args) {
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!calibrator->read_result(result)) throw CommandError("calibration published no result");
     if (!args.quiet) {
-      std::printf("done: %zu evaluations in %.1f s; first fitting evaluation: %zu; %zu of %zu "
-                  "variables identified\n",
-                  result.evaluations, seconds, result.evaluations_to_threshold, result.identified,
-                  result.variables);
+      std::printf(
+          "done: %zu evaluations in %.1f s; first fitting evaluation: %zu; %zu of %zu "
+          "variables identified\n",
+          result.evaluations, seconds, result.evaluations_to_threshold, result.identified,
+          result.variables);
     }
   }
   std::vector<double> residual_after;
@@ -650,9 +673,10 @@ void run(const CalibrateArgs& args) {
       std::printf("CALIBRATED: every indicator within its threshold at both points%s\n",
                   bundles.size() > 1 ? " of every bundle" : "");
     } else if (result.fits) {
-      std::printf("NOT CALIBRATED: the indicators are within their thresholds only with a "
-                  "variable at its bound (marked AT ... BOUND): the recording asks for more than "
-                  "its physical range — missing physics or a wrong prior\n");
+      std::printf(
+          "NOT CALIBRATED: the indicators are within their thresholds only with a "
+          "variable at its bound (marked AT ... BOUND): the recording asks for more than "
+          "its physical range — missing physics or a wrong prior\n");
     } else {
       std::printf("NOT CALIBRATED: some indicator remains above its threshold (marked *)\n");
     }
@@ -671,7 +695,7 @@ void run(const CalibrateArgs& args) {
     j["speed_source"] = bundles.front().speed_source;
     j["simulator"] = args.simulator == "rom" ? "dynamics-rom" : "lumped-stand-in";
     j["method"] = args.method;
-    j["space"] = args.space;
+    j["space"] = space_name;
     j["fit_before"] = fit_json(fit_before[0]);
     j["fit_calibrated"] = fit_json(result.case_indicators[0]);
     j["residual_before"] = residual_before[0];
@@ -691,6 +715,7 @@ void run(const CalibrateArgs& args) {
     }
     j["cases"] = cases_json;
     j["variables"] = variables_json(space, result, run_optimizer);
+    j["parameters_calibrated"] = params_json(result.parameters);
     j["calibration_ran"] = run_optimizer;
     j["fits"] = result.fits;
     j["at_bound"] = result.at_bound;
@@ -727,7 +752,8 @@ void run(const CalibrateArgs& args) {
       }
       if (std::rename(tmp.c_str(), args.update.c_str()) != 0)
         throw CommandError("--update: " + args.update + ": cannot replace");
-      if (!args.quiet) std::printf("wrote the calibrated parameters into %s\n", args.update.c_str());
+      if (!args.quiet)
+        std::printf("wrote the calibrated parameters into %s\n", args.update.c_str());
     }
   }
   if (!success) app::cli::exit_status() = 2;
@@ -744,29 +770,40 @@ void setup_calibrate(CLI::App& sub) {
                  "Write the calibrated parameters into this drivetrain description (when "
                  "CALIBRATED)");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
-  sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA");
+  sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA")
+      ->check(app::cli::one_of({"trust-region", "improved", "published"}));
   sub.add_option("--space", args->space,
-                 "standard (default: damping, stiffness, transmission error, housing modes) or "
-                 "paper (the paper's 8 variables)");
+                 "standard (default with the ROM: damping, stiffness, transmission error with "
+                 "its phase, housing modes) or paper (the paper's 8 variables; the default with "
+                 "the lumped stand-in)")
+      ->check(app::cli::one_of({"standard", "paper"}));
   sub.add_option("--simulator", args->simulator,
-                 "rom (default, the dynamics ROM) or lumped (stand-in)");
+                 "rom (default, the dynamics ROM) or lumped (stand-in)")
+      ->check(app::cli::one_of({"rom", "lumped"}));
   sub.add_option("--evaluations", args->evaluations,
                  "trust-region: model evaluations of each round's fit at most (default 10; "
                  "up to 8 rounds, each with its excitation solve and identification probes on "
-                 "top)");
-  sub.add_option("--population", args->population, "Grasshoppers (default 20)");
-  sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)");
-  sub.add_option(
-      "--seed", args->seed,
-      "Random seed (default 1; trust region: 1 probes along the axes, others a random basis)");
+                 "top)")
+      ->check(app::cli::integer_in(0, 100000, "model evaluations"));
+  sub.add_option("--population", args->population, "Grasshoppers (default 20)")
+      ->check(app::cli::integer_in(2, 64, "grasshoppers"));
+  sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)")
+      ->check(app::cli::integer_in(1, 100000, "iterations"));
+  sub.add_option("--seed", args->seed,
+                 "Random seed (default 1; MOGOA's population, the trust region's restart points)")
+      ->check(app::cli::integer_in(0, std::numeric_limits<long long>::max(), "seed"));
   sub.add_option("--revolutions", args->revolutions,
-                 "hss revolutions per analysis block (default 64)");
+                 "hss revolutions per analysis block (default 64)")
+      ->check(app::cli::integer_in(8, 4096, "hss revolutions"));
   sub.add_option("--windows", args->windows,
-                 "Analysis blocks per bundle, averaged (default 4, as many as the recording has)");
+                 "Analysis blocks per bundle, averaged (default 4, as many as the recording has)")
+      ->check(app::cli::integer_in(1, 64, "analysis blocks"));
   sub.add_option("--samples-per-rev", args->samples_per_rev,
-                 "Angle-domain samples per hss revolution (default 1024)");
+                 "Angle-domain samples per hss revolution (default 1024)")
+      ->check(app::cli::integer_in(16, 65536, "samples per revolution"));
   sub.add_option("--harmonics", args->harmonics,
-                 "Mesh harmonics compared, fundamental included (default 3)");
+                 "Mesh harmonics compared, fundamental included (default 3)")
+      ->check(app::cli::integer_in(1, 10, "harmonics"));
   sub.add_flag("--force", args->force,
                "Calibrate even when every indicator is within its threshold");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");

@@ -154,7 +154,10 @@ class Bench {
     dsp::FeatureConfig fc;
     fc.samples_per_rev = s.samples_per_rev;
     fc.revolutions = s.revolutions;
-    calibrator_ = std::make_unique<mc::Calibrator>(*simulator_, d, fc, cc);
+    // The peers' comparison is on the paper's 8 variables unless the configuration names a space.
+    mc::CalibratorConfig c = cc;
+    if (c.space.size() == 0) c.space = mc::CalibrationSpace::paper(nominal());
+    calibrator_ = std::make_unique<mc::Calibrator>(*simulator_, d, fc, c);
     calibrator_->set_measurement(rec.measured, rec.op);
   }
 
@@ -163,7 +166,7 @@ class Bench {
   // The objective as pagmo sees it, counting like the calibrator does.
   std::vector<double> evaluate(const std::vector<double>& x) {
     ++evaluations;
-    const mc::CalibrationSpace space;
+    const mc::CalibrationSpace& space = calibrator_->space();
     mc::PointIndicators ind{};
     std::vector<double> f(mc::kCalibrationObjectives, mc::kIndicatorPenalty);
     if (!calibrator_->evaluate(space.to_parameters(x.data(), nominal()), ind)) return f;
@@ -193,9 +196,9 @@ struct Udp {
   Bench* bench = nullptr;
   pagmo::vector_double fitness(const pagmo::vector_double& x) const { return bench->evaluate(x); }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-    const mc::CalibrationSpace space;
-    pagmo::vector_double lo(mc::kCalibrationVariables), hi(mc::kCalibrationVariables);
-    for (std::size_t i = 0; i < mc::kCalibrationVariables; ++i) {
+    const mc::CalibrationSpace& space = bench->calibrator().space();
+    pagmo::vector_double lo(space.size()), hi(space.size());
+    for (std::size_t i = 0; i < space.size(); ++i) {
       lo[i] = space.lower(i);
       hi[i] = space.upper(i);
     }
@@ -296,8 +299,8 @@ RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording&
       static_cast<pagmo::detail::random_engine_type::result_type>(seed));
   std::size_t filled = 0;
   if (previous) {
-    std::vector<double> x(mc::kCalibrationVariables);
-    mc::CalibrationSpace().to_variables(previous->parameters, x.data());
+    std::vector<double> x(bench.calibrator().space().size());
+    bench.calibrator().space().to_variables(previous->parameters, x.data());
     pop.push_back(x);
     ++filled;
   }

@@ -30,7 +30,8 @@ void CalibrationSpace::add(ParameterField f, std::size_t index, bool logarithmic
   copy_text(v.name, name);
   std::snprintf(v.unit.data(), v.unit.size(), "%s", unit);
   const double p = get(prior_, v);
-  prior_u_[count_] = logarithmic ? std::log(std::clamp(p, lower, upper)) : std::clamp(p, lower, upper);
+  prior_u_[count_] =
+      logarithmic ? std::log(std::clamp(p, lower, upper)) : std::clamp(p, lower, upper);
   ++count_;
 }
 
@@ -43,9 +44,8 @@ CalibrationSpace CalibrationSpace::paper(const DynamicsParameters& prior) {
   s.prior_.rayleigh_zeta = zeta;
   s.add(ParameterField::kRayleighEta, 0, true, kLn2, 0.5, 50.0, "rayleigh_eta", "1/s");
   s.add(ParameterField::kRayleighZeta, 0, true, kLn2, 1e-6, 1e-4, "rayleigh_zeta", "s");
-  static constexpr const char* kStage[3] = {"mesh_stiffness_scale.stage1",
-                                            "mesh_stiffness_scale.stage2",
-                                            "mesh_stiffness_scale.stage3"};
+  static constexpr const char* kStage[3] = {
+      "mesh_stiffness_scale.stage1", "mesh_stiffness_scale.stage2", "mesh_stiffness_scale.stage3"};
   for (std::size_t i = 0; i < 3; ++i)
     s.add(ParameterField::kMeshScale, i, true, 0.25, 0.5, 2.0, kStage[i], "-");
   static constexpr const char* kShaft[3] = {"bearing_stiffness_scale.sun_shaft",
@@ -107,7 +107,8 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
       const double f = prior.housing_frequency_hz[i];
       if (!(f > 0.0)) continue;
       const double m = prior.housing_modal_mass_kg[i];
-      const double xi = prior.housing_damping_ratio[i] > 0.0 ? prior.housing_damping_ratio[i] : 0.03;
+      const double xi =
+          prior.housing_damping_ratio[i] > 0.0 ? prior.housing_damping_ratio[i] : 0.03;
       s.prior_.housing_damping_ratio[i] = xi;
       const double pp = prior.housing_participation[i] > 0.0 ? prior.housing_participation[i] : 1.0;
       s.prior_.housing_participation[i] = pp;

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 namespace model::calibration {
@@ -92,9 +92,9 @@ Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetra
     if (v.field == ParameterField::kTransmissionErrorPhase) te_phase_[v.index] = i;
   }
   for (std::size_t k = 0; k < te_amplitude_.size(); ++k) {
-    has_excitation_ = has_excitation_ || (config_.solve_excitation &&
-                                          te_amplitude_[k] < config_.space.size() &&
-                                          te_phase_[k] < config_.space.size());
+    has_excitation_ =
+        has_excitation_ || (config_.solve_excitation && te_amplitude_[k] < config_.space.size() &&
+                            te_phase_[k] < config_.space.size());
   }
   const auto n = static_cast<Eigen::Index>(config_.space.size());
   model_.setZero(0, n);
@@ -311,8 +311,10 @@ void Calibrator::identify(const FeatureJacobian& j, bool select,
   posterior_.setIdentity(k, k);
   for (Eigen::Index a = 0; a < k; ++a) {
     for (Eigen::Index b = 0; b < k; ++b) {
-      posterior_(a, b) += residual_.col(static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(a)]))
-                              .dot(residual_.col(static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(b)])));
+      posterior_(a, b) +=
+          residual_.col(static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(a)]))
+              .dot(residual_.col(
+                  static_cast<Eigen::Index>(fit_index_[static_cast<std::size_t>(b)])));
     }
   }
   posterior_llt_.compute(posterior_);
@@ -350,6 +352,7 @@ bool Calibrator::begin_fit() {
   // Identified variables (header): orthogonal forward selection on the probes' model.
   identify(model_, true, ratio_start_);
   if (fit_count_ == 0) return false;
+  for (std::size_t k = 0; k < fit_count_; ++k) determined_[fit_index_[k]] = true;
   // The trust region over them, its model from the probes plus the prior rows.
   const auto m = static_cast<Eigen::Index>(feature_count_ + fit_count_);
   fit_model_.setZero(m, static_cast<Eigen::Index>(fit_count_));
@@ -431,6 +434,7 @@ bool Calibrator::start(const DynamicsParameters& current,
     if (start_model_given_) model_ = *given;
     phase_ = Phase::kIdentify;
     excitation_iteration_ = 0;
+    determined_.fill(false);
     // A cold start solves the excitation first; a warm start steps with its previous model.
     if (has_excitation_ && !start_model_given_) phase_ = Phase::kExcitation;
     probe_ = 0;
@@ -535,7 +539,8 @@ bool Calibrator::excitation_step() {
   // The tones of excitation_features_ as complex amplitudes, per feature index.
   const auto read_tones = [&](std::array<std::complex<double>, kMaxLsqFeatures>& out) {
     for (std::size_t b = 0; b < blocks; ++b) {
-      const dsp::PointFeatures& f = excitation_features_[b / kMeasurementPoints][b % kMeasurementPoints];
+      const dsp::PointFeatures& f =
+          excitation_features_[b / kMeasurementPoints][b % kMeasurementPoints];
       for (std::size_t i = 0; i < f.count && 1 + i < per_point; ++i)
         out[b * per_point + 1 + i] = std::polar(f.amplitude[i], f.phase[i]);
     }
@@ -615,8 +620,8 @@ void Calibrator::solve_excitation() {
       const std::complex<double> x = std::polar(config_.space.value(a, za), phi);
       double c = 0.0;
       for (std::size_t i = 0; i < count; ++i) {
-        const double r = weight[i] * (std::log(std::max(std::abs(pp[i] + tt[i] * x), 1e-300)) -
-                                      target[i]);
+        const double r =
+            weight[i] * (std::log(std::max(std::abs(pp[i] + tt[i] * x), 1e-300)) - target[i]);
         c += r * r;
       }
       const double zp = config_.space.whiten(ph, phi);
@@ -661,6 +666,19 @@ void Calibrator::solve_excitation() {
         }
       }
     }
+    // Determined only when the tones depend on the error as the identification demands of any
+    // variable (information Σ (w σ ∂ln|A|/∂ln e)² ≥ 1/ratio² − 1 at the solution); else kept.
+    const std::complex<double> xb = std::polar(config_.space.value(a, best_za), best_phi);
+    double info = 0.0;
+    for (std::size_t i = 0; i < count; ++i) {
+      const double share = std::abs(tt[i] * xb) / std::max(std::abs(pp[i] + tt[i] * xb), 1e-300);
+      const double g = weight[i] * config_.space.variable(a).prior_sd * std::min(share, 1.0);
+      info += g * g;
+    }
+    const double needed = 1.0 / (config_.identify_ratio * config_.identify_ratio) - 1.0;
+    if (!(info >= needed)) continue;
+    determined_[a] = true;
+    determined_[ph] = true;
     // The phase back into (−π, π].
     best_phi = std::remainder(best_phi, kTwoPi);
     z_start_[a] = best_za;
@@ -696,8 +714,9 @@ void Calibrator::finish(bool cancelled) {
     if (phase_ == Phase::kFit && tr_ && tr_->jacobian_valid()) {
       for (std::size_t k = 0; k < fit_count_; ++k) {
         model_.col(static_cast<Eigen::Index>(fit_index_[k])) =
-            tr_->jacobian().col(static_cast<Eigen::Index>(k)).head(
-                static_cast<Eigen::Index>(feature_count_));
+            tr_->jacobian()
+                .col(static_cast<Eigen::Index>(k))
+                .head(static_cast<Eigen::Index>(feature_count_));
       }
     }
     const bool model_complete = phase_ == Phase::kFit || start_model_given_;
@@ -719,10 +738,8 @@ void Calibrator::finish(bool cancelled) {
     r.identified = 0;
     for (std::size_t i = 0; i < n; ++i) {
       r.posterior_ratio[i] = ratio[i];
-      const bool fitted =
-          phase_ == Phase::kFit &&
-          std::find(fit_index_.begin(), fit_index_.begin() + static_cast<long>(fit_count_), i) !=
-              fit_index_.begin() + static_cast<long>(fit_count_);
+      // Identified: fitted in some round, or solved from resolved tones (the excitation).
+      const bool fitted = determined_[i];
       VariableStatus st = fitted ? VariableStatus::kIdentified : VariableStatus::kNotIdentified;
       if (fitted && chosen) {
         if (z[i] <= config_.space.lower(i) + kBoundTolerance) st = VariableStatus::kAtLowerBound;
@@ -730,8 +747,8 @@ void Calibrator::finish(bool cancelled) {
       }
       r.status[i] = st;
       r.identified += fitted ? 1 : 0;
-      r.at_bound = r.at_bound || st == VariableStatus::kAtLowerBound ||
-                   st == VariableStatus::kAtUpperBound;
+      r.at_bound =
+          r.at_bound || st == VariableStatus::kAtLowerBound || st == VariableStatus::kAtUpperBound;
     }
   } else if (mogoa_ && mogoa_->archive_count() > 0) {
     // Pareto archive: fitting members first, nearest the ideal point in threshold units.
@@ -766,8 +783,10 @@ void Calibrator::finish(bool cancelled) {
     for (std::size_t i = 0; i < n; ++i) {
       r.status[i] = VariableStatus::kIdentified;  // searched (no identification)
       r.posterior_ratio[i] = 1.0;
-      if (z[i] <= config_.space.lower(i) + kBoundTolerance) r.status[i] = VariableStatus::kAtLowerBound;
-      if (z[i] >= config_.space.upper(i) - kBoundTolerance) r.status[i] = VariableStatus::kAtUpperBound;
+      if (z[i] <= config_.space.lower(i) + kBoundTolerance)
+        r.status[i] = VariableStatus::kAtLowerBound;
+      if (z[i] >= config_.space.upper(i) - kBoundTolerance)
+        r.status[i] = VariableStatus::kAtUpperBound;
       r.at_bound = r.at_bound || r.status[i] != VariableStatus::kIdentified;
     }
     r.identified = n;

@@ -37,8 +37,8 @@ TrustRegionLeastSquares::TrustRegionLeastSquares(FeatureMap& map, const TrustReg
   if (!config_ok_) return;
   const auto n = static_cast<Eigen::Index>(n_);
   const auto m = static_cast<Eigen::Index>(m_);
-  for (Vector* v : {&lower_, &upper_, &x_k_, &best_x_, &x_last_, &probe_best_x_, &g_work_,
-                    &b_work_, &c_work_, &lambda_work_, &s_work_, &u_work_})
+  for (Vector* v : {&lower_, &upper_, &x_k_, &best_x_, &x_last_, &probe_best_x_, &g_work_, &b_work_,
+                    &c_work_, &lambda_work_, &s_work_, &u_work_})
     v->setZero(n);
   for (Features* f : {&target_, &weight_, &phi_k_, &probe_best_phi_, &phi_work_, &r_work_})
     f->setZero(m);

@@ -11,10 +11,10 @@
 #include <cmath>
 #include <complex>
 #include <cstdlib>
-#include <span>
 #include <memory>
 #include <new>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "model/calibration/calibrator.hpp"

@@ -18,7 +18,6 @@
 #include <atomic>
 #include <cmath>
 #include <complex>
-#include <numbers>
 #include <cstdlib>
 #include <new>
 #include <numbers>

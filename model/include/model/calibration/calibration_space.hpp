@@ -45,13 +45,13 @@ inline constexpr std::size_t kMaxCalibrationVariables = 64;
 enum class ParameterField : std::uint8_t {
   kRayleighEta,
   kRayleighZeta,
-  kDampingBand,        // index: knot
-  kMeshScale,          // index: stage
-  kBearingShaftScale,  // index: parallel shaft (paper's variables)
-  kBearingFactor,      // index: bearing b1..b6
-  kTransmissionError,  // index: stage·harmonics + h − 1
+  kDampingBand,             // index: knot
+  kMeshScale,               // index: stage
+  kBearingShaftScale,       // index: parallel shaft (paper's variables)
+  kBearingFactor,           // index: bearing b1..b6
+  kTransmissionError,       // index: stage·harmonics + h − 1
   kTransmissionErrorPhase,  // index: as kTransmissionError
-  kHousingFrequency,   // index: point·modes + mode
+  kHousingFrequency,        // index: point·modes + mode
   kHousingDamping,
   kHousingMass,
   kHousingParticipation,

@@ -117,7 +117,7 @@ bool needs_calibration(const PointIndicators& indicators);
 enum class CalibrationMethod : std::uint8_t {
   kPublishedMogoa,  // MOGOA as published, random initial population
   kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target
-  kTrustRegion,     // identification + Gauss–Newton with the prior (see above); warm start reuses J
+  kTrustRegion,  // identification + Gauss–Newton with the prior (see above); warm start reuses J
 };
 
 /// The model of the features the trust region builds: ∂φ/∂z (rows: the data features of
@@ -141,7 +141,7 @@ struct CalibratorConfig {
   std::size_t excitation_iterations = 2;  // [-] re-solves of the excitation per round after
                                           // its first solve (header); 0: one solve only
   bool solve_excitation = true;           // false: no excitation solve (header)
-  CalibrationSpace space{};              // empty: CalibrationSpace::standard(description's)
+  CalibrationSpace space{};               // empty: CalibrationSpace::standard(description's)
 };
 
 /// How a calibration left a variable.
@@ -173,7 +173,7 @@ struct CalibrationResult {
   std::array<VariableStatus, kMaxCalibrationVariables> status{};
   std::array<double, kMaxCalibrationVariables> z{};                // [prior σ] chosen, whitened
   std::array<double, kMaxCalibrationVariables> posterior_ratio{};  // [-] posterior/prior σ
-  double cost = 0.0;  // [-] F of the chosen parameters
+  double cost = 0.0;                                               // [-] F of the chosen parameters
 };
 static_assert(std::is_trivially_copyable_v<CalibrationResult>);
 
@@ -337,8 +337,10 @@ class Calibrator {
   std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_amplitude_{};
   std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_phase_{};
   bool has_excitation_ = false;
+  // Variables the run determined: fitted in some round or solved from resolved tones.
+  std::array<bool, kMaxCalibrationVariables> determined_{};
   std::array<std::array<dsp::PointFeatures, kMeasurementPoints>, kMaxCalibrationCases>
-      last_features_{};  // of the last evaluate_variables()
+      last_features_{};                                   // of the last evaluate_variables()
   bool simulate_cases(const DynamicsParameters& params);  // into excitation_features_
   void solve_excitation();
   std::array<double, kMaxCalibrationVariables> z_start_{};

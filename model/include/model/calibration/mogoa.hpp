@@ -50,7 +50,8 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxVariables = 64;   // the standard calibration space (62); ZDT1–3 use 30
+inline constexpr std::size_t kMaxVariables =
+    64;  // the standard calibration space (62); ZDT1–3 use 30
 inline constexpr std::size_t kMaxObjectives = 6;   // 3 indicators × 2 measurement points
 inline constexpr std::size_t kMaxPopulation = 64;  // grasshoppers
 inline constexpr std::size_t kMaxArchive = 128;    // Pareto archive capacity
