@@ -12,7 +12,7 @@ set -euo pipefail
 
 if [ "${1:-}" = "--exec" ]; then # the compiler/linker launcher
   shift
-  out=?
+  out="?"
   prev=
   for a in "$@"; do
     [ "$prev" = "-o" ] && out=$a
