@@ -12,6 +12,7 @@
 
 #include <map>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +26,7 @@
 
 #include "cli/command.hpp"
 #include "cli/options.hpp"
+#include "cli/sample_rate_check.hpp"
 #include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
@@ -36,6 +38,7 @@
 #include "hal/scada_csv.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
+#include "recording/bundle_check.hpp"
 
 namespace {
 
@@ -229,6 +232,14 @@ void run(const DamageArgs& args) {
                            args.rom_cutoff_hz == dynamics_settings.rom_cutoff_hz;
   dynamics_settings.sample_rate_hz = args.rom_rate_hz;
   dynamics_settings.rom_cutoff_hz = args.rom_cutoff_hz;
+  if (source == mf::SpectrumSource::kDynamics) {
+    // The ROM's rate against this turbine's mesh lines up to its overspeed and the modes kept.
+    const double max_rpm = std::max(
+        grid.speed_max_rpm, app::recording::operating_range(drivetrain).max_rotor_speed_rpm);
+    const std::string rate_error = app::cli::check_sample_rate(
+        "--rom-rate", args.rom_rate_hz, drivetrain, max_rpm, args.rom_cutoff_hz, "--rom-cutoff");
+    if (!rate_error.empty()) throw CommandError(rate_error);
+  }
   const std::uint64_t key = app::fatigue::spectrum_key(
       drivetrain, channels, grid, source, app::fatigue::kSpectrumCodeVersion,
       default_rom || source != mf::SpectrumSource::kDynamics ? 0.0 : args.rom_rate_hz,
@@ -236,6 +247,27 @@ void run(const DamageArgs& args) {
   const fs::path cache_dir = args.cache_dir.empty() ? app::fatigue::default_spectrum_cache_dir()
                                                     : fs::path(args.cache_dir);
   const fs::path cache_file = app::fatigue::spectrum_cache_file(cache_dir, key);
+  // The SCADA file before the spectrum (minutes for a dynamics one): a missing or
+  // unreadable file is said at once.
+  std::string temp;
+  const std::string path = resolve_input(args.file, temp);
+  struct TempGuard {
+    std::string p;
+    ~TempGuard() {
+      if (!p.empty()) std::remove(p.c_str());
+    }
+  } guard{temp};
+  // --columns auto: the bundle's names, else the Kelmarsh export's.
+  auto open_reader = [&](hal::ScadaCsvReader& r) {
+    if (r.open(path, *columns)) return;
+    const std::string first_error = r.error();
+    if (auto_columns && r.open(path, hal::kelmarsh_scada_columns())) return;
+    throw CommandError(first_error +
+                       (auto_columns ? " (nor the Kelmarsh export's columns; see --columns)" : ""));
+  };
+  hal::ScadaCsvReader reader;
+  open_reader(reader);
+
   mf::LoadSpectrum spectrum;
   spectrum.grid = grid;
   spectrum.source = source;
@@ -275,25 +307,6 @@ void run(const DamageArgs& args) {
   }
   if (!rows_mode) spectrum.prepare();
   const auto t1 = std::chrono::steady_clock::now();
-
-  std::string temp;
-  const std::string path = resolve_input(args.file, temp);
-  struct TempGuard {
-    std::string p;
-    ~TempGuard() {
-      if (!p.empty()) std::remove(p.c_str());
-    }
-  } guard{temp};
-  // --columns auto: the bundle's names, else the Kelmarsh export's.
-  auto open_reader = [&](hal::ScadaCsvReader& r) {
-    if (r.open(path, *columns)) return;
-    const std::string first_error = r.error();
-    if (auto_columns && r.open(path, hal::kelmarsh_scada_columns())) return;
-    throw CommandError(first_error +
-                       (auto_columns ? " (nor the Kelmarsh export's columns; see --columns)" : ""));
-  };
-  hal::ScadaCsvReader reader;
-  open_reader(reader);
 
   // --bench: a reading-only pass over the same file first, as the baseline of the ratio.
   double read_only_s = 0.0, read_only_cpu_s = 0.0;
@@ -674,8 +687,9 @@ void setup_damage(CLI::App& sub) {
       ->capture_default_str()
       ->check(app::cli::number_in(1.0, 10.0));
   sub.add_option(
-      "--k-h-beta", args->k_h_beta,
-      "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)");
+         "--k-h-beta", args->k_h_beta,
+         "Face load factor K_Hbeta as a constant override (default: ISO 6336-1 method C per load)")
+      ->check(app::cli::number_in_or(0.0, "ISO 6336-1 method C", 1.0, 10.0));
   sub.add_option("--lead", args->lead,
                  "Lead modification for K_Hbeta method C: none, helix, helix-crowning, crowning, "
                  "end-relief")

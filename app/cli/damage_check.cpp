@@ -10,6 +10,8 @@
 // (grid interpolation, short simulation windows, start-up and step transients).
 //
 // Rows must carry t_s, rotor_speed_rpm and torque_nm (e.g. `drivetwin synth-scada`).
+#include <unistd.h>
+
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -17,12 +19,16 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
+#include "cli/sample_rate_check.hpp"
 #include "config/drivetrain_file.hpp"
 #include "fatigue/damage_history.hpp"
 #include "fatigue/dynamics_spectrum.hpp"
+#include "fatigue/progress.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
+#include "recording/bundle_check.hpp"
 
 namespace {
 
@@ -36,10 +42,18 @@ struct CheckArgs {
   double period_s = 600.0;
   double sample_rate_hz = 4096.0;
   double cutoff_hz = 1500.0;
+  bool no_progress = false;
 };
 
 void run(const CheckArgs& a) {
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
+  const std::string rate_error = app::cli::check_sample_rate(
+      "--sample-rate", a.sample_rate_hz, d, app::recording::operating_range(d).max_rotor_speed_rpm,
+      a.cutoff_hz, "--cutoff");
+  if (!rate_error.empty()) throw CommandError(rate_error);
+  // The file before the spectrum (minutes): a missing or malformed file is said at once.
+  hal::ScadaCsvReader reader;
+  if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
   const mf::ChannelSet channels(d, mf::ChannelOptions{});
   if (!channels.valid()) throw CommandError("drivetrain '" + d.name + "': " + channels.error());
   app::fatigue::DynamicsSpectrumSettings ds;
@@ -51,12 +65,25 @@ void run(const CheckArgs& a) {
   std::string error, sim_error;
   std::fprintf(stderr, "damage-check: building the dynamics load spectrum (%u points)...\n",
                grid.torque_points * grid.speed_points);
-  const mf::LoadSpectrum spectrum = mf::build_load_spectrum(
-      channels, grid, mf::SpectrumSource::kDynamics,
-      app::fatigue::dynamics_simulator(d, channels, ds, &sim_error), &error);
+  const bool progress_shown = app::fatigue::show_progress(a.no_progress, STDERR_FILENO);
+  mf::LoadSpectrum spectrum;
+  {
+    app::fatigue::ProgressLine progress(
+        progress_shown, "load spectrum (dynamics model)", "points",
+        static_cast<double>(grid.torque_points) * static_cast<double>(grid.speed_points));
+    const mf::LoadSimulator simulator =
+        app::fatigue::dynamics_simulator(d, channels, ds, &sim_error);
+    double simulated = 0.0;
+    spectrum = mf::build_load_spectrum(
+        channels, grid, mf::SpectrumSource::kDynamics,
+        [&](double torque_nm, double rotor_rpm, mf::LoadSeries& series) {
+          const bool ok = simulator(torque_nm, rotor_rpm, series);
+          progress.update(++simulated);
+          return ok;
+        },
+        &error);
+  }
   if (spectrum.channel_count == 0) throw CommandError(error + ": " + sim_error);
-  hal::ScadaCsvReader reader;
-  if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
   app::fatigue::HistoryOptions ho;
   ho.period_s = a.period_s;
   ho.max_rows = a.rows;
@@ -87,6 +114,8 @@ void run(const CheckArgs& a) {
   mf::LoadSample loads;
   model::dynamics::RomOutputs o;
   const auto steps = static_cast<long long>(std::llround(a.period_s * a.sample_rate_hz));
+  app::fatigue::ProgressLine row_progress(progress_shown, "online (ROM stepped per sample)", "rows",
+                                          static_cast<double>(a.rows));
   for (std::size_t k = 0; k < a.rows; ++k) {
     if (rows.next(row) != hal::ScadaReadResult::kRow) throw CommandError(rows.error());
     const double rpm = row.get(hal::ScadaQuantity::kRotorSpeed),
@@ -99,8 +128,9 @@ void run(const CheckArgs& a) {
                    torque, loads);
       online.step(loads, rpm, 1);
     }
-    std::fprintf(stderr, "damage-check: online row %zu of %zu done\n", k + 1, a.rows);
+    row_progress.update(static_cast<double>(k + 1));
   }
+  row_progress.finish();
 
   std::printf(
       "# damage-check %s: %zu rows of %.0f s, ROM at %.0f Hz (cut-off %.0f Hz), drivetrain %s "
@@ -130,11 +160,21 @@ void setup_damage_check(CLI::App& sub) {
                  "SCADA CSV with t_s, rotor_speed_rpm, torque_nm (bundle columns)")
       ->required();
   app::config::add_drivetrain_option(sub, args->drivetrain);
-  sub.add_option("--rows", args->rows, "Rows to compare")->capture_default_str();
-  sub.add_option("--period", args->period_s, "Row period [s]")->capture_default_str();
+  // The same ranges as `damage`'s (--period, --rom-rate, --rom-cutoff); the rate against
+  // the turbine's mesh lines and the cut-off is checked once the drivetrain is loaded.
+  sub.add_option("--rows", args->rows, "Rows to compare")
+      ->capture_default_str()
+      ->check(app::cli::integer_in(1, 100000, "rows"));
+  sub.add_option("--period", args->period_s, "Row period [s]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 86400.0, "s", true));
   sub.add_option("--sample-rate", args->sample_rate_hz, "ROM sample rate [Hz]")
-      ->capture_default_str();
-  sub.add_option("--cutoff", args->cutoff_hz, "ROM mode cut-off [Hz]")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(256.0, 1e6, "Hz"));
+  sub.add_option("--cutoff", args->cutoff_hz, "ROM mode cut-off [Hz]")
+      ->capture_default_str()
+      ->check(app::cli::number_in(10.0, 2500.0, "Hz"));
+  sub.add_flag("--no-progress", args->no_progress, "No progress line on a terminal");
   sub.callback([args] { run(*args); });
 }
 

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "cli/command.hpp"
+#include "cli/options.hpp"
 #include "diagnosis/report.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/diagnosis/diagnoser.hpp"
@@ -192,10 +193,13 @@ void setup(CLI::App& sub) {
   sub.add_option("--html", args->html, "Write the offline HTML report to this file");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
   sub.add_option("--evaluations", args->evaluations,
-                 "Calibration: model evaluations at most (default 40)");
-  sub.add_option("--candidates", args->candidates, "Hypotheses modelled and refitted (default 3)");
+                 "Calibration: model evaluations at most (default 40)")
+      ->check(app::cli::integer_in(1, 100000, "model evaluations"));
+  sub.add_option("--candidates", args->candidates, "Hypotheses modelled and refitted (default 3)")
+      ->check(app::cli::integer_in(1, 20, "hypotheses"));
   sub.add_option("--fit-evaluations", args->fit_evaluations,
-                 "Model evaluations per refitted hypothesis (default 10)");
+                 "Model evaluations per refitted hypothesis (default 10)")
+      ->check(app::cli::integer_in(1, 10000, "model evaluations"));
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");
   sub.callback([args] { run(*args); });
 }

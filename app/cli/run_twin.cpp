@@ -13,6 +13,7 @@
 
 #include "bus/bus_config.hpp"
 #include "cli/command.hpp"
+#include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "loop/runner.hpp"
 #include "loop/timing_histogram.hpp"
@@ -206,11 +207,12 @@ void setup_run_twin(CLI::App& sub) {
                  "(SCADA only; the other buses as the bus file says) on the recording's clock");
   sub.add_option("--speed", a->speed,
                  "replay / simulated buses: recording seconds per wall second (1 = real time) or "
-                 "'max' (default: max for --replay, 1 for simulated buses)");
+                 "'max' (default: max for --replay, 1 for simulated buses)")
+      ->check(app::cli::number_in_or_word("max", 0.0, 1e6, "", true));
   sub.add_option("--duration", a->duration_s,
                  "stop after this much loop time [s] (0: never / "
                  "the end of the replay)")
-      ->check(CLI::Range(0.0, 1e9));
+      ->check(app::cli::number_in(0.0, 1e9, "s"));
   sub.add_option("--state-dir", a->state_dir, "override twin.state_dir");
   sub.add_flag("--lockstep", a->lockstep,
                "replay / simulated buses: wait for the calibration thread at each window, so "

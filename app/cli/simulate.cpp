@@ -34,6 +34,7 @@
 
 #include "cli/command.hpp"
 #include "cli/options.hpp"
+#include "cli/sample_rate_check.hpp"
 #include "config/drivetrain_file.hpp"
 #include "fatigue/progress.hpp"
 #include "hal/recording_bundle.hpp"
@@ -117,23 +118,14 @@ void run(const SimulateArgs& a) {
                        std::to_string(range.max_input_torque_nm) + " N·m, 150 % of rated)");
   }
   // The sample rate against the fastest mesh line and the ROM's modes.
-  const model::Kinematics kin(d);
-  double mesh_hz = 0.0;
-  for (std::size_t st = 0; st < kin.stage_count(); ++st)
-    mesh_hz = std::max(mesh_hz, kin.mesh_hz(st, a.rpm));
   model::dynamics::SimulationSettings s;
-  const double min_rate = std::max(kMeshRateFactor * mesh_hz, kModeRateFactor * s.rom_cutoff_hz);
-  if (a.sample_rate_hz < min_rate) {
-    char text[400];
-    std::snprintf(text, sizeof text,
-                  "--rate: %g Hz cannot represent this simulation: the high-speed mesh line at "
-                  "%.1f Hz (rotor %g rpm) needs >= %.0f Hz (6x: the ROM's force interpolation "
-                  "loses <= 9 %%, harmonics not aliased) and the ROM's modes up to %.0f Hz need "
-                  ">= %.0f Hz (2.56x); expected >= %.0f Hz",
-                  a.sample_rate_hz, mesh_hz, a.rpm, kMeshRateFactor * mesh_hz, s.rom_cutoff_hz,
-                  kModeRateFactor * s.rom_cutoff_hz, min_rate);
-    throw CommandError(text);
-  }
+  app::cli::SampleRateNeeds needs;
+  needs.mesh_factor = kMeshRateFactor;
+  needs.mode_factor = kModeRateFactor;
+  needs.mesh_why = "6x: the ROM's force interpolation loses <= 9 %, harmonics not aliased";
+  const std::string rate_error = app::cli::check_sample_rate("--rate", a.sample_rate_hz, d, a.rpm,
+                                                             s.rom_cutoff_hz, nullptr, needs);
+  if (!rate_error.empty()) throw CommandError(rate_error);
   // Run-in: auto from the damping (see the file comment).
   double run_in = a.run_in_s;
   std::string run_in_why;

@@ -33,9 +33,12 @@
 // whose mean wind is below cut-in or at/above cut-out is parked (speed, torque, power 0);
 // an operating row after a parked one starts at the rotor's steady state for its mean.
 // `--out-10min FILE` also writes the 10-minute means of the same run (same columns).
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -46,6 +49,7 @@
 #include "cli/options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "data/embedded.hpp"
+#include "fatigue/progress.hpp"
 #include "hal/scada_csv.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dynamics/full_model.hpp"
@@ -84,6 +88,7 @@ struct SynthArgs {
   double wind_sample_s = 0.25;
   std::string out_10min;
   bool point_wind = false;
+  bool no_progress = false;
 };
 
 constexpr double kSynthSegmentS = 600.0;  // [s] one SCADA row: the turbulence segment
@@ -310,7 +315,12 @@ void run_synth_turbulent(const SynthArgs& a) {
   long long out_rows = 0;
   double max_torque = 0.0;
   double max_pitch = 0.0;
+  // ~3 s per simulated day on the shared machine: a progress line over the 10-minute means.
+  app::fatigue::ProgressLine progress(app::fatigue::show_progress(a.no_progress, STDERR_FILENO),
+                                      "rotor model over the 10-minute means", "means",
+                                      static_cast<double>(means.size()));
   for (std::size_t i = 0; i < means.size(); ++i) {
+    progress.update(static_cast<double>(i));
     const double v_mean = means[i].wind_mps;
     const bool contiguous_next =
         i + 1 < means.size() && means[i + 1].t_s - means[i].t_s < kSynthSegmentS + 1e-6;
@@ -368,6 +378,8 @@ void run_synth_turbulent(const SynthArgs& a) {
                       seg_torque * inv, seg_pitch * inv);
     }
   }
+  progress.update(static_cast<double>(means.size()));
+  progress.finish();
   const bool write_error = std::fclose(f) != 0;
   const bool write_error10 = f10 != nullptr && std::fclose(f10) != 0;
   if (write_error) throw CommandError("--out: write error on '" + a.out + "'");
@@ -419,26 +431,36 @@ void setup_synth_scada(CLI::App& sub) {
       ->check(app::cli::number_in(0.0, 1.0, "", true, true));
   sub.add_option("--slow-weight", args->persistence.slow_weight,
                  "Two-scale persistence: variance share of the slow component")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", true));
   sub.add_option("--slow-time-constant", args->persistence.slow_time_constant_s,
                  "Two-scale persistence: slow component's time constant [s]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::positive("s"));
   sub.add_option("--fast-lag1", args->persistence.fast_lag1_10min,
                  "Two-scale persistence: fast component's lag-1 correlation per 10 minutes")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--seasonal-amplitude", args->persistence.seasonal_amplitude,
                  "Annual cycle: relative amplitude of the mean wind (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--seasonal-peak-day", args->persistence.seasonal_peak_day,
                  "Annual cycle: windiest day [days since 1 January]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 366.0, "days", false, true));
   sub.add_option("--diurnal-amplitude", args->persistence.diurnal_amplitude,
                  "Diurnal cycle: relative amplitude of the mean wind (0: none)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 1.0, "", false, true));
   sub.add_option("--diurnal-peak-hour", args->persistence.diurnal_peak_hour,
                  "Diurnal cycle: windiest hour [h UTC]")
-      ->capture_default_str();
-  sub.add_option("--seed", args->seed, "Random seed")->capture_default_str();
+      ->capture_default_str()
+      ->check(app::cli::number_in(0.0, 24.0, "h", false, true));
+  sub.add_flag("--no-progress", args->no_progress, "No progress line on a terminal");
+  sub.add_option("--seed", args->seed, "Random seed")
+      ->capture_default_str()
+      ->check(app::cli::integer_in(0, std::numeric_limits<long long>::max(), "seed"));
   sub.add_option("--start", args->start_s, "First t_s [s since 1970 UTC]")
       ->capture_default_str()
       ->check(app::cli::number_in(app::cli::kInf * -1.0, app::cli::kInf));
@@ -451,28 +473,34 @@ void setup_synth_scada(CLI::App& sub) {
   std::vector<CLI::Option*> turbulent_only;
   turbulent_only.push_back(sub.add_option("--resolution", args->resolution_s,
                                           "Turbulent mode: output row period [s], divides 600")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(sub.add_option(
       "--from-10min", args->from_10min,
       "Turbulent mode: 10-minute mean winds from this SCADA file (bundle or Kelmarsh "
       "columns; builtin:NAME for an embedded file, e.g. builtin:kelmarsh-day.csv)"));
   CLI::Option* mean_wind =
       sub.add_option("--mean-wind", args->mean_wind,
-                     "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)");
+                     "Turbulent mode: constant 10-minute mean wind [m/s] (e.g. 6.75 --days 1)")
+          ->check(app::cli::number_in(0.0, 70.0, "m/s", false, true));
   turbulent_only.push_back(mean_wind);
   turbulent_only.push_back(sub.add_option("--hub-height", args->hub_height_m,
                                           "Turbulent mode: hub height [m] (Kaimal length scale)")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 500.0, "m", true)));
   turbulent_only.push_back(
       sub.add_option("--rotor-inertia", args->rotor_inertia,
                      "Turbulent mode: rotor polar inertia [kg m^2] (assumed, see README)")
-          ->capture_default_str());
+          ->capture_default_str()
+          ->check(app::cli::positive("kg m^2")));
   turbulent_only.push_back(
       sub.add_option("--step", args->step_s, "Turbulent mode: rotor model time step [s]")
-          ->capture_default_str());
+          ->capture_default_str()
+          ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(sub.add_option("--wind-sample", args->wind_sample_s,
                                           "Turbulent mode: wind series sample period [s]")
-                               ->capture_default_str());
+                               ->capture_default_str()
+                               ->check(app::cli::number_in(0.0, 600.0, "s", true)));
   turbulent_only.push_back(
       sub.add_flag("--point-wind", args->point_wind,
                    "Turbulent mode: the hub point's wind (an upper bound) instead of the "

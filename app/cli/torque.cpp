@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli/command.hpp"
+#include "cli/wind_options.hpp"
 #include "config/drivetrain_file.hpp"
 #include "hal/scada_csv.hpp"
 #include "wind/heldout.hpp"
@@ -204,10 +205,12 @@ void setup_torque(CLI::App& sub) {
   sub.add_flag("--steady-state", args->steady_state,
                "Ignore measured rotor speed and pitch; use the controller's steady state");
   sub.add_option("--from", args->from,
-                 "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])");
-  sub.add_option("--to", args->to, "Only rows before this UTC time");
+                 "Only rows at or after this UTC time (YYYY-MM-DD[ HH:MM:SS])")
+      ->check(app::cli::utc_time());
+  sub.add_option("--to", args->to, "Only rows before this UTC time")->check(app::cli::utc_time());
   sub.add_option("--months", args->months,
-                 "Only rows of these calendar months (UTC): e.g. 4-12, 12,1,2 or JJA,SON");
+                 "Only rows of these calendar months (UTC): e.g. 4-12, 12,1,2 or JJA,SON")
+      ->check(app::cli::month_list());
   sub.add_flag("--breakdown", args->breakdown,
                "With --compare: MAPE and bias per month and region and per wind-speed bin, as "
                "Markdown tables");

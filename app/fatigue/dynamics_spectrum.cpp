@@ -60,10 +60,27 @@ RomLoadConverter::RomLoadConverter(const model::Drivetrain& drivetrain,
   }
 }
 
-double RomLoadConverter::divergence_limit_n(std::size_t mesh, double torque_nm) const {
+RomLoadConverter::DivergenceLimits RomLoadConverter::divergence_limits(
+    double torque_nm) const noexcept {
   const double rated = drivetrain_->turbine.rated_torque_nm;
-  const mf::LoadSample scale = channels_->quasi_static_loads(std::max(torque_nm, 0.1 * rated));
-  return kDivergenceFactor * scale.mesh_force_n[mesh] / to_ft_[mesh];
+  const mf::LoadSample scale =
+      channels_->quasi_static_loads(std::max(std::abs(torque_nm), 0.1 * rated));
+  DivergenceLimits limits;
+  for (std::size_t m = 0; m < channels_->mesh_count(); ++m)
+    limits.mesh_force_n[m] = kDivergenceFactor * scale.mesh_force_n[m] / to_ft_[m];
+  return limits;
+}
+
+double RomLoadConverter::divergence_limit_n(std::size_t mesh, double torque_nm) const {
+  return divergence_limits(torque_nm).mesh_force_n[mesh];
+}
+
+bool RomLoadConverter::within(const DivergenceLimits& limits,
+                              const double* mesh_force_n) const noexcept {
+  // `!(|f| <= limit)` is true for NaN as well.
+  for (std::size_t m = 0; m < channels_->mesh_count(); ++m)
+    if (!(std::abs(mesh_force_n[m]) <= limits.mesh_force_n[m])) return false;
+  return true;
 }
 
 void RomLoadConverter::convert(const double* mesh_force_n, const double* fx, const double* fy,

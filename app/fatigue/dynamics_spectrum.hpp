@@ -65,8 +65,18 @@ class RomLoadConverter {
   /// @param mean_torque_nm the point's rotor torque (for the quasi-static axial thrust).
   void convert(const double* mesh_force_n, const double* fx, const double* fy,
                double mean_torque_nm, model::fatigue::LoadSample& out) const;
-  /// Peak |F_bn| allowed at this torque before the simulation counts as diverged [N].
+  /// Peak |F_bn| allowed at this torque before the simulation counts as diverged [N]:
+  /// kDivergenceFactor × the mesh's quasi-static force at |torque| (at least a tenth of
+  /// rated torque, so that a standstill is not held to a zero force).
   double divergence_limit_n(std::size_t mesh, double torque_nm) const;
+  /// The same for every mesh at once (ROM mesh order), for a loop that checks every step:
+  /// computed once per cycle, allocation-free.
+  struct DivergenceLimits {
+    std::array<double, model::fatigue::kMaxMeshes> mesh_force_n{};  // [N] |F_bn| bound
+  };
+  DivergenceLimits divergence_limits(double torque_nm) const noexcept;
+  /// True while every mesh force F_bn [N] (ROM order) is finite and within its limit.
+  bool within(const DivergenceLimits& limits, const double* mesh_force_n) const noexcept;
 
  private:
   const model::Drivetrain* drivetrain_;

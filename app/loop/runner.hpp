@@ -32,6 +32,10 @@
 #include "loop/snapshot.hpp"
 #include "run/run_config.hpp"
 
+namespace model::dynamics {
+struct RomData;
+}
+
 namespace app::loop {
 
 class Twin;
@@ -57,6 +61,9 @@ struct RunOptions {
   /// Test hook (fault injection): called once on the starting thread with the devices,
   /// after they are active and before the loop's threads start.
   std::function<void(const TwinDevices&)> on_devices;
+  /// Test hook (fault injection): called once on the starting thread with the reduced-order
+  /// model just built, before the twin is constructed (a test breaks it on purpose).
+  std::function<void(model::dynamics::RomData&)> on_rom_built;
   /// Test hook: called on the RT thread after every cycle with the twin (its accumulator,
   /// counters, last snapshot) and the cycle's loop time; must be real-time safe.
   std::function<void(const Twin&, hal::Timestamp)> on_cycle;

@@ -29,6 +29,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   using namespace app::cli;  // NOLINT(google-build-using-namespace): the validators under test
   CLI::App app{"fuzz"};
   double period = 600.0, rate = 25600.0, seconds = 10.0, torque = 0.0, factor = 0.0, ratio = 0.0;
+  double k_h_beta = 0.0;
+  std::string speed = "max";
   int grade = 6;
   std::string spectrum = "quasi-static";
   app.add_option("--period", period)->check(number_in(0.0, 366.0 * 86400.0, "s", true));
@@ -38,6 +40,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   app.add_option("--factor", factor)->check(number_in(1.0, 10.0));
   app.add_option("--ratio", ratio)->check(number_in(0.0, 0.5, "", false, true));
   app.add_option("--grade", grade)->check(integer_in(1, 12, "ISO 1328 grade"));
+  app.add_option("--k-h-beta", k_h_beta)->check(number_in_or(0.0, "method C", 1.0, 10.0));
+  app.add_option("--speed", speed)->check(number_in_or_word("max", 0.0, 1e6, "", true));
   app.add_option("--spectrum", spectrum)
       ->check(one_of({"quasi-static", "dynamics", "dynamics-rows"}));
 
@@ -46,8 +50,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     app.parse(reversed);
   } catch (const CLI::ValidationError& e) {
     const std::string what = e.what();
-    static const char* const kNames[] = {"--period", "--rate",  "--seconds", "--torque",
-                                         "--factor", "--ratio", "--grade",   "--spectrum"};
+    static const char* const kNames[] = {"--period",   "--rate",  "--seconds", "--torque",
+                                         "--factor",   "--ratio", "--grade",   "--spectrum",
+                                         "--k-h-beta", "--speed"};
     bool named = false;
     for (const char* n : kNames) named = named || what.find(n) != std::string::npos;
     if (!named) std::abort();
@@ -65,5 +70,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (!(grade >= 1 && grade <= 12)) std::abort();
   if (spectrum != "quasi-static" && spectrum != "dynamics" && spectrum != "dynamics-rows")
     std::abort();
+  if (!(k_h_beta == 0.0 || (k_h_beta >= 1.0 && k_h_beta <= 10.0))) std::abort();
+  if (speed != "max") {
+    // Accepted as a number: the whole text, finite, in (0, 1e6].
+    char* end = nullptr;
+    const double v = std::strtod(speed.c_str(), &end);
+    if (speed.empty() || end != speed.c_str() + speed.size() || !std::isfinite(v) || !(v > 0.0) ||
+        v > 1e6)
+      std::abort();
+  }
   return 0;
 }

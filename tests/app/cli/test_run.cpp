@@ -5,14 +5,14 @@
 #include <vector>
 
 #include "cli/run.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
 TEST(CliRun, ListsEveryRegisteredCommandInItsHelpAndExitsZero) {
   // Act
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run({"--help"});
-  const std::string out = testing::internal::GetCapturedStdout();
+  const test_support::CommandResult r = test_support::run_command({"--help"});
+  const std::string& out = r.out;
 
   // Assert: help is not an error; the commands README.md lists are all there.
   EXPECT_EQ(r.exit_code, 0);
@@ -24,7 +24,8 @@ TEST(CliRun, ListsEveryRegisteredCommandInItsHelpAndExitsZero) {
 
 TEST(CliRun, RefusesAnUnknownSubcommandNamingIt) {
   // Act
-  const app::cli::RunResult r = app::cli::run({"no-such-command", "--rpm", "3"});
+  const test_support::CommandResult r =
+      test_support::run_command({"no-such-command", "--rpm", "3"});
 
   // Assert: the message names what was typed and what exists.
   EXPECT_EQ(r.exit_code, 2);
@@ -35,9 +36,7 @@ TEST(CliRun, RefusesAnUnknownSubcommandNamingIt) {
 
 TEST(CliRun, RequiresASubcommand) {
   // Act
-  testing::internal::CaptureStderr();
-  const app::cli::RunResult r = app::cli::run({});
-  testing::internal::GetCapturedStderr();
+  const test_support::CommandResult r = test_support::run_command({});
 
   // Assert
   EXPECT_NE(r.exit_code, 0);
@@ -46,7 +45,8 @@ TEST(CliRun, RequiresASubcommand) {
 
 TEST(CliRun, ReturnsACommandsErrorWithExitCodeOneWithoutPrintingIt) {
   // Act: the torque command throws on a file that is not there.
-  const app::cli::RunResult r = app::cli::run({"torque", "no-such-scada-file.csv"});
+  const test_support::CommandResult r =
+      test_support::run_command({"torque", "no-such-scada-file.csv"});
 
   // Assert: main() prints it (once), so run() leaves it unprinted.
   EXPECT_EQ(r.exit_code, 1);
@@ -59,9 +59,7 @@ TEST(CliRun, ResetsTheExitStatusOfAPreviousCommand) {
   app::cli::exit_status() = 2;
 
   // Act
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run({"drivetrain", "--help"});
-  testing::internal::GetCapturedStdout();
+  const test_support::CommandResult r = test_support::run_command({"drivetrain", "--help"});
 
   // Assert
   EXPECT_EQ(r.exit_code, 0) << r.error;

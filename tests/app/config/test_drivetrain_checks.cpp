@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "config/drivetrain_checks.hpp"
 #include "config/drivetrain_file.hpp"
 #include "model/drivetrain/description.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
@@ -179,9 +179,8 @@ TEST(DrivetrainChecks, EveryCommandRefusesTheImpossibleGearboxWritingNothing) {
        (dir / "sim").string()}};
   for (const auto& args : commands) {
     // Act
-    testing::internal::CaptureStdout();
-    const app::cli::RunResult r = app::cli::run(args);
-    const std::string out = testing::internal::GetCapturedStdout();
+    const test_support::CommandResult r = test_support::run_command(args);
+    const std::string& out = r.out;
     // Assert: refused at the key, non-zero, nothing printed as a result, nothing written.
     EXPECT_EQ(r.exit_code, 1) << args[0];
     EXPECT_NE(r.error.find("sun22.toml"), std::string::npos) << args[0] << ": " << r.error;

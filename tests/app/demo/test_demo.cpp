@@ -12,33 +12,19 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "data/embedded.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
-struct CliResult {
-  int exit_code = 0;
-  std::string error;
-  std::string out;
-};
-
-// Runs the command line in-process through app::cli::run, as main() does.
-CliResult run_cli(const std::vector<std::string>& args) {
-  CliResult result;
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run(args);
-  result.out = testing::internal::GetCapturedStdout();
-  result.exit_code = r.exit_code;
-  result.error = r.error;
-  return result;
-}
+using test_support::CommandResult;
+using test_support::run_command;
 
 constexpr double kPi = 3.14159265358979323846;
 
 TEST(DemoGearboxStage, MeanMeshForcesMatchTorqueOverBaseRadiusAndPoint1ShowsTheHighSpeedMesh) {
   // Act
-  const CliResult r = run_cli({"demo", "--stage", "gearbox"});
+  const CommandResult r = run_command({"demo", "--stage", "gearbox"});
   ASSERT_EQ(r.exit_code, 0) << r.error;
 
   // The input torque the stage printed (wind model at 6.75 m/s, 8.33 rpm), in kN·m.
@@ -108,7 +94,7 @@ double number_after(const std::string& text, const std::string& key) {
 
 TEST(DemoFatigueStage, ReadsTheWholeBuiltInDayAndAgreesWithTheDamageCommand) {
   // Act
-  const CliResult r = run_cli({"demo", "--stage", "fatigue"});
+  const CommandResult r = run_command({"demo", "--stage", "fatigue"});
   ASSERT_EQ(r.exit_code, 0) << r.error;
 
   // Expected: the day's rows and mean wind, read here from the embedded CSV (Kelmarsh export:
@@ -133,8 +119,8 @@ TEST(DemoFatigueStage, ReadsTheWholeBuiltInDayAndAgreesWithTheDamageCommand) {
   // The stage is `drivetwin damage` on the same day through the same wind model: the sun's
   // contact damage agrees to the 4 digits printed.
   const double demo_sun = number_after(r.out, "sun contact damage: ");
-  const CliResult d =
-      run_cli({"damage", "builtin:kelmarsh-day.csv", "--torque-from", "wind-steady", "--no-cache"});
+  const CommandResult d = run_command(
+      {"damage", "builtin:kelmarsh-day.csv", "--torque-from", "wind-steady", "--no-cache"});
   ASSERT_EQ(d.exit_code, 0) << d.error;
   const auto row = d.out.find("\nsun ");
   ASSERT_NE(row, std::string::npos) << d.out;
@@ -166,7 +152,7 @@ TEST(DemoFatigueStage, ReadsTheWholeBuiltInDayAndAgreesWithTheDamageCommand) {
 }
 
 TEST(DemoCommand, AnUnknownStageIsNamedInTheErrorAndFails) {
-  const CliResult r = run_cli({"demo", "--stage", "no-such-stage"});
+  const CommandResult r = run_command({"demo", "--stage", "no-such-stage"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.error.find("no-such-stage"), std::string::npos) << r.error;
 }

@@ -9,8 +9,8 @@
 #include <fstream>
 #include <string>
 
-#include "cli/run.hpp"
 #include "lumped_case.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
@@ -29,8 +29,8 @@ nlohmann::json diagnose(const tools::diagnosis::LumpedCaseSpec& spec) {
   const fs::path dir = scratch(spec.id);
   EXPECT_FALSE(hal::write_bundle(dir, c.recording).has_value());
   const fs::path json = dir.parent_path() / (spec.id + ".json");
-  const app::cli::RunResult r =
-      app::cli::run({"diagnose", dir.string(), "--json", json.string(), "--quiet"});
+  const test_support::CommandResult r =
+      test_support::run_command({"diagnose", dir.string(), "--json", json.string(), "--quiet"});
   EXPECT_EQ(r.exit_code, 0) << r.error;
   std::ifstream in(json);
   return nlohmann::json::parse(in);

@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/dynamics/simulate.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
@@ -100,9 +100,9 @@ struct Outcome {
 };
 
 Outcome diagnose(const fs::path& dir, const fs::path& json, const fs::path& html) {
-  const app::cli::RunResult r =
-      app::cli::run({"diagnose", dir.string(), "--json", json.string(), "--html", html.string(),
-                     "--quiet", "--evaluations", "25"});
+  const test_support::CommandResult r =
+      test_support::run_command({"diagnose", dir.string(), "--json", json.string(), "--html",
+                                 html.string(), "--quiet", "--evaluations", "25"});
   return {r.exit_code, r.error};
 }
 

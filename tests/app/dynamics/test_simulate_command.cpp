@@ -21,6 +21,7 @@
 
 #include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
@@ -39,10 +40,10 @@ fs::path scratch_dir(const std::string& name) {
   return p;
 }
 
-// Runs `drivetwin simulate <args>` as main() would; returns the error text ("" when none).
-std::string run_simulate(std::vector<std::string> args) {
+// Runs `drivetwin simulate <args>` as main() would.
+test_support::CommandResult run_simulate(std::vector<std::string> args) {
   args.insert(args.begin(), "simulate");
-  return app::cli::run(args).error;
+  return test_support::run_command(args);
 }
 
 std::string number(double v) {
@@ -113,7 +114,8 @@ TEST(SimulateCommand, WritesABundleAndLoadsWhoseMeanMeshForcesEqualStageTorqueOv
 
   // Act
   const std::string error = run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm),
-                                          "--seconds", number(seconds), "--out", dir.string()});
+                                          "--seconds", number(seconds), "--out", dir.string()})
+                                .error;
 
   // Assert: the bundle.
   ASSERT_EQ(error, "");
@@ -174,7 +176,8 @@ TEST(SimulateCommand, FullModelWritesTheSameColumnsAndSampleCount) {
   // Act
   const std::string error =
       run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds",
-                    number(seconds), "--run-in", "0.005", "--out", dir.string(), "--full"});
+                    number(seconds), "--run-in", "0.005", "--out", dir.string(), "--full"})
+          .error;
   // Assert
   ASSERT_EQ(error, "");
   const hal::BundleReadResult bundle = hal::read_bundle(dir);
@@ -204,12 +207,12 @@ TEST(SimulateCommand, DiscardsTheStartUpTransientByDefaultAndSaysSo) {
   // start-up peak (the issue measured point2 at 0.85 m/s² RMS over the first 0.5 s of a
   // static start against 0.27 settled, peak 18.3 against 1.5).
   const fs::path dir = scratch_dir("settled");
-  testing::internal::CaptureStdout();
-  const std::string error = run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm),
-                                          "--seconds", "1", "--no-loads", "--out", dir.string()});
-  const std::string out = testing::internal::GetCapturedStdout();
+  const test_support::CommandResult r =
+      run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds", "1",
+                    "--no-loads", "--out", dir.string()});
+  const std::string& out = r.out;
   // Assert
-  ASSERT_EQ(error, "");
+  ASSERT_EQ(r.error, "");
   EXPECT_NE(out.find("run-in: the first 1.84"), std::string::npos) << out;  // ln(100)·2/5 s
   const hal::BundleReadResult bundle = hal::read_bundle(dir);
   ASSERT_TRUE(bundle) << bundle.error.to_string();
@@ -232,13 +235,12 @@ TEST(SimulateCommand, DiscardsTheStartUpTransientByDefaultAndSaysSo) {
 TEST(SimulateCommand, LoadsCanBeDecimated) {
   // Arrange: 0.1 s, every 10th sample.
   const fs::path dir = scratch_dir("decimated");
-  testing::internal::CaptureStdout();
-  const std::string error =
+  const test_support::CommandResult r =
       run_simulate({"--rpm", number(kRpm), "--torque", number(kTorqueNm), "--seconds", "0.1",
                     "--run-in", "0.01", "--loads-every", "10", "--out", dir.string()});
-  const std::string out = testing::internal::GetCapturedStdout();
+  const std::string& out = r.out;
   // Assert: 2560 samples → 256 rows at t = 10/fs, 20/fs, ...
-  ASSERT_EQ(error, "");
+  ASSERT_EQ(r.error, "");
   EXPECT_NE(out.find("every 10-th sample (2560 Hz"), std::string::npos) << out;
   const Csv loads = read_csv(dir / "loads.csv");
   ASSERT_EQ(loads.rows.size(), 256u);
@@ -270,10 +272,11 @@ TEST(SimulateCommand, RefusesBadArgumentsWithAMessageNamingTheOptionAndWritesNot
         Bad{{"--rpm", "8.33", "--torque", "1000", "--out", out, "--drivetrain", "no-such.toml"},
             "--drivetrain"}}) {
     // Act
-    const std::string error = run_simulate(bad.args);
+    const test_support::CommandResult r = run_simulate(bad.args);
     // Assert
-    EXPECT_NE(error.find(bad.expected), std::string::npos)
-        << "expected '" << bad.expected << "' in: " << error;
+    EXPECT_NE(r.exit_code, 0) << bad.expected;
+    EXPECT_NE(r.error.find(bad.expected), std::string::npos)
+        << "expected '" << bad.expected << "' in: " << r.error;
     EXPECT_FALSE(fs::exists(dir)) << bad.expected;
   }
 }

@@ -12,28 +12,15 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "model/fatigue/drivetrain_channels.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 namespace fs = std::filesystem;
 namespace mf = model::fatigue;
 
-struct CliResult {
-  int exit_code = 0;
-  std::string error;
-  std::string out;
-};
-
-CliResult run_cli(const std::vector<std::string>& args) {
-  CliResult result;
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run(args);
-  result.out = testing::internal::GetCapturedStdout();
-  result.exit_code = r.exit_code;
-  result.error = r.error;
-  return result;
-}
+using test_support::CommandResult;
+using test_support::run_command;
 
 constexpr const char* kHeader = "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,pitch_deg,torque_nm\n";
 constexpr double kRated = 1.23e6;  // [N·m] paper-2mw rated torque
@@ -54,12 +41,12 @@ class DamageInputs : public ::testing::Test {
     return p;
   }
   // damage <file> --json <json> [extra...]; the JSON path is dir_/summary.json.
-  CliResult damage(const fs::path& csv, std::vector<std::string> extra = {}) const {
+  CommandResult damage(const fs::path& csv, std::vector<std::string> extra = {}) const {
     std::vector<std::string> args{"damage",      csv.string(),
                                   "--cache-dir", (dir_ / "cache").string(),
                                   "--json",      json().string()};
     args.insert(args.end(), extra.begin(), extra.end());
-    return run_cli(args);
+    return run_command(args);
   }
   fs::path json() const { return dir_ / "summary.json"; }
   fs::path dir_;
@@ -69,7 +56,7 @@ TEST_F(DamageInputs, AHeaderOnlyFileIsAnErrorAndNothingIsWritten) {
   const fs::path csv = write("header.csv", kHeader);
   for (const auto& extra :
        {std::vector<std::string>{}, std::vector<std::string>{"--period", "600"}}) {
-    const CliResult r = damage(csv, extra);
+    const CommandResult r = damage(csv, extra);
     EXPECT_EQ(r.exit_code, 1);
     EXPECT_NE(r.error.find("header.csv: no data rows after the header"), std::string::npos)
         << r.error;
@@ -79,10 +66,10 @@ TEST_F(DamageInputs, AHeaderOnlyFileIsAnErrorAndNothingIsWritten) {
 
 TEST_F(DamageInputs, ANegativePeriodAndAnImpossibleGradeAreRefusedBeforeReading) {
   const fs::path csv = write("rows.csv", std::string(kHeader) + "0,12,14,,,1230000\n");
-  const CliResult period = damage(csv, {"--period", "-600"});
+  const CommandResult period = damage(csv, {"--period", "-600"});
   EXPECT_NE(period.exit_code, 0);
   EXPECT_NE(period.error.find("--period: -600 is out of range"), std::string::npos) << period.error;
-  const CliResult grade = damage(csv, {"--grade", "99"});
+  const CommandResult grade = damage(csv, {"--grade", "99"});
   EXPECT_NE(grade.exit_code, 0);
   EXPECT_NE(grade.error.find("--grade: 99 is out of range; expected an integer from 1 to 11"),
             std::string::npos)
@@ -93,7 +80,7 @@ TEST_F(DamageInputs, ANegativePeriodAndAnImpossibleGradeAreRefusedBeforeReading)
 TEST_F(DamageInputs, NanAndRaggedRowsAreNamedWhenThePeriodCannotBeDetected) {
   const fs::path csv =
       write("bad.csv", std::string(kHeader) + "0,nan,10,,,\n600,5,10,,,\n1200,5\n");
-  const CliResult r = damage(csv);
+  const CommandResult r = damage(csv);
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(
       r.error.find("cannot detect the SCADA period: of the first 3 data rows 2 were rejected"),
@@ -119,10 +106,10 @@ TEST_F(DamageInputs, TorqueBeyondTheSpectrumIsCountedAndLeftOutNeverClamped) {
   const fs::path with_spike = write("spike.csv", kHeader + spike);
   const fs::path without = write("gap.csv", kHeader + gap);
   // Act
-  const CliResult s = damage(with_spike);
+  const CommandResult s = damage(with_spike);
   std::ifstream in_s(json());
   const nlohmann::json js = nlohmann::json::parse(in_s);
-  const CliResult g = damage(without, {"--period", "600"});
+  const CommandResult g = damage(without, {"--period", "600"});
   std::ifstream in_g(json());
   const nlohmann::json jg = nlohmann::json::parse(in_g);
   // Assert: the spike is counted, named, not accumulated; the exit says rows were rejected.
@@ -143,14 +130,15 @@ TEST_F(DamageInputs, TorqueBeyondTheSpectrumIsCountedAndLeftOutNeverClamped) {
   std::string all_spike;
   for (int i = 0; i < 10; ++i) all_spike += std::to_string(600 * i) + ",12,14,,,2460000\n";
   fs::remove(json());
-  const CliResult a = damage(write("all.csv", kHeader + all_spike));
+  const CommandResult a = damage(write("all.csv", kHeader + all_spike));
   EXPECT_EQ(a.exit_code, 1);
   EXPECT_NE(a.error.find("none of the 10 data rows is usable"), std::string::npos) << a.error;
   EXPECT_FALSE(fs::exists(json()));
   // 10 × rated: the plausibility limit names it.
-  const CliResult ten = damage(write("ten.csv", std::string(kHeader) + "0,12,14,,,1230000\n"
-                                                                       "600,12,14,,,12300000\n"
-                                                                       "1200,12,14,,,1230000\n"));
+  const CommandResult ten =
+      damage(write("ten.csv", std::string(kHeader) + "0,12,14,,,1230000\n"
+                                                     "600,12,14,,,12300000\n"
+                                                     "1200,12,14,,,1230000\n"));
   EXPECT_EQ(ten.exit_code, 2);
   EXPECT_NE(ten.out.find("rejected 1"), std::string::npos) << ten.out;
 }
@@ -170,8 +158,8 @@ TEST_F(DamageInputs, BearingLivesFromAssumedRatingsSaySoAndCatalogueRatingsDoNot
   const fs::path toml = write("rated.toml", ratings);
   const fs::path toml_unrated = write("unrated.toml", unrated);
   // Act
-  const CliResult assumed = damage(csv, {"--drivetrain", toml_unrated.string()});
-  const CliResult given = damage(csv, {"--drivetrain", toml.string()});
+  const CommandResult assumed = damage(csv, {"--drivetrain", toml_unrated.string()});
+  const CommandResult given = damage(csv, {"--drivetrain", toml.string()});
   // Assert
   ASSERT_EQ(assumed.exit_code, 0) << assumed.error;
   EXPECT_NE(assumed.out.find("# * assumed: no dynamic_rating_n in the description"),
@@ -202,7 +190,7 @@ TEST_F(DamageInputs, AComponentPastItsLifeSaysExceededSinceTheDateItsDamageReach
   for (long long i = 0; i < k + 3; ++i)
     rows += std::to_string(static_cast<long long>(t0) + 86400 * i) + ",12,14,,,1230000\n";
   // Act
-  const CliResult r = damage(write("life.csv", kHeader + rows));
+  const CommandResult r = damage(write("life.csv", kHeader + rows));
   std::ifstream in(json());
   const nlohmann::json j = nlohmann::json::parse(in);
   // Assert

@@ -11,10 +11,10 @@
 #include <sstream>
 #include <string>
 
-#include "cli/run.hpp"
 #include "loop/runner.hpp"
 #include "run/run_config.hpp"
 #include "run_test_util.hpp"
+#include "support/run_command.hpp"
 
 namespace run_test {
 
@@ -43,10 +43,10 @@ inline void expect_replay_equals_damage(std::size_t rows, int steps, double cuto
   std::ostringstream rate, cut;
   rate << rate_hz;
   cut << cutoff_hz;
-  const app::cli::RunResult d =
-      app::cli::run({"damage", (dir.path / "rows.csv").string(), "--period", "600", "--spectrum",
-                     "dynamics-rows", "--rom-rate", rate.str(), "--rom-cutoff", cut.str(), "--json",
-                     json.string(), "--no-progress"});
+  const test_support::CommandResult d = test_support::run_command(
+      {"damage", (dir.path / "rows.csv").string(), "--period", "600", "--spectrum", "dynamics-rows",
+       "--rom-rate", rate.str(), "--rom-cutoff", cut.str(), "--json", json.string(),
+       "--no-progress"});
   ASSERT_EQ(d.exit_code, 0) << d.error;
   app::loop::RunOptions o;
   o.replay = csv.string();

@@ -18,9 +18,9 @@
 #include <random>
 #include <string>
 
-#include "cli/run.hpp"
 #include "hal/recording_bundle.hpp"
 #include "recording/bundle_check.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
@@ -139,9 +139,9 @@ TEST(BundleCheck, CalibrateAndDiagnoseRefuseTheContradictedSpeedExitingNonZeroWr
   const fs::path json = dir.string() + ".json";
   for (const char* command : {"calibrate", "diagnose"}) {
     // Act
-    testing::internal::CaptureStdout();
-    const app::cli::RunResult r = app::cli::run({command, dir.string(), "--json", json.string()});
-    const std::string out = testing::internal::GetCapturedStdout();
+    const test_support::CommandResult r =
+        test_support::run_command({command, dir.string(), "--json", json.string()});
+    const std::string& out = r.out;
     // Assert
     EXPECT_EQ(r.exit_code, 1) << command;
     EXPECT_NE(r.error.find("recording.json: operating_point.rotor_speed_rpm: 14 rpm"),

@@ -10,26 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
-struct CliResult {
-  int exit_code = 0;
-  std::string error;  // what main() would print after "drivetwin: error: "
-  std::string out;
-};
-
-// Runs the command line in-process through app::cli::run, as main() does.
-CliResult run_cli(const std::vector<std::string>& args) {
-  CliResult result;
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run(args);
-  result.out = testing::internal::GetCapturedStdout();
-  result.exit_code = r.exit_code;
-  result.error = r.error;
-  return result;
-}
+using test_support::CommandResult;
+using test_support::run_command;
 
 class TorqueCli : public ::testing::Test {
  protected:
@@ -52,14 +38,14 @@ using ::testing::HasSubstr;
 
 TEST_F(TorqueCli, MissingWindColumnIsAnErrorNamingFileAndColumn) {
   const std::string f = write("scada.csv", "t_s,rotor_speed_rpm\n0,8.33\n");
-  const CliResult r = run_cli({"torque", f});
+  const CommandResult r = run_command({"torque", f});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr(f + ": header: missing column 'wind_speed_mps'"));
 }
 
 TEST_F(TorqueCli, NonNumericValueNamesFileRowAndColumn) {
   const std::string f = write("scada.csv", "t_s,wind_speed_mps\n0,6\n600,fast\n");
-  const CliResult r = run_cli({"torque", f});
+  const CommandResult r = run_command({"torque", f});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error,
               HasSubstr(f + ": row 2 (line 3), column 'wind_speed_mps': 'fast' is not a number"));
@@ -67,7 +53,7 @@ TEST_F(TorqueCli, NonNumericValueNamesFileRowAndColumn) {
 
 TEST_F(TorqueCli, NonFiniteValueIsRejected) {
   const std::string f = write("scada.csv", "t_s,wind_speed_mps,power_kw\n0,6,inf\n");
-  const CliResult r = run_cli({"torque", f, "--compare"});
+  const CommandResult r = run_command({"torque", f, "--compare"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error,
               HasSubstr("row 1 (line 2), column 'power_kw': 'inf' is not a finite number"));
@@ -75,7 +61,7 @@ TEST_F(TorqueCli, NonFiniteValueIsRejected) {
 
 TEST_F(TorqueCli, NegativeWindSpeedIsRejected) {
   const std::string f = write("scada.csv", "t_s,wind_speed_mps\n0,6\n600,-2.5\n");
-  const CliResult r = run_cli({"torque", f});
+  const CommandResult r = run_command({"torque", f});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr("row 2 (line 3), column 'wind_speed_mps': -2.5 m/s is negative"));
 }
@@ -83,7 +69,7 @@ TEST_F(TorqueCli, NegativeWindSpeedIsRejected) {
 TEST_F(TorqueCli, ImplausibleRotorSpeedIsRejectedForThisTurbine) {
   // paper-2mw: rated 14.8 rpm, so anything above 1.5 × 14.8 = 22.2 rpm is not a rotor speed.
   const std::string f = write("scada.csv", "t_s,wind_speed_mps,rotor_speed_rpm\n0,8,1480\n");
-  const CliResult r = run_cli({"torque", f});
+  const CommandResult r = run_command({"torque", f});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr("row 1 (line 2), column 'rotor_speed_rpm': 1480 rpm is beyond any "
                                  "plausible rotor speed"));
@@ -93,18 +79,18 @@ TEST_F(TorqueCli, MalformedDrivetrainFileNamesTheKey) {
   const std::string scada = write("scada.csv", "t_s,wind_speed_mps\n0,6\n");
   const std::string d =
       write("turbine.toml", "base = \"paper-2mw\"\n[turbine]\ncut_in_wind_mps = \"low\"\n");
-  const CliResult r = run_cli({"torque", scada, "--drivetrain", d});
+  const CommandResult r = run_command({"torque", scada, "--drivetrain", d});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr(d + ":3:"));
   EXPECT_THAT(r.error, HasSubstr("key 'turbine.cut_in_wind_mps': expected a number >= 0"));
 }
 
 TEST_F(TorqueCli, MissingFileAndBadMappingAreErrorsNotCrashes) {
-  CliResult r = run_cli({"torque", (dir_ / "absent.csv").string()});
+  CommandResult r = run_command({"torque", (dir_ / "absent.csv").string()});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr("absent.csv: cannot open"));
   const std::string f = write("scada.csv", "t_s,wind_speed_mps\n0,6\n");
-  r = run_cli({"torque", f, "--columns", "speed=WS"});
+  r = run_command({"torque", f, "--columns", "speed=WS"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_THAT(r.error, HasSubstr("--columns: column mapping: unknown field 'speed'"));
 }
@@ -122,7 +108,7 @@ TEST_F(TorqueCli, CompareAgainstMeasuredTorqueGivesTheHandCalculatedMape) {
                               "0,6.75,8.33,361747\n"
                               "600,3.0,0.0,0\n");
   // Act
-  const CliResult r = run_cli({"torque", f, "--compare"});
+  const CommandResult r = run_command({"torque", f, "--compare"});
   // Assert: one row counted (the second is below cut-in), in region 2.
   EXPECT_EQ(r.exit_code, 0) << r.error;
   EXPECT_THAT(r.out, HasSubstr("355978"));
@@ -133,24 +119,24 @@ TEST_F(TorqueCli, CompareAgainstMeasuredTorqueGivesTheHandCalculatedMape) {
 TEST_F(TorqueCli, ImplausibleOrNonNumericTemperatureAndYawErrorNameFileRowAndColumn) {
   const std::string header =
       "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c,yaw_error_deg\n";
-  CliResult r =
-      run_cli({"torque", write("hot.csv", header + "0,6,9,300,12,1\n600,6,9,300,75,1\n")});
+  CommandResult r =
+      run_command({"torque", write("hot.csv", header + "0,6,9,300,12,1\n600,6,9,300,75,1\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error,
               HasSubstr("hot.csv: row 2 (line 3), column 'ambient_temperature_c': 75 degC"));
-  r = run_cli({"torque", write("text.csv", header + "0,6,9,300,mild,1\n")});
+  r = run_command({"torque", write("text.csv", header + "0,6,9,300,mild,1\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(
       r.error,
       HasSubstr(
           "text.csv: row 1 (line 2), column 'ambient_temperature_c': 'mild' is not a number"));
-  r = run_cli({"torque", write("yaw.csv", header + "0,6,9,300,12,200\n")});
+  r = run_command({"torque", write("yaw.csv", header + "0,6,9,300,12,200\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("yaw.csv: row 1 (line 2), column 'yaw_error_deg': 200 deg"));
 }
 
 TEST_F(TorqueCli, WithoutATemperatureColumnTheDensityIsConstantAndTheOutputSaysSo) {
-  const CliResult r = run_cli(
+  const CommandResult r = run_command(
       {"torque", write("s.csv", "t_s,wind_speed_mps,rotor_speed_rpm,power_kw\n0,6.75,8.33,300\n"),
        "--compare", "--no-rows"});
   EXPECT_EQ(r.exit_code, 0) << r.error;
@@ -173,7 +159,7 @@ TEST_F(TorqueCli, PowerReferenceComparesTheElectricalSideEstimateWithMeasuredPow
                               "t_s,wind_speed_mps,rotor_speed_rpm,power_kw,ambient_temperature_c\n"
                               "0,6.75,8.33,280,10\n");
   // Act
-  const CliResult r = run_cli({"torque", f, "--compare", "--drivetrain", toml});
+  const CommandResult r = run_command({"torque", f, "--compare", "--drivetrain", toml});
   // Assert
   EXPECT_EQ(r.exit_code, 0) << r.error;
   EXPECT_THAT(r.out, HasSubstr("-8.00"));
@@ -185,7 +171,7 @@ TEST_F(TorqueCli, CpTableAboveTheBetzLimitOrABadCorrectionKeyNamesTheKey) {
   const std::string f = write("s.csv", "t_s,wind_speed_mps\n0,6\n");
   const std::string head =
       "format = \"drivetwin-drivetrain/1\"\nbase = \"paper-2mw\"\nname = \"t\"\n";
-  CliResult r = run_cli(
+  CommandResult r = run_command(
       {"torque", f, "--drivetrain",
        write("betz.toml",
              head + "[turbine.cp]\ntable_lambda_min = 4.0\ntable_lambda_max = 15.0\n"
@@ -193,12 +179,12 @@ TEST_F(TorqueCli, CpTableAboveTheBetzLimitOrABadCorrectionKeyNamesTheKey) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("turbine.cp.table_cp[3]"));
   EXPECT_THAT(r.error, HasSubstr("Betz limit"));
-  r = run_cli({"torque", f, "--drivetrain",
-               write("corr.toml", head + "[turbine.corrections]\nno_load_los_w = 1.0\n")});
+  r = run_command({"torque", f, "--drivetrain",
+                   write("corr.toml", head + "[turbine.corrections]\nno_load_los_w = 1.0\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("turbine.corrections.no_load_los_w"));
-  r = run_cli({"torque", f, "--drivetrain",
-               write("gain.toml", head + "[turbine.corrections]\nnacelle_wind_gain = -1.0\n")});
+  r = run_command({"torque", f, "--drivetrain",
+                   write("gain.toml", head + "[turbine.corrections]\nnacelle_wind_gain = -1.0\n")});
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.error, HasSubstr("turbine.corrections.nacelle_wind_gain"));
 }
@@ -208,7 +194,7 @@ TEST_F(TorqueCli, JsonOutputCarriesEveryRowAndTheSummary) {
                               "t_s,wind_speed_mps,rotor_speed_rpm,torque_nm\n"
                               "0,6.75,8.33,361747\n"
                               "600,15,14.8,1230000\n");
-  const CliResult r = run_cli({"torque", f, "--compare", "--json"});
+  const CommandResult r = run_command({"torque", f, "--compare", "--json"});
   EXPECT_EQ(r.exit_code, 0) << r.error;
   EXPECT_THAT(r.out, HasSubstr("\"region\":\"2\""));
   EXPECT_THAT(r.out, HasSubstr("\"region\":\"3\""));

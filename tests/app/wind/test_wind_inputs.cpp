@@ -12,30 +12,17 @@
 #include <string>
 #include <vector>
 
-#include "cli/run.hpp"
 #include "config/drivetrain_file.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
+#include "support/run_command.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct CliResult {
-  int exit_code = 0;
-  std::string error;
-  std::string out;
-};
-
-CliResult run_cli(const std::vector<std::string>& args) {
-  CliResult result;
-  testing::internal::CaptureStdout();
-  const app::cli::RunResult r = app::cli::run(args);
-  result.out = testing::internal::GetCapturedStdout();
-  result.exit_code = r.exit_code;
-  result.error = r.error;
-  return result;
-}
+using test_support::CommandResult;
+using test_support::run_command;
 
 class WindInputs : public ::testing::Test {
  protected:
@@ -82,7 +69,8 @@ std::string tracking_rows(double power_factor) {
 TEST_F(WindInputs, FitCpRecoversThePaperSurfaceFromItsOwnPower) {
   // The paper gives Cp_max = 0.48 (drivetrain-2mw.md); fitting c1 and the λ scale to rows
   // generated from that surface gives it back.
-  const CliResult r = run_cli({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
+  const CommandResult r =
+      run_command({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
   ASSERT_EQ(r.exit_code, 0) << r.error;
   const auto at = r.out.find("Cp_max ");
   ASSERT_NE(at, std::string::npos) << r.out;
@@ -96,7 +84,7 @@ TEST_F(WindInputs, FitCpRefusesASurfaceAboveTheBetzLimitAndWritesNothing) {
   const std::string desc = write("paper.toml", app::config::to_toml(model::paper_2mw()));
   const std::string before = slurp(desc);
   // Act
-  const CliResult r = run_cli({"fit-cp", csv, "--free", "none", "--update", desc});
+  const CommandResult r = run_command({"fit-cp", csv, "--free", "none", "--update", desc});
   // Assert
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.error.find("is above the Betz limit 16/27 = 0.5926"), std::string::npos) << r.error;
@@ -110,9 +98,9 @@ TEST_F(WindInputs, FitCpSaysAFittedMaximumAtTheBetzLimitRestsOnSuspectRows) {
   // real rotor gets there, so the fit is printed and flagged; the rows' own power is not.
   const std::string csv = write("high.csv", tracking_rows(1.175));
   // Act
-  const CliResult r = run_cli({"fit-cp", csv, "--free", "none"});
-  const CliResult plain =
-      run_cli({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
+  const CommandResult r = run_command({"fit-cp", csv, "--free", "none"});
+  const CommandResult plain =
+      run_command({"fit-cp", write("own.csv", tracking_rows(1.0)), "--free", "none"});
   // Assert
   ASSERT_EQ(r.exit_code, 0) << r.error;
   EXPECT_NE(r.out.find("# NOTE: the fitted Cp_max 0.5"), std::string::npos) << r.out;
@@ -126,8 +114,8 @@ TEST_F(WindInputs, ARowWithoutWindButATurningRotorIsNotBelowCutIn) {
   const std::string csv =
       write("nowind.csv", "t_s,wind_speed_mps,rotor_speed_rpm\n0,,10\n600,6.75,8.33\n");
   // Act
-  const CliResult text = run_cli({"torque", csv});
-  const CliResult json = run_cli({"torque", csv, "--json"});
+  const CommandResult text = run_command({"torque", csv});
+  const CommandResult json = run_command({"torque", csv, "--json"});
   // Assert: no region, no torque for row 1; row 2 estimated.
   ASSERT_EQ(text.exit_code, 0) << text.error;
   std::istringstream lines(text.out);

@@ -39,11 +39,27 @@
 // a force varying linearly over the step (first-order-hold exponential integrator:
 // the 4×4 matrix exponential of [q, q̇, f, ḟ], computed at build time). The mesh terms
 // are implicit at t_{n+1} (Sherman–Morrison–Woodbury, one 8×8 solve per step); the bearing
-// fluctuation terms are explicit (deflections of t_n). Stability: the modal part is
-// exact, hence stable for any Δt; the implicit mesh part is unconditionally stable;
-// the explicit bearing part is stable while k_θ·|W_b column|²/ω_i² < 1 for every mode,
-// which holds for k_θ/k_a < 1 because no bearing's fluctuation can exceed the modal
-// stiffness it contributes to (checked by build_rom()). Accuracy, not stability, sets
+// fluctuation terms are explicit (deflections of t_n).
+// Stability. The modal part alone is exact, hence stable for any Δt. The stiffness changes
+// are not: the first-order hold passes them between modes through the force samples at t_n
+// and t_{n+1}, and for a mode the step cannot resolve (ω·Δt near or above π) that coupling
+// amplifies (one mode, change δ: the step's map has spectral radius > 1 near ω·Δt = π for
+// any δ > 0, e.g. 1.014 at δ = 0.1·ω², ω·Δt = 3.14). The turning mesh makes it matter: its whole
+// stiffness along W_r(ψ), less the mean along W_r(0), is a change as large as the mesh stiffness
+// and indefinite; with every Ritz mode dynamic the frozen-ψ step map had a spectral radius of
+// 1.02–2.5 at ψ = π for 512–2048 Hz (cut-offs 60–2200 Hz), and the ROM diverged there.
+// So a Ritz mode with ω·Δt > kRomQuasiStaticOmegaDt = π/2 (fewer than four steps per period:
+// typically the correction vectors' Ritz modes, far above the cut-off) is advanced
+// quasi-statically, q = f/ω² at t_{n+1} with no velocity (b1q = 1/ω², every other
+// coefficient 0): static condensation inside the implicit mesh solve, unconditionally
+// stable; what it leaves out, the mode's inertia under forcing at f, is a fraction
+// (f/f_mode)² < (4·f·Δt)² of its response (f_mode > 1/(4Δt)). The frozen-ψ step map then has
+// spectral radius < 1 for every ψ at 512–8192 Hz (tests/model/dynamics/test_rom.cpp: free vibration
+// decays at 512–2048 Hz, a torque step's response converges to the 8192 Hz one as Δt halves). The
+// explicit bearing part: for a quasi-static mode an explicit change δ gives q⁺ = −δq/ω², stable
+// exactly while δ < ω², the bound build_rom() checks for every mode (δ the largest bearing and path
+// swing it sees); for k_θ/k_a < 1 no bearing's fluctuation can exceed the modal stiffness it
+// contributes to. Accuracy, not stability, sets
 // Δt: the force is interpolated linearly over a step, which scales a forcing harmonic
 // at f by sinc²(π·f·Δt), sinc x = sin x / x — 2 % at 1.98 kHz (3× the rated hss mesh) for Δt = 1/25
 // 600 s.
@@ -87,6 +103,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -110,6 +127,8 @@ inline constexpr double kRomDefaultCutoffHz = 2200.0;
 /// so an unused capacity costs memory, not time. build_rom() refuses a model that does not
 /// fit (it names the count: lower the cut-off or raise this constant).
 inline constexpr int kRomDofs = 80;
+/// ω·Δt above which a Ritz mode is advanced quasi-statically (see "Stability" above).
+inline constexpr double kRomQuasiStaticOmegaDt = std::numbers::pi / 2;
 inline constexpr int kRomMeshes = 8;                  // 3 sun–planet, 3 ring–planet, 2 parallel
 inline constexpr int kRomMeshBasis = kRomMeshes + 2;  // + the turning mesh's cos, sin parts
 inline constexpr int kRomBearings = 6;                // b1..b6
@@ -142,6 +161,7 @@ struct RomData {
   int correction_vectors = 0;  // [-] static correction vectors
   int dofs = 0;                // [-] modal coordinates the step runs over (multiple of 8)
   int lookups = 0;             // [-] table look-ups the step makes (multiple of 8)
+  int quasi_static_modes = 0;  // [-] Ritz modes above kRomQuasiStaticOmegaDt / dt_s
   int mesh_count = 0, bearing_count = 0, path_count = 0, force_count = 0, sensor_count = 0;
   int turning_mesh = -1;     // the mesh whose direction turns with the carrier, −1: none
   bool excitation = false;   // some mesh has a transmission error
