@@ -6,18 +6,21 @@
 # cyclictest again, the twin again, so that both see the same machine); then the
 # instructions per cycle (callgrind), the portable figure for the ARM box.
 #
-# Usage: tools/rt_bench/run.sh [--seconds S] [--build DIR] [--cpu N]
-#   --seconds: length of each run (default 600 = the issue's 10 minutes); --cpu: pin both
+# Usage: tools/rt_bench/run.sh [--seconds S] [--rounds R] [--build DIR] [--cpu N]
+#   --seconds: length of each run (default 600 = the issue's 10 minutes); --rounds: how many
+#   cyclictest + twin pairs (default 2); --cpu: pin both
 #   the twin's RT thread and cyclictest's thread to CPU N (default: unpinned).
 # Needs SCHED_FIFO (root or CAP_SYS_NICE / RLIMIT_RTPRIO ≥ 80); without it both run at normal
 # priority and the report says so. The machine is shared: the load is printed before each run.
 set -euo pipefail
 seconds=600
+rounds=2
 build=build/host
 cpu=""
 while [[ $# -gt 0 ]]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
+    --rounds) rounds="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
     --cpu) cpu="$2"; shift 2 ;;
     *) echo "run.sh: unknown argument $1" >&2; exit 2 ;;
@@ -69,14 +72,14 @@ print("            cycle time p50 %.1f µs, p99 %.1f µs, p99.9 %.1f µs, max %.
 PY
 }
 echo "drivetwin timing benchmark: period $period_us µs, priority $prio (SCHED_FIFO), $seconds s per run, $(nproc) CPUs${cpu:+, pinned to CPU $cpu}"
-for round in 1 2; do
+for round in $(seq 1 "$rounds"); do
   cyclic "$round"
   twin "$round"
 done
-python3 - "$out" <<'PY'
+python3 - "$out" "$rounds" <<'PY'
 import json, re, sys, glob
 out = sys.argv[1]
-for r in ("1", "2"):
+for r in map(str, range(1, int(sys.argv[2]) + 1)):
     s = open(f"{out}/cyclic-{r}.sum").read()
     cyc = dict(zip(("p50", "p99", "p99_9", "max"), map(float, re.findall(r"(?:p50|p99|p99\.9|max) (\d+) µs", s))))
     late_c = int(re.search(r"period: (\d+)", s).group(1))

@@ -41,7 +41,7 @@ app::run::RunConfig config(const TempDir& dir, const std::string& extra = "") {
         "[keyphasor]\nbackend = \"sim\"\n[outputs]\nbackend = \"memory\"\n");
   std::ostringstream s;
   s << "format = \"drivetwin-run/1\"\n[twin]\nbus = \"bus.toml\"\n"
-    << "[loop]\nperiod_us = 15625\nrom_steps_per_cycle = 64\nrom_cutoff_hz = 150.0\n"
+    << "[loop]\nperiod_us = 15625\nrom_steps_per_cycle = 16\nrom_cutoff_hz = 150.0\n"
     << "publish_divisor = 16\n[inputs]\nscada_hold_s = 3.0\n[calibration]\nenabled = false\n"
     << extra << "[threads.rt_loop]\npolicy = \"other\"\npriority = 0\n";
   write(dir.path / "twin.toml", s.str());

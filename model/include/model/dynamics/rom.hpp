@@ -54,8 +54,10 @@
 // coefficient 0): static condensation inside the implicit mesh solve, unconditionally
 // stable; what it leaves out, the mode's inertia under forcing at f, is a fraction
 // (f/f_mode)² < (4·f·Δt)² of its response (f_mode > 1/(4Δt)). The frozen-ψ step map then has
-// spectral radius < 1 for every ψ at 512–8192 Hz (tests/model/dynamics/test_rom.cpp: free vibration
-// decays at 512–2048 Hz, a torque step's response converges to the 8192 Hz one as Δt halves). The
+// spectral radius ≤ 1 at every ψ for 512–8192 Hz (tests/model/dynamics/test_rom.cpp, RomStability:
+// that map written from these equations, > 1 with every mode dynamic; and on the kernel, free
+// vibration decays at 512–2048 Hz, a torque step's response converges to the 8192 Hz one as Δt
+// halves). The
 // explicit bearing part: for a quasi-static mode an explicit change δ gives q⁺ = −δq/ω², stable
 // exactly while δ < ω², the bound build_rom() checks for every mode (δ the largest bearing and path
 // swing it sees); for k_θ/k_a < 1 no bearing's fluctuation can exceed the modal stiffness it
