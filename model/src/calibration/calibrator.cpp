@@ -527,7 +527,7 @@ StepStatus Calibrator::step() {
 
 bool Calibrator::simulate_cases(const DynamicsParameters& params) {
   for (std::size_t c = 0; c < case_count_; ++c) {
-    if (!simulate_features(params, c, excitation_features_[c])) return false;
+    if (!simulate_features(params, c, last_features_[c])) return false;
   }
   return true;
 }
@@ -536,11 +536,10 @@ bool Calibrator::excitation_step() {
   const dsp::FeatureConfig& fc = features_.config();
   const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
   const std::size_t blocks = case_count_ * kMeasurementPoints;
-  // The tones of excitation_features_ as complex amplitudes, per feature index.
+  // The tones of the last simulation (last_features_) as complex amplitudes, per feature index.
   const auto read_tones = [&](std::array<std::complex<double>, kMaxLsqFeatures>& out) {
     for (std::size_t b = 0; b < blocks; ++b) {
-      const dsp::PointFeatures& f =
-          excitation_features_[b / kMeasurementPoints][b % kMeasurementPoints];
+      const dsp::PointFeatures& f = last_features_[b / kMeasurementPoints][b % kMeasurementPoints];
       for (std::size_t i = 0; i < f.count && 1 + i < per_point; ++i)
         out[b * per_point + 1 + i] = std::polar(f.amplitude[i], f.phase[i]);
     }
@@ -576,7 +575,6 @@ bool Calibrator::excitation_step() {
     return true;
   }
   ++excitation_iteration_;
-  for (std::size_t c = 0; c < case_count_; ++c) excitation_features_[c] = last_features_[c];
   read_tones(tone_current_);
   solve_excitation();
   return true;

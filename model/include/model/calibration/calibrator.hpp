@@ -326,13 +326,11 @@ class Calibrator {
   // Trust-region run: identification then fit.
   Phase phase_ = Phase::kIdentify;
   std::size_t probe_ = 0;  // 0: the start point; i + 1: variable i
-  // Excitation solve (header): step 0 evaluates the errors at zero (P), then each step
-  // evaluates the current point (its tones give T) and solves.
+  // Excitation solve (header): step 0 simulates the errors at zero (P), then each step
+  // evaluates the current point (its tones give T) and solves; both read last_features_.
   std::size_t excitation_iteration_ = 0;
   std::array<std::complex<double>, kMaxLsqFeatures> tone_parametric_{};  // P per tone feature
   std::array<std::complex<double>, kMaxLsqFeatures> tone_current_{};     // A at z_start_
-  std::array<std::array<dsp::PointFeatures, kMeasurementPoints>, kMaxCalibrationCases>
-      excitation_features_{};
   // The amplitude and phase variables of each error harmonic (index into the space; n: none).
   std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_amplitude_{};
   std::array<std::size_t, kTransmissionErrorStages * kTransmissionErrorHarmonics> te_phase_{};
@@ -341,7 +339,7 @@ class Calibrator {
   std::array<bool, kMaxCalibrationVariables> determined_{};
   std::array<std::array<dsp::PointFeatures, kMeasurementPoints>, kMaxCalibrationCases>
       last_features_{};                                   // of the last evaluate_variables()
-  bool simulate_cases(const DynamicsParameters& params);  // into excitation_features_
+  bool simulate_cases(const DynamicsParameters& params);  // into last_features_
   void solve_excitation();
   std::array<double, kMaxCalibrationVariables> z_start_{};
   std::array<double, kMaxCalibrationVariables> z_work_{};
