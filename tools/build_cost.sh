@@ -5,6 +5,10 @@
 # wall time), then prints the sum and the most expensive outputs.
 #
 #   bash tools/build_cost.sh <preset> [-j N]       cold build, writes build/cost-<preset>/cost.log
+#   bash tools/build_cost.sh --tus <configured build dir> <target> <output regex> [-j N]
+#       compiles again only the objects of <target> whose output matches (e.g. '^tests/'),
+#       writes tus.log:
+#       before/after figures of a change to some TUs, without rebuilding the libraries.
 #   bash tools/build_cost.sh --sum <cost.log> [<build dir> <target>]
 #       sums a cost.log; with a configured build dir and a target, only the outputs that
 #       target needs in that build's current graph (what a change of targets removes).
@@ -39,6 +43,38 @@ summarise() { # cost.log [outputs file]
   sort -rn "$rows" | head -15 | sed 's/^/    /'
   rm -f "$rows"
 }
+
+if [ "${1:-}" = "--tus" ]; then # <configured build dir> <target> <output regex> [-j N]
+  # Compiles again, from the build's compile_commands.json and without ccache, each object
+  # the target needs whose output path matches the regex (into a scratch dir: the build is
+  # untouched; no library needs building first), timed like a cold build; writes
+  # <build dir>/tus.log.
+  dir=${2:?usage: build_cost.sh --tus <build dir> <target> <output regex> [-j N]}
+  target=${3:?}
+  regex=${4:?}
+  tu_jobs=2
+  [ "${5:-}" = "-j" ] && tu_jobs=${6:?}
+  scratch=$(mktemp -d)
+  log=$(cd "$dir" && pwd)/tus.log
+  : >"$log"
+  ninja -C "$dir" -t commands "$target" | grep -oE ' -o [^ ]+' | sed 's/^ -o //' | sort -u >"$scratch/outputs"
+  python3 - "$dir/compile_commands.json" "$regex" "$scratch" <<'PY' |
+import json, re, shlex, sys
+entries, regex, scratch = json.load(open(sys.argv[1])), re.compile(sys.argv[2]), sys.argv[3]
+wanted = set(open(scratch + "/outputs").read().split())
+for i, e in enumerate(entries):
+    out = re.search(r" -o (\S+)", e["command"]).group(1)
+    if out not in wanted or not regex.search(out):
+        continue
+    cmd = re.sub(r"^\S*ccache ", "", e["command"])
+    cmd = re.sub(r" -MD -MT \S+ -MF \S+", "", cmd).replace(" -o " + out, f" -o {scratch}/{i}.o")
+    print(shlex.quote(f"cd {shlex.quote(e['directory'])} && {cmd}") + " " + shlex.quote(out))
+PY
+    CCACHE_DISABLE=1 xargs -P "$tu_jobs" -L 1 sh -c '/usr/bin/time -a -o "$0" -f "%U %S %e $2" sh -c "$1"' "$log"
+  rm -rf "$scratch"
+  summarise "$log"
+  exit 0
+fi
 
 if [ "${1:-}" = "--sum" ]; then
   log=$2
