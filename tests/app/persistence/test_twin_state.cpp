@@ -27,7 +27,7 @@ namespace fs = std::filesystem;
 namespace fat = model::fatigue;
 using namespace app::persistence;
 
-fs::path fresh_dir(const std::string& name) {
+fs::path fresh_twin_dir(const std::string& name) {
   const fs::path d =
       fs::path(testing::TempDir()) / ("twin-" + name + "-" + std::to_string(getpid()));
   fs::remove_all(d);
@@ -57,7 +57,7 @@ TwinState state_of(const fat::DamageAccumulator& acc) {
 
 // Save through the store and load back (what a restart does).
 TwinState through_store(const TwinState& s, const std::string& name) {
-  StateStore store(fresh_dir(name), "twin-state");
+  StateStore store(fresh_twin_dir(name), "twin-state");
   std::string error;
   EXPECT_TRUE(store.save(encode_twin_state(s), 123, &error)) << error;
   StateStore again(store.copy_path(0).parent_path(), "twin-state");

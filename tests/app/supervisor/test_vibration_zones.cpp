@@ -25,9 +25,9 @@ ZoneLimits short_intervals() {
   return z;
 }
 
-// Feeds `seconds` of a sine (amplitude a, frequency f) in CMS-sized blocks.
-void feed_sine(VibrationZones& v, double a, double f, double seconds, double t0 = 0.0) {
-  const auto n = static_cast<std::size_t>(seconds * kFs);
+// Feeds `duration_s` of a sine (amplitude a, frequency f) in CMS-sized blocks.
+void feed_sine(VibrationZones& v, double a, double f, double duration_s, double t0 = 0.0) {
+  const auto n = static_cast<std::size_t>(duration_s * kFs);
   std::vector<float> block(28);
   for (std::size_t i = 0; i < n; i += block.size()) {
     const std::size_t m = std::min(block.size(), n - i);

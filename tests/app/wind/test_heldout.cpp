@@ -117,7 +117,7 @@ TEST(HeldOut, BreakdownByMonthRegionAndWindBinAgreesWithHandValues) {
       << b.wind_table();
 }
 
-constexpr double kRpm = 2.0 * std::numbers::pi / 60.0;
+constexpr double kRadPerRpm = 2.0 * std::numbers::pi / 60.0;
 
 class LeaveOneOut : public ::testing::Test {
  protected:
@@ -156,8 +156,8 @@ TEST_F(LeaveOneOut, TheWinterFoldCarriesExactlyTheWinterLossItWasNotFittedOn) {
       const double p_w = d.turbine.drivetrain_efficiency * aero_w - p0;
       if (winter) winter_power_w.push_back(p_w);
       char line[160];
-      std::snprintf(line, sizeof line, "%.0f,%.17g,%.17g,%.17g\n", t0 + 600.0 * i, v, w / kRpm,
-                    p_w / 1e3);
+      std::snprintf(line, sizeof line, "%.0f,%.17g,%.17g,%.17g\n", t0 + 600.0 * i, v,
+                    w / kRadPerRpm, p_w / 1e3);
       out << line;
     }
   }

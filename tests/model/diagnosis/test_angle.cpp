@@ -13,16 +13,16 @@
 namespace {
 
 namespace md = model::diagnosis;
-constexpr double kPi = std::numbers::pi;
+constexpr double kPiRad = std::numbers::pi;
 
 // A drifting shaft: f(t) = f0·(1 + d·sin(2πt/T + φ)), θ(t) = ∫f dt in closed form.
 struct Drift {
   double f0 = 14.3, d = 0.02, period = 20.0, phase = 0.7;
   double theta(double t) const {
-    const double w = 2.0 * kPi / period;
+    const double w = 2.0 * kPiRad / period;
     return f0 * (t - d / w * (std::cos(w * t + phase) - std::cos(phase)));
   }
-  double hz(double t) const { return f0 * (1.0 + d * std::sin(2.0 * kPi * t / period + phase)); }
+  double hz(double t) const { return f0 * (1.0 + d * std::sin(2.0 * kPiRad * t / period + phase)); }
 };
 
 std::vector<double> exact_pulses(const Drift& s, double duration) {
@@ -56,7 +56,7 @@ TEST(OrderTracking, PutsAFrequencyModulatedLineBackOnItsOrder) {
   const double fs = 25600.0, duration = 12.0;
   const auto n = static_cast<std::size_t>(duration * fs);
   std::vector<double> x(n);
-  for (std::size_t i = 0; i < n; ++i) x[i] = std::cos(2.0 * kPi * 26.0 * s.theta(i / fs));
+  for (std::size_t i = 0; i < n; ++i) x[i] = std::cos(2.0 * kPiRad * 26.0 * s.theta(i / fs));
   const md::AngleMap map = md::AngleMap::from_pulses(exact_pulses(s, duration));
   md::OrderSpectrum os;
   ASSERT_TRUE(md::order_spectrum(x.data(), n, fs, map, 1.0, 1.0, 2048, 160, os));
@@ -78,8 +78,8 @@ TEST(SynchronousAverage, RecoversTheShaftPatternAndTheResidualShowsTheImpact) {
   auto pattern = [](double rev) {
     const double frac = rev - std::floor(rev);
     const double impact =
-        frac > 0.5 && frac < 0.52 ? 1.5 * std::sin(kPi * (frac - 0.5) / 0.02) : 0.0;
-    return 2.0 * std::cos(2.0 * kPi * 20.0 * rev) + impact;
+        frac > 0.5 && frac < 0.52 ? 1.5 * std::sin(kPiRad * (frac - 0.5) / 0.02) : 0.0;
+    return 2.0 * std::cos(2.0 * kPiRad * 20.0 * rev) + impact;
   };
   for (std::size_t i = 0; i < n; ++i) x[i] = pattern(ratio * s.theta(i / fs)) + gauss(rng);
   const md::AngleMap map = md::AngleMap::from_pulses(exact_pulses(s, duration));
@@ -113,10 +113,10 @@ TEST(SpeedTracking, FollowsAMeshLineDriftingTwoPercentWithoutATacho) {
   std::normal_distribution<double> gauss(0.0, 0.35);
   for (std::size_t i = 0; i < n; ++i) {
     const double th = s.theta(i / fs);
-    x[i] = std::cos(2.0 * kPi * 26.0 * th) + 0.5 * std::cos(2.0 * kPi * 52.0 * th + 0.3) +
-           0.2 * std::cos(2.0 * kPi * 25.0 * th) + 0.2 * std::cos(2.0 * kPi * 27.0 * th) +
-           0.1 * std::cos(2.0 * kPi * 26.243 * th) + 0.1 * std::cos(2.0 * kPi * 25.757 * th) +
-           0.3 * std::cos(2.0 * kPi * th) + gauss(rng);
+    x[i] = std::cos(2.0 * kPiRad * 26.0 * th) + 0.5 * std::cos(2.0 * kPiRad * 52.0 * th + 0.3) +
+           0.2 * std::cos(2.0 * kPiRad * 25.0 * th) + 0.2 * std::cos(2.0 * kPiRad * 27.0 * th) +
+           0.1 * std::cos(2.0 * kPiRad * 26.243 * th) + 0.1 * std::cos(2.0 * kPiRad * 25.757 * th) +
+           0.3 * std::cos(2.0 * kPiRad * th) + gauss(rng);
   }
   const std::vector<md::LineCandidate> candidates = {
       {26.0, 0.243}, {52.0, 0.243}, {5.1, 0.0555}, {0.96, 0.0097}};

@@ -14,7 +14,7 @@ namespace {
 
 using namespace model::fatigue;
 
-std::size_t mesh_slot(const ChannelSet& cs, const std::string& id) {
+std::size_t sharing_mesh_slot(const ChannelSet& cs, const std::string& id) {
   for (std::size_t i = 0; i < cs.mesh_count(); ++i)
     if (cs.mesh_id(i) == id) return i;
   ADD_FAILURE() << "no mesh " << id;
@@ -51,8 +51,9 @@ TEST(PlanetLoadSharing, QuasiStaticPlanetMeshesAndBearingsCarryKGammaTimesTheirE
   EXPECT_DOUBLE_EQ(cs.planet_load_sharing(), 1.10);
   for (int k = 1; k <= 3; ++k) {
     const std::string n = std::to_string(k);
-    EXPECT_NEAR(l.mesh_force_n[mesh_slot(cs, "sun-planet" + n)], 1.10 * f_equal, 1e-6 * f_equal);
-    EXPECT_NEAR(l.mesh_force_n[mesh_slot(cs, "planet" + n + "-ring")], 1.10 * f_equal,
+    EXPECT_NEAR(l.mesh_force_n[sharing_mesh_slot(cs, "sun-planet" + n)], 1.10 * f_equal,
+                1e-6 * f_equal);
+    EXPECT_NEAR(l.mesh_force_n[sharing_mesh_slot(cs, "planet" + n + "-ring")], 1.10 * f_equal,
                 1e-6 * f_equal);
     EXPECT_NEAR(l.bearing_radial_n[bearing_slot(cs, "pb" + n)], 2.0 * 1.10 * f_equal,
                 1e-6 * f_equal);
@@ -60,7 +61,7 @@ TEST(PlanetLoadSharing, QuasiStaticPlanetMeshesAndBearingsCarryKGammaTimesTheirE
   // The parallel stages are single paths: no factor (g1 carries T_sun/(d_g1/2) at its
   // transverse reference circle).
   const double d_g1 = 92 * 0.014 / std::cos(10.0 * 3.14159265358979323846 / 180.0);
-  EXPECT_NEAR(l.mesh_force_n[mesh_slot(cs, "g1-g2")], t * 21.0 / 120.0 / (0.5 * d_g1),
+  EXPECT_NEAR(l.mesh_force_n[sharing_mesh_slot(cs, "g1-g2")], t * 21.0 / 120.0 / (0.5 * d_g1),
               1e-6 * f_equal);
 }
 
@@ -69,7 +70,7 @@ TEST(PlanetLoadSharing, AStatedFactorReplacesTheStandards) {
   o.planet_load_sharing = 1.0;  // e.g. a gearbox with a measured, even sharing
   const ChannelSet even(model::paper_2mw(), o);
   const ChannelSet standard(model::paper_2mw(), ChannelOptions{});
-  const std::size_t s = mesh_slot(even, "sun-planet1");
+  const std::size_t s = sharing_mesh_slot(even, "sun-planet1");
   EXPECT_NEAR(standard.quasi_static_loads(1e6).mesh_force_n[s] /
                   even.quasi_static_loads(1e6).mesh_force_n[s],
               1.10, 1e-12);

@@ -14,7 +14,7 @@
 namespace {
 
 using namespace model::wind;
-constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 TEST(AirDensity, AtSeaLevelAndFifteenDegreesIsTheStandardAtmospheres) {
   // ISO 2533: 101 325 Pa / (287.05287 J/(kg·K) · 288.15 K) = 1.2250 kg/m³
@@ -38,11 +38,11 @@ TEST(AirDensity, ColderAirIsDenserInInverseProportionToAbsoluteTemperature) {
 }
 
 TEST(YawPowerFactor, IsCosineToTheExponentAndZeroBeyondNinetyDegrees) {
-  EXPECT_NEAR(yaw_power_factor(30.0 * kDeg, 2.0), 0.75, 1e-12);    // cos²30° = 3/4
-  EXPECT_NEAR(yaw_power_factor(-60.0 * kDeg, 3.0), 0.125, 1e-12);  // cos³60° = 1/8
+  EXPECT_NEAR(yaw_power_factor(30.0 * kRadPerDeg, 2.0), 0.75, 1e-12);    // cos²30° = 3/4
+  EXPECT_NEAR(yaw_power_factor(-60.0 * kRadPerDeg, 3.0), 0.125, 1e-12);  // cos³60° = 1/8
   EXPECT_DOUBLE_EQ(yaw_power_factor(0.0, 2.5), 1.0);
-  EXPECT_DOUBLE_EQ(yaw_power_factor(20.0 * kDeg, 0.0), 1.0);
-  EXPECT_DOUBLE_EQ(yaw_power_factor(120.0 * kDeg, 2.0), 0.0);
+  EXPECT_DOUBLE_EQ(yaw_power_factor(20.0 * kRadPerDeg, 0.0), 1.0);
+  EXPECT_DOUBLE_EQ(yaw_power_factor(120.0 * kRadPerDeg, 2.0), 0.0);
 }
 
 TEST(NacelleTransferFunction, IsAffineAndNeverNegative) {
@@ -84,7 +84,7 @@ TEST(WindLoadCorrections, DensityScalesAndYawReducesTheAerodynamicTorque) {
   Inflow half_density;
   half_density.air_density_kg_m3 = 0.5 * t.air_density_kg_m3;
   Inflow yawed;
-  yawed.yaw_error_rad = 60.0 * kDeg;  // cos²60° = 1/4
+  yawed.yaw_error_rad = 60.0 * kRadPerDeg;  // cos²60° = 1/4
   EXPECT_NEAR(load.with_rotor_speed(6.75, speed, 0.0, false, half_density).torque_nm, 0.5 * base,
               1e-9 * base);
   EXPECT_NEAR(load.with_rotor_speed(6.75, speed, 0.0, false, yawed).torque_nm, 0.25 * base,
@@ -155,7 +155,7 @@ TEST(CpTable, PitchScalesTheTableByHeiersRelativePitchFactor) {
   const model::CpSurface s = table_surface();
   model::CpSurface heier = s;
   heier.table_lambda_max = heier.table_lambda_min = 0.0;
-  const double beta = 2.0 * kDeg;
+  const double beta = 2.0 * kRadPerDeg;
   const double expected = power_coefficient(s, 9.0, 0.0) * power_coefficient(heier, 9.0, beta) /
                           power_coefficient(heier, 9.0, 0.0);
   EXPECT_NEAR(power_coefficient(s, 9.0, beta), expected, 1e-12);
