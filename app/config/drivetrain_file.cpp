@@ -38,7 +38,14 @@ using model::TurbineCorrections;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// What a numeric value must satisfy (in file units).
-enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLeastOne };
+enum class Range {
+  kAny,
+  kPositive,
+  kNonNegative,
+  kFraction /* (0, 1] */,
+  kUnit /* [0, 1] */,
+  kAtLeastOne
+};
 
 template <class T>
 using Member =
@@ -158,6 +165,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"rayleigh_eta", &DynamicsParameters::rayleigh_eta, Range::kNonNegative},
     {"rayleigh_zeta", &DynamicsParameters::rayleigh_zeta, Range::kNonNegative},
     {"mesh_stiffness_scale", &DynamicsParameters::mesh_stiffness_scale, Range::kPositive},
+    {"mesh_tip_relief", &DynamicsParameters::mesh_tip_relief, Range::kUnit},
     {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
     {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
      Range::kNonNegative},
@@ -378,6 +386,8 @@ class Reader {
         return v >= 0.0;
       case Range::kFraction:
         return v > 0.0 && v <= 1.0;
+      case Range::kUnit:
+        return v >= 0.0 && v <= 1.0;
       case Range::kAtLeastOne:
         return v >= 1.0;
     }
@@ -393,6 +403,8 @@ class Reader {
         return " >= 0";
       case Range::kFraction:
         return " in (0, 1]";
+      case Range::kUnit:
+        return " in [0, 1]";
       case Range::kAtLeastOne:
         return " >= 1";
     }

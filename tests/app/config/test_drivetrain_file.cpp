@@ -220,6 +220,19 @@ TEST(DrivetrainFile, OutOfRangeValueIsRejected) {
       << e;
 }
 
+TEST(DrivetrainFile, TipReliefIsReadPerStageAndRefusedOutsideZeroToOne) {
+  const auto d = app::config::parse_drivetrain(
+      "base = \"paper-2mw\"\n[dynamics]\nmesh_tip_relief = [0.5, 0.0, 1.0]\n", "r.toml");
+  EXPECT_DOUBLE_EQ(d.dynamics.mesh_tip_relief[0], 0.5);
+  EXPECT_DOUBLE_EQ(d.dynamics.mesh_tip_relief[2], 1.0);
+  const std::string e =
+      error_of("base = \"paper-2mw\"\n[dynamics]\nmesh_tip_relief = [0.5, 1.5, 0.0]\n");
+  EXPECT_NE(
+      e.find("key 'dynamics.mesh_tip_relief[1]': expected a finite number in [0, 1], got 1.5"),
+      std::string::npos)
+      << e;
+}
+
 TEST(DrivetrainFile, UnknownKeyIsRejectedWithItsPath) {
   const std::string e = error_of("base = \"paper-2mw\"\n[turbine]\nrated_powr_w = 2e6\n");
   EXPECT_NE(e.find("key 'turbine.rated_powr_w': unknown key"), std::string::npos) << e;
