@@ -739,7 +739,11 @@ void Calibrator::finish(bool cancelled) {
       // Identified: fitted in some round, or solved from resolved tones (the excitation).
       const bool fitted = determined_[i];
       VariableStatus st = fitted ? VariableStatus::kIdentified : VariableStatus::kNotIdentified;
-      if (fitted && chosen) {
+      // At a bound only when the fit took it there: a prior on its physical bound (tip relief
+      // 0, no modification) that the fit leaves in place is not pressing against it (z = 0:
+      // whitened about the prior). Else the model's own recording at nominal parameters
+      // was reported NOT CALIBRATED (CalibrateNullTest).
+      if (fitted && chosen && std::abs(z[i]) > kBoundTolerance) {
         if (z[i] <= config_.space.lower(i) + kBoundTolerance) st = VariableStatus::kAtLowerBound;
         if (z[i] >= config_.space.upper(i) - kBoundTolerance) st = VariableStatus::kAtUpperBound;
       }
