@@ -170,6 +170,7 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
   return {{"rayleigh_eta_1_s", p.rayleigh_eta},
           {"rayleigh_zeta_s", p.rayleigh_zeta},
           {"mesh_stiffness_scale", p.mesh_stiffness_scale},
+          {"mesh_tip_relief", p.mesh_tip_relief},
           {"bearing_stiffness_scale", p.bearing_stiffness_scale},
           {"bearing_stiffness_factor", p.bearing_stiffness_factor},
           {"damping_band_factor", p.damping_band_factor},
@@ -608,13 +609,16 @@ void run(const CalibrateArgs& args) {
       const std::size_t e = calibrator->evaluations();
       if (!args.quiet && (e >= last_print + 10 || e == 1)) {
         last_print = e;
-        std::printf("  evaluation %4zu  %s  best worst-indicator/threshold %.3f%s\n", e,
+        // Before the first evaluation's indicators are in, the best ratio is a sentinel.
+        const double best = calibrator->best_ratio();
+        char best_text[32] = "-";
+        if (best < 1e6) std::snprintf(best_text, sizeof best_text, "%.3f", best);
+        std::printf("  evaluation %4zu  %s  best worst-indicator/threshold %s%s\n", e,
                     cc.method != mc::CalibrationMethod::kTrustRegion ? "fitting    "
                     : calibrator->reading_excitation()               ? "excitation "
                     : calibrator->identifying()                      ? "identifying"
                                                                      : "fitting    ",
-                    calibrator->best_ratio(),
-                    calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
+                    best_text, calibrator->evaluations_to_threshold() ? "  (fit found)" : "");
         std::fflush(stdout);
       }
     }

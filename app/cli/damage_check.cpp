@@ -29,6 +29,7 @@
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
 #include "recording/bundle_check.hpp"
+#include "wind/scada_rows.hpp"
 
 namespace {
 
@@ -45,6 +46,46 @@ struct CheckArgs {
   bool no_progress = false;
 };
 
+// The first --rows rows, read before the spectrum is built (minutes) through the policy
+// every SCADA reader shares (app/wind/scada_rows.hpp). The comparison needs every one of
+// them in both paths, so here a rejected row — or one without t_s, rotor_speed_rpm or
+// torque_nm — is an error naming it, not a row skipped.
+void check_rows(const CheckArgs& a, const model::Drivetrain& d) {
+  hal::ScadaCsvReader scan;
+  if (!scan.open(a.file, hal::bundle_scada_columns())) throw CommandError(scan.error());
+  const app::wind::ScadaLimits limits(d);
+  app::wind::RowRejections rejected;
+  std::string missing;
+  std::size_t read = 0;
+  hal::ScadaRow row;
+  while (read < a.rows) {
+    const hal::ScadaReadResult res = scan.next(row);
+    if (res == hal::ScadaReadResult::kEnd) break;
+    ++read;
+    if (res == hal::ScadaReadResult::kError) {
+      rejected.unreadable(scan, read);
+      continue;
+    }
+    if (!rejected.plausible(limits, scan, row)) continue;
+    if (missing.empty() && (!row.has_time() || !row.has(hal::ScadaQuantity::kRotorSpeed) ||
+                            !row.has(hal::ScadaQuantity::kRotorTorque))) {
+      missing = a.file + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
+                "): needs t_s, rotor_speed_rpm and torque_nm";
+    }
+  }
+  if (read < a.rows) {
+    throw CommandError(a.file + ": " + std::to_string(read) + " data rows; --rows asks for " +
+                       std::to_string(a.rows));
+  }
+  if (rejected.rows_rejected > 0) {
+    std::string listed;
+    for (const app::wind::ScadaIssue& i : rejected.issues) listed += "; " + i.message;
+    throw CommandError(a.file + ": the first " + std::to_string(a.rows) +
+                       " rows are compared, every one is needed: " + rejected.summary() + listed);
+  }
+  if (!missing.empty()) throw CommandError(missing);
+}
+
 void run(const CheckArgs& a) {
   const model::Drivetrain d = app::config::load_drivetrain(a.drivetrain);
   const std::string rate_error = app::cli::check_sample_rate(
@@ -54,6 +95,7 @@ void run(const CheckArgs& a) {
   // The file before the spectrum (minutes): a missing or malformed file is said at once.
   hal::ScadaCsvReader reader;
   if (!reader.open(a.file, hal::bundle_scada_columns())) throw CommandError(reader.error());
+  check_rows(a, d);
   const mf::ChannelSet channels(d, mf::ChannelOptions{});
   if (!channels.valid()) throw CommandError("drivetrain '" + d.name + "': " + channels.error());
   app::fatigue::DynamicsSpectrumSettings ds;

@@ -137,14 +137,21 @@ void run(const FitArgs& args) {
 
   std::vector<app::wind::FitRow> rows;
   const auto before = evaluate(args, *columns, d, window, &rows);
+  // Rejected rows (app/wind/scada_rows.hpp): skipped in the fit and in every MAPE below,
+  // named on stderr once, exit 2; the fit (and --update) rests on the other rows.
+  if (before.rejected.rows_rejected > 0) {
+    before.rejected.print(stderr, "drivetwin fit-cp: ");
+    app::cli::exit_status() = 2;
+  }
   const app::wind::CpFitResult fit = app::wind::fit_cp_surface(d.turbine, rows, options);
   d.turbine.cp = fit.surface;
   d.turbine.corrections = fit.corrections;
   const model::wind::CpPeak peak = model::wind::find_cp_peak(fit.surface);
 
-  std::printf("# fit-cp %s (%s .. %s), drivetrain %s, %zu rows in operation\n", args.file.c_str(),
-              args.from.empty() ? "start" : args.from.c_str(),
-              args.to.empty() ? "end" : args.to.c_str(), d.name.c_str(), fit.rows);
+  std::printf("# fit-cp %s (%s .. %s), drivetrain %s, %zu rows in operation, %zu rejected\n",
+              args.file.c_str(), args.from.empty() ? "start" : args.from.c_str(),
+              args.to.empty() ? "end" : args.to.c_str(), d.name.c_str(), fit.rows,
+              before.rejected.rows_rejected);
   std::printf("# free: %s%s%s%s%s%s%s%s; air density: %s\n",
               options.cp_table ? "Cp(lambda) table knots" : "c1, lambda_scale",
               options.no_load_loss ? ", no_load_loss_w" : "",

@@ -119,10 +119,26 @@ void run(const TorqueArgs& args) {
     std::fflush(stdout);
     throw app::cli::CommandError(e.what());
   }
+  // Rejected rows (app/wind/scada_rows.hpp): skipped, named on stderr, exit 2; the result
+  // covers the other rows.
+  const app::wind::RowRejections& rejected = summary.rejected;
+  if (rejected.rows_rejected > 0) {
+    rejected.print(stderr, "drivetwin torque: ");
+    app::cli::exit_status() = 2;
+  }
 
   const auto& m = summary.mape;
   if (args.json) {
     std::printf("\n]");
+    if (rejected.rows_rejected > 0) {
+      nlohmann::json j{
+          {"rows", rejected.rows_rejected},   {"nonnumeric", rejected.rejected_nonnumeric},
+          {"speed", rejected.rejected_speed}, {"wind", rejected.rejected_wind},
+          {"range", rejected.rejected_range}, {"issues", nlohmann::json::array()}};
+      for (const auto& i : rejected.issues)
+        j["issues"].push_back({{"row", i.row}, {"field", i.field}, {"message", i.message}});
+      std::printf(",\"rejected\":%s", j.dump().c_str());
+    }
     if (args.compare) {
       nlohmann::json s{{"rows", summary.rows},
                        {"rows_in_operation", m.count()},
@@ -142,7 +158,8 @@ void run(const TorqueArgs& args) {
     return;
   }
   if (!args.compare) return;
-  std::printf("\n# %s: %zu rows; estimate uses %s\n", reader.path().c_str(), summary.rows,
+  std::printf("\n# %s: %zu rows (%zu rejected, see stderr); estimate uses %s\n",
+              reader.path().c_str(), summary.rows, rejected.rows_rejected,
               args.steady_state
                   ? "the controller's steady-state speed (--steady-state)"
                   : "measured rotor speed where present (pitch: curtailment filter only)");

@@ -38,7 +38,14 @@ using model::TurbineCorrections;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// What a numeric value must satisfy (in file units).
-enum class Range { kAny, kPositive, kNonNegative, kFraction /* (0, 1] */, kAtLeastOne };
+enum class Range {
+  kAny,
+  kPositive,
+  kNonNegative,
+  kFraction /* (0, 1] */,
+  kUnit /* [0, 1] */,
+  kAtLeastOne
+};
 
 template <class T>
 using Member =
@@ -158,6 +165,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"rayleigh_eta", &DynamicsParameters::rayleigh_eta, Range::kNonNegative},
     {"rayleigh_zeta", &DynamicsParameters::rayleigh_zeta, Range::kNonNegative},
     {"mesh_stiffness_scale", &DynamicsParameters::mesh_stiffness_scale, Range::kPositive},
+    {"mesh_tip_relief", &DynamicsParameters::mesh_tip_relief, Range::kUnit},
     {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
     {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
      Range::kNonNegative},
@@ -350,7 +358,7 @@ class Reader {
   /// written back by to_toml() as a value the reader refuses).
   template <class T>
   void require_in_range(const toml::table& table, const T& object, const std::vector<Key<T>>& keys,
-                        const std::string& path) const {
+                        const std::string& path, const char* why = "a new entry needs it") const {
     for (const auto& k : keys) {
       if (table.contains(k.name)) continue;
       bool ok = true;
@@ -363,7 +371,7 @@ class Reader {
           },
           k.member);
       if (!ok)
-        fail(&table, path + "." + k.name, "missing: a new entry needs it" + range_text(k.range));
+        fail(&table, path + "." + k.name, std::string("missing: ") + why + range_text(k.range));
     }
   }
 
@@ -378,6 +386,8 @@ class Reader {
         return v >= 0.0;
       case Range::kFraction:
         return v > 0.0 && v <= 1.0;
+      case Range::kUnit:
+        return v >= 0.0 && v <= 1.0;
       case Range::kAtLeastOne:
         return v >= 1.0;
     }
@@ -393,6 +403,8 @@ class Reader {
         return " >= 0";
       case Range::kFraction:
         return " in (0, 1]";
+      case Range::kUnit:
+        return " in [0, 1]";
       case Range::kAtLeastOne:
         return " >= 1";
     }
@@ -480,20 +492,40 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
                   "stages, bearings, measurement_points, dynamics, effects)");
     }
   }
+  // Without a base, the single tables start from the structs' defaults like a new list
+  // entry does: a key the file leaves out must have a default in its range (else to_toml()
+  // would write back a value the reader refuses).
+  const bool from_scratch = !root.contains("base");
+  constexpr const char* kNoBase = "a description without `base` needs it";
+  const toml::table no_keys;
+  const toml::table* turbine_table = &no_keys;
   if (const toml::node* node = root.get("turbine")) {
     const toml::table* table = node->as_table();
     if (table == nullptr) reader.fail(node, "turbine", "expected a table [turbine]");
+    turbine_table = table;
     reader.read(*table, d.turbine, kTurbineKeys, "turbine", {"cp", "corrections"});
-    if (const toml::node* cp = table->get("cp")) {
-      if (!cp->is_table()) reader.fail(cp, "turbine.cp", "expected a table [turbine.cp]");
-      reader.read(*cp->as_table(), d.turbine.cp, kCpKeys, "turbine.cp");
+  }
+  if (from_scratch)
+    reader.require_in_range(*turbine_table, d.turbine, kTurbineKeys, "turbine", kNoBase);
+  const toml::table* cp_table = &no_keys;
+  if (const toml::node* cp = turbine_table->get("cp")) {
+    if (!cp->is_table()) reader.fail(cp, "turbine.cp", "expected a table [turbine.cp]");
+    cp_table = cp->as_table();
+    reader.read(*cp_table, d.turbine.cp, kCpKeys, "turbine.cp");
+  }
+  if (from_scratch)
+    reader.require_in_range(*cp_table, d.turbine.cp, kCpKeys, "turbine.cp", kNoBase);
+  const toml::table* corrections_table = &no_keys;
+  if (const toml::node* c = turbine_table->get("corrections")) {
+    if (!c->is_table()) {
+      reader.fail(c, "turbine.corrections", "expected a table [turbine.corrections]");
     }
-    if (const toml::node* c = table->get("corrections")) {
-      if (!c->is_table()) {
-        reader.fail(c, "turbine.corrections", "expected a table [turbine.corrections]");
-      }
-      reader.read(*c->as_table(), d.turbine.corrections, kCorrectionKeys, "turbine.corrections");
-    }
+    corrections_table = c->as_table();
+    reader.read(*corrections_table, d.turbine.corrections, kCorrectionKeys, "turbine.corrections");
+  }
+  if (from_scratch) {
+    reader.require_in_range(*corrections_table, d.turbine.corrections, kCorrectionKeys,
+                            "turbine.corrections", kNoBase);
   }
   if (const toml::node* n = root.get("materials")) {
     reader.read_list(*n, d.materials, kMaterialKeys, "materials", &Material::id, "id");
@@ -518,6 +550,10 @@ Drivetrain parse(std::string_view text, const std::string& source, int depth) {
     const toml::table* table = node->as_table();
     if (table == nullptr) reader.fail(node, "dynamics", "expected a table [dynamics]");
     reader.read(*table, d.dynamics, kDynamicsKeys, "dynamics");
+    if (from_scratch)
+      reader.require_in_range(*table, d.dynamics, kDynamicsKeys, "dynamics", kNoBase);
+  } else if (from_scratch) {
+    reader.require_in_range(no_keys, d.dynamics, kDynamicsKeys, "dynamics", kNoBase);
   }
 
   // Physics beyond the healthy gearbox (model/drivetrain/effects.hpp): [[effects]] tables,

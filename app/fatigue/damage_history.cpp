@@ -41,19 +41,10 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
   double prev_t = std::numeric_limits<double>::quiet_NaN();
 
   auto issue = [&](std::size_t row, std::string field, std::string message) {
-    if (r.issues.size() < kMaxIssues)
-      r.issues.push_back({row, std::move(field), std::move(message)});
+    r.note(row, std::move(field), std::move(message));
   };
   auto where = [&](const hal::ScadaRow& row, const std::string& column, std::string_view key) {
-    return reader.path() + ": row " + std::to_string(row.row) + " (line " +
-           std::to_string(row.line) + "), column '" + column + "' (" + std::string(key) + ")";
-  };
-  auto reject_time = [&](const hal::ScadaRow& row, const std::string& what) {
-    ++r.rows_rejected;
-    ++r.rejected_time;
-    issue(
-        row.row, std::string(hal::kScadaTimeKey),
-        where(row, reader.time_column_name(), hal::kScadaTimeKey) + ": " + what + "; row skipped");
+    return app::wind::where(reader, row, column, std::string(key));
   };
   const app::wind::ScadaLimits limits(drivetrain);
   DayRecord day_record;
@@ -74,33 +65,24 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
 
   auto process = [&](const hal::ScadaRow& row) {
     if (!row.has_time()) {
-      reject_time(row, "time missing");
+      r.bad_time(reader, row, "time missing");
       return;
     }
     const double t = row.time_s();
     if (!std::isnan(prev_t) && !(t > prev_t)) {
-      reject_time(row, t == prev_t ? "duplicate timestamp"
-                                   : "timestamp before the previous row's (unsorted)");
+      r.bad_time(
+          reader, row,
+          t == prev_t ? "duplicate timestamp" : "timestamp before the previous row's (unsorted)");
       return;
     }
-    // Plausibility (app/wind/scada_limits.hpp): one implausible value rejects the row.
+    // Plausibility (app/wind/scada_rows.hpp): one implausible value rejects the row. The
+    // measured speed is ignored when the wind model's steady state gives it.
+    const bool steady = options.torque_from == TorqueFrom::kWindSteady;
+    if (!r.plausible(limits, reader, row, steady)) return;
     app::wind::ScadaValues values;
     for (std::size_t i = 0; i < hal::kScadaQuantityCount; ++i) {
       const auto q = static_cast<ScadaQuantity>(i);
-      if (!row.has(q)) continue;
-      if (q == ScadaQuantity::kRotorSpeed && options.torque_from == TorqueFrom::kWindSteady) {
-        continue;  // ignored: the wind model's steady state gives the speed
-      }
-      if (const std::string why = limits.why_implausible(q, row.get(q)); !why.empty()) {
-        ++r.rows_rejected;
-        ++(q == ScadaQuantity::kRotorSpeed  ? r.rejected_speed
-           : q == ScadaQuantity::kWindSpeed ? r.rejected_wind
-                                            : r.rejected_range);
-        issue(row.row, std::string(hal::scada_quantity_key(q)),
-              where(row, reader.column_name(q), hal::scada_quantity_key(q)) + ": " + why +
-                  "; row skipped");
-        return;
-      }
+      if (!row.has(q) || (q == ScadaQuantity::kRotorSpeed && steady)) continue;
       values.set(q, row.get(q));
     }
     // Torque source, in order of preference (app/wind/torque_source.hpp).
@@ -208,18 +190,7 @@ HistoryResult run_history(hal::ScadaCsvReader& reader, const model::Drivetrain& 
       if (res == hal::ScadaReadResult::kEnd) return false;
       ++r.rows;
       if (res == hal::ScadaReadResult::kRow) return true;
-      ++r.rows_rejected;
-      ++r.rejected_nonnumeric;
-      // The reader's message names the column: "..., column '<name>': ...".
-      std::string field;
-      const std::string& msg = reader.error();
-      if (const auto at = msg.find("column '"); at != std::string::npos) {
-        const auto end_quote = msg.find('\'', at + 8);
-        if (end_quote != std::string::npos) field = msg.substr(at + 8, end_quote - at - 8);
-      }
-      issue(r.rows, field, msg + "; row skipped");
-      if (reader.error().find("read error") != std::string::npos)
-        throw std::runtime_error(reader.error());
+      r.unreadable(reader, r.rows);  // counted and named; throws on an I/O error
     }
   };
   while (probe.size() < kPeriodProbeRows && (end = !read(row)) == false) probe.push_back(row);

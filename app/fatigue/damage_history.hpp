@@ -40,19 +40,16 @@
 #include "model/fatigue/drivetrain_channels.hpp"
 #include "model/fatigue/load_spectrum.hpp"
 #include "model/fatigue/rul.hpp"
+#include "wind/scada_rows.hpp"
 #include "wind/torque_source.hpp"
 
 namespace app::fatigue {
 
-inline constexpr std::size_t kMaxIssues = 50;
+inline constexpr std::size_t kMaxIssues = app::wind::kMaxScadaIssues;
 inline constexpr double kGapFactor = 1.5;       // [-] × period
 inline constexpr std::size_t kTorqueBins = 12;  // damage by torque, 0.1·rated wide, last open
 
-struct HistoryIssue {
-  std::size_t row = 0;  // data row (1 = first after the header)
-  std::string field;    // column, e.g. "t_s"
-  std::string message;  // full text with file, row and column
-};
+using HistoryIssue = app::wind::ScadaIssue;
 
 /// Where a row's rotor torque comes from (app/wind/torque_source.hpp).
 using TorqueFrom = app::wind::TorquePreference;
@@ -82,8 +79,10 @@ struct DayRecord {
   }
 };
 
-struct HistoryResult {
-  std::size_t rows = 0, rows_used = 0, rows_rejected = 0, rows_no_data = 0;
+/// The rows rejected (rows_rejected, rejected_* by reason, the listed `issues`: also the
+/// gaps) come from app/wind/scada_rows.hpp, the policy every SCADA reader shares.
+struct HistoryResult : app::wind::RowRejections {
+  std::size_t rows = 0, rows_used = 0, rows_no_data = 0;
   std::size_t gaps = 0;
   double gap_s = 0.0;      // [s] time missing in gaps
   double period_s = 0.0;   // [s]
@@ -96,10 +95,7 @@ struct HistoryResult {
   // damage:
   std::size_t breakdown_channel = 0;
   std::vector<double> bin_time_s, bin_damage;  // kTorqueBins each
-  std::vector<HistoryIssue> issues;            // first kMaxIssues
-  std::vector<DayRecord> days;  // per UTC day with data, when HistoryOptions::per_day
-  std::size_t rejected_nonnumeric = 0, rejected_time = 0, rejected_speed = 0, rejected_wind = 0;
-  std::size_t rejected_range = 0;       // another quantity outside its plausibility limit
+  std::vector<DayRecord> days;          // per UTC day with data, when HistoryOptions::per_day
   std::size_t rejected_spectrum = 0;    // torque or speed beyond the load spectrum's grid
   double max_rejected_torque_nm = 0.0;  // [N·m] largest torque among those
   std::vector<double> exceeded_at_s;    // per channel: t_s of the row where D reached 1 (NaN: not)

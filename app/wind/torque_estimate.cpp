@@ -16,11 +16,6 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 using hal::ScadaQuantity;
 using model::wind::OperatingRegion;
 
-std::string where(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row, ScadaQuantity f) {
-  return reader.path() + ": row " + std::to_string(row.row) + " (line " + std::to_string(row.line) +
-         "), column '" + reader.column_name(f) + "'";
-}
-
 }  // namespace
 
 TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain, bool use_measured_speed,
@@ -34,18 +29,8 @@ TorqueEstimator::TorqueEstimator(const model::Drivetrain& drivetrain,
       load_(drivetrain.turbine),
       options_(options) {}
 
-bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row,
-                               RowEstimate& out, std::string* error) const {
+void TorqueEstimator::estimate(const hal::ScadaRow& row, RowEstimate& out) const {
   out = RowEstimate{};
-  // Plausibility for this turbine (hal only checks that values are finite numbers).
-  for (std::size_t i = 0; i < hal::kScadaQuantityCount; ++i) {
-    const auto q = static_cast<ScadaQuantity>(i);
-    if (!row.has(q)) continue;
-    if (const std::string why = limits_.why_implausible(q, row.get(q)); !why.empty()) {
-      *error = where(reader, row, q) + ": " + why;
-      return false;
-    }
-  }
   const bool has_wind = row.has(ScadaQuantity::kWindSpeed);
   const double wind = row.get(ScadaQuantity::kWindSpeed);
   const bool has_speed = row.has(ScadaQuantity::kRotorSpeed);
@@ -60,7 +45,7 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
   const double yaw_deg = row.get(ScadaQuantity::kYawError);
   if (!has_wind) {
     out.excluded_because = "no wind speed";
-    return true;
+    return;
   }
   out.estimated = true;
 
@@ -121,7 +106,6 @@ bool TorqueEstimator::estimate(const hal::ScadaCsvReader& reader, const hal::Sca
   } else {
     out.in_operation = true;
   }
-  return true;
 }
 
 void MapeAccumulator::add(const RowEstimate& e) {
@@ -215,18 +199,29 @@ TorqueSummary run_torque(
   TorqueSummary summary;
   hal::ScadaRow row;
   RowEstimate estimate;
-  std::string error;
+  std::size_t read = 0;  // data rows read, rejected ones included
   for (;;) {
     const hal::ScadaReadResult r = reader.next(row);
     if (r == hal::ScadaReadResult::kEnd) break;
-    if (r == hal::ScadaReadResult::kError) throw std::runtime_error(reader.error());
+    ++read;
+    if (r == hal::ScadaReadResult::kError) {
+      summary.rejected.unreadable(reader, read);  // counted and named; throws on an I/O error
+      continue;
+    }
     if (row.has_time() && !window.contains(row.time_s())) continue;
     if (!row.has_time() && window.restricted()) {
       continue;
     }
-    if (!estimator.estimate(reader, row, estimate, &error)) throw std::runtime_error(error);
+    if (!summary.rejected.plausible(estimator.limits(), reader, row)) continue;
+    estimator.estimate(row, estimate);
     summary.add(estimate);
     if (on_row) on_row(row, estimate);
+  }
+  if (read > 0 && summary.rejected.rows_rejected == read) {
+    std::string listed;
+    for (const ScadaIssue& i : summary.rejected.issues) listed += "; " + i.message;
+    throw std::runtime_error(reader.path() + ": none of the " + std::to_string(read) +
+                             " data rows is usable (" + summary.rejected.summary() + ")" + listed);
   }
   return summary;
 }

@@ -1,8 +1,10 @@
 #pragma once
 // Rotor input torque from SCADA rows: the app-side glue between hal's SCADA
 // reader and model::wind::WindLoad, shared by `drivetwin torque`, `demo` and
-// `fit-cp`. It checks turbine-dependent plausibility (wind/scada_limits.hpp, the
-// limits every SCADA reader uses), derives the reference torque the
+// `fit-cp`. Rows it cannot use (unreadable, or a value beyond wind/scada_limits.hpp, the
+// limits every SCADA reader uses) are rejected, counted and named by the policy every
+// SCADA reader shares (wind/scada_rows.hpp) and the pass carries on; it derives the
+// reference torque the
 // estimate is compared with, decides which rows count as "in operation", and
 // accumulates MAPE per operating region.
 //
@@ -46,6 +48,7 @@
 #include "model/drivetrain/description.hpp"
 #include "model/wind/wind_load.hpp"
 #include "wind/scada_limits.hpp"
+#include "wind/scada_rows.hpp"
 
 namespace app::wind {
 
@@ -91,10 +94,12 @@ class TorqueEstimator {
   TorqueEstimator(const model::Drivetrain& drivetrain, bool use_measured_speed,
                   bool use_measured_pitch = false);
 
-  /// Estimates one row. Returns false with *error naming file, row and column
-  /// when a value is implausible for this turbine.
-  bool estimate(const hal::ScadaCsvReader& reader, const hal::ScadaRow& row, RowEstimate& out,
-                std::string* error) const;
+  /// Estimates one row whose values are plausible for this turbine: run_torque() screens
+  /// every row with limits() first (app/wind/scada_rows.hpp: an implausible row is
+  /// counted, named and skipped, never estimated).
+  void estimate(const hal::ScadaRow& row, RowEstimate& out) const;
+  /// The plausibility limits of this turbine's SCADA values.
+  const ScadaLimits& limits() const { return limits_; }
 
   const model::wind::WindLoad& load() const { return load_; }
   const EstimatorOptions& options() const { return options_; }
@@ -135,6 +140,7 @@ struct TorqueSummary {
   std::size_t yaw_rows = 0;      // yaw error used
   MapeAccumulator mape;
   std::vector<std::pair<std::string, std::size_t>> excluded;  // reason, rows
+  RowRejections rejected;  // rows skipped: unreadable or implausible (wind/scada_rows.hpp)
   void add(const RowEstimate& e);
 };
 
@@ -153,8 +159,10 @@ struct TimeWindow {
 };
 
 /// Streams every row of an opened reader through the estimator; rows outside
-/// the window are skipped. Calls on_row (may be empty) for each estimated row.
-/// Throws std::runtime_error naming file, row and column on bad input.
+/// the window are skipped. Calls on_row (may be empty) for each estimated row. A row
+/// that cannot be read, or (inside the window) holds an implausible value, is counted in
+/// TorqueSummary::rejected, named and skipped. Throws std::runtime_error on an I/O error
+/// and when every row of the file was rejected (nothing to report).
 TorqueSummary run_torque(
     hal::ScadaCsvReader& reader, const TorqueEstimator& estimator, const TimeWindow& window,
     const std::function<void(const hal::ScadaRow&, const RowEstimate&)>& on_row);

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "accumulator_bench_options.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/fatigue/damage_accumulator.hpp"
@@ -78,22 +79,12 @@ struct FormerAccumulator {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long steps = 4 * static_cast<long>(kRate);
-  std::string only;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--steps") == 0 && i + 1 < argc) {
-      steps = std::atol(argv[++i]);
-    } else if (std::strcmp(argv[i], "--only") == 0 && i + 1 < argc) {
-      only = argv[++i];
-    } else {
-      std::fprintf(stderr, "accumulator_bench: unknown argument '%s'\n", argv[i]);
-      return 2;
-    }
-  }
-  if (steps <= 0 || !(only.empty() || only == "rom" || only == "former" || only == "accumulator")) {
-    std::fprintf(stderr, "accumulator_bench: --steps must be > 0, --only rom|former|accumulator\n");
-    return 2;
-  }
+  CLI::App cli{"Cost of the online fatigue accumulator per model step"};
+  tools::bench::AccumulatorBenchOptions o;
+  tools::bench::add_options(cli, o);
+  CLI11_PARSE(cli, argc, argv);
+  const long steps = o.steps;
+  const std::string& only = o.only;
   const model::Drivetrain d = model::paper_2mw();
   const ChannelSet cs(d, ChannelOptions{});
   if (!cs.valid()) {

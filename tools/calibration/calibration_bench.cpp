@@ -44,6 +44,7 @@
 
 #include <random>
 
+#include "calibration_bench_options.hpp"
 #include "model/calibration/calibrator.hpp"
 #include "model/calibration/dynamics_simulator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
@@ -336,26 +337,19 @@ int run(int argc, char** argv) {
   CLI::App cli{
       "Calibration: ours (trust region, MOGOA) vs pagmo2 NSGA-II and MOEA/D, same problem and "
       "budget"};
-  Setup s;
-  std::string scenario = "all";
-  cli.add_option(
-      "--population", s.population,
-      "Population of every population method (default 20; NSGA-II needs a multiple of 4)");
-  cli.add_option("--iterations", s.iterations,
-                 "Iterations / generations (default 9: budget 20 x 10 = 200)");
-  cli.add_option("--seeds", s.seeds, "Seeds per method (default 10)");
-  cli.add_option("--scenario", scenario, "cold, warm-rated, warm-drift or all");
-  cli.add_option("--revolutions", s.revolutions, "hss revolutions per analysis block (default 32)");
-  cli.add_option("--samples-per-rev", s.samples_per_rev,
-                 "Angle-domain samples per revolution (default 256)");
-  cli.add_flag("--lumped", s.lumped,
-               "The lumped stand-in for truth and calibration (the old problem)");
-  std::string only;
-  cli.add_option("--only", only,
-                 "Run only the method whose name contains this text (e.g. 'trust', 'NSGA')");
-  cli.add_option("--tr-radius", s.tr_radius,
-                 "Trust region: initial radius (default: TrustRegionConfig's)");
+  tools::calibration::CalibrationBenchOptions o;
+  o.tr_radius = mc::TrustRegionConfig{}.initial_radius;
+  tools::calibration::add_options(cli, o);
   CLI11_PARSE(cli, argc, argv);
+  Setup s;
+  s.population = o.population;
+  s.iterations = o.iterations;
+  s.seeds = o.seeds;
+  s.revolutions = o.revolutions;
+  s.samples_per_rev = o.samples_per_rev;
+  s.lumped = o.lumped;
+  s.tr_radius = o.tr_radius;
+  const std::string &scenario = o.scenario, &only = o.only;
   const model::Drivetrain d = model::paper_2mw();
   const std::size_t budget = s.population * (s.iterations + 1);
   const model::DynamicsParameters nominal = mc::with_nominal_damping(d.dynamics);

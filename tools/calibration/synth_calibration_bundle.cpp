@@ -26,38 +26,22 @@
 #include "model/calibration/dynamics_simulator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/drivetrain/kinematics.hpp"
+#include "synth_calibration_bundle_options.hpp"
 
 namespace {
 int run(int argc, char** argv) {
   CLI::App cli{"Simulated off-nominal recording bundle for the calibration demo"};
-  std::string out;
-  double rpm = 8.33, torque = 361747.0, damping_factor = 2.0, mesh_scale = 0.8, bearing_scale = 1.3;
-  double noise = 0.05, duration_s = 6.0, fs_hz = 25600.0, settle_s = 0.5;
-  bool tacho = false;
-  std::uint64_t seed = 1;
-  std::string fault;
-  std::string model_name = "full";
-  cli.add_option("--out", out, "Bundle directory to write")->required();
-  cli.add_option("--rpm", rpm, "Rotor speed [rpm]");
-  cli.add_option("--torque", torque, "Rotor torque [N·m]");
-  cli.add_option("--damping-factor", damping_factor,
-                 "Rayleigh eta and zeta × this, relative to nominal");
-  cli.add_option("--mesh-scale", mesh_scale, "Mesh stiffness scale of every stage");
-  cli.add_option("--bearing-scale", bearing_scale, "Bearing stiffness scale of every shaft");
-  cli.add_option("--noise", noise, "White noise RMS as a fraction of each point's RMS");
-  cli.add_option("--duration", duration_s, "Length [s]");
-  cli.add_option("--fs", fs_hz, "Sample rate [Hz]");
-  cli.add_flag("--tacho", tacho, "Add a once-per-revolution tacho channel on the hss");
-  cli.add_option("--seed", seed, "Noise seed");
-  cli.add_option("--model", model_name,
-                 "full (default: full-order Newmark model), rom, or lumped (stand-in)")
-      ->check(CLI::IsMember({"full", "rom", "lumped"}));
-  cli.add_option("--settle", settle_s,
-                 "full/rom: seconds simulated and discarded before the recording [s]");
-  cli.add_option(
-      "--fault", fault,
-      "flat:<channel> (constant), clip:<channel> (saturate at 60 % of the peak), drop:<channel>");
+  tools::calibration::SynthCalibrationOptions o;
+  tools::calibration::add_options(cli, o, tools::options::operating_range(model::paper_2mw()));
   CLI11_PARSE(cli, argc, argv);
+  const std::string& out = o.out;
+  const double rpm = o.rpm, torque = o.torque, damping_factor = o.damping_factor;
+  const double mesh_scale = o.mesh_scale, bearing_scale = o.bearing_scale, noise = o.noise;
+  const double duration_s = o.duration_s, fs_hz = o.fs_hz, settle_s = o.settle_s;
+  const bool tacho = o.tacho;
+  const std::uint64_t seed = o.seed;
+  const std::string& fault = o.fault;
+  const std::string& model_name = o.model_name;
 
   const model::Drivetrain drivetrain = model::paper_2mw();
   model::DynamicsParameters truth = model::calibration::with_nominal_damping(drivetrain.dynamics);

@@ -24,42 +24,22 @@
 #include "hal/recording_bundle.hpp"
 #include "lumped_case.hpp"
 #include "model/drivetrain/description.hpp"
+#include "synth_lumped_bundle_options.hpp"
 
 namespace {
 
 int run(int argc, char** argv) {
   CLI::App cli{"Recording bundle from the independent lumped gearbox model with one effect"};
-  std::string out, effect, location;
-  double severity = 0.0, rpm = 8.33, torque = 361747.0, duration = 30.0, fs = 25600.0, drift = 0.02,
-         drift_period = 23.0, noise = 0.05, gain_error = 0.1, stiffness = 1.0, damping = 1.0,
-         slip = 0.01, damping_ratio = 0.02;
-  bool tacho = false, conceal = false;
-  unsigned seed = 1;
-  cli.add_option("--out", out, "Bundle directory to write")->required();
-  cli.add_option("--effect", effect, "Effect id of the diagnosis contract (none when absent)");
-  cli.add_option("--location", location, "Component id");
-  cli.add_option(
-      "--severity", severity,
-      "crack: stiffness loss; eccentricity [m]; bearing: impact force [N]; unbalance [kg·m]; "
-      "misalignment [N]; planet pass: depth; resonance: frequency [Hz]");
-  cli.add_option("--rpm", rpm, "Mean rotor speed [rpm]");
-  cli.add_option("--torque", torque, "Rotor torque [N·m]");
-  cli.add_option("--duration", duration, "Length [s]");
-  cli.add_option("--fs", fs, "Sample rate [Hz]");
-  cli.add_option("--drift", drift, "Relative amplitude of the slow speed drift");
-  cli.add_option("--drift-period", drift_period, "Period of the speed drift [s]");
-  cli.add_option("--noise", noise, "White noise RMS as a fraction of each channel's RMS");
-  cli.add_option("--gain-error", gain_error, "Sensor gain error: each channel × (1 ± up to this)");
-  cli.add_flag("--tacho", tacho, "Add a once-per-revolution tacho channel on the hss");
-  cli.add_option("--stiffness-scale", stiffness,
-                 "Every mesh and bearing stiffness × this (parameter drift)");
-  cli.add_option("--damping-scale", damping, "Damping × this (parameter drift)");
-  cli.add_option("--slip", slip, "Bearing defects: rolling-element slip");
-  cli.add_option("--damping-ratio", damping_ratio, "Housing resonance: damping ratio");
-  cli.add_option("--seed", seed, "Noise, gain, jitter and drift-phase seed");
-  cli.add_flag("--conceal", conceal,
-               "Scale the severity (up to 8 tries) until concealed with an 8–20 dB margin");
+  tools::diagnosis::SynthLumpedOptions o;
+  tools::diagnosis::add_options(cli, o, tools::options::operating_range(model::paper_2mw()));
   CLI11_PARSE(cli, argc, argv);
+  const std::string &out = o.out, &effect = o.effect, &location = o.location;
+  const double severity = o.severity, rpm = o.rpm, torque = o.torque, duration = o.duration,
+               fs = o.fs, drift = o.drift, drift_period = o.drift_period, noise = o.noise,
+               gain_error = o.gain_error, stiffness = o.stiffness, damping = o.damping,
+               slip = o.slip, damping_ratio = o.damping_ratio;
+  const bool tacho = o.tacho, conceal = o.conceal;
+  const unsigned seed = o.seed;
 
   tools::diagnosis::LumpedCaseSpec spec;
   spec.id = out;

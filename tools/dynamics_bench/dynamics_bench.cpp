@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 
+#include "dynamics_bench_options.hpp"
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/newmark.hpp"
@@ -38,25 +39,13 @@ double wall_s() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  long rom_steps = 10 * static_cast<long>(kRate);
-  double full_seconds = 0.25;
-  bool rom_only = false;
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--rom-steps") == 0 && i + 1 < argc) {
-      rom_steps = std::atol(argv[++i]);
-    } else if (std::strcmp(argv[i], "--full-seconds") == 0 && i + 1 < argc) {
-      full_seconds = std::atof(argv[++i]);
-    } else if (std::strcmp(argv[i], "--rom-only") == 0) {
-      rom_only = true;
-    } else {
-      std::fprintf(stderr, "dynamics_bench: unknown argument '%s'\n", argv[i]);
-      return 2;
-    }
-  }
-  if (rom_steps <= 0 || !(full_seconds > 0.0)) {
-    std::fprintf(stderr, "dynamics_bench: --rom-steps and --full-seconds must be > 0\n");
-    return 2;
-  }
+  CLI::App cli{"Real-time factors of the reduced and full dynamics models"};
+  tools::bench::DynamicsBenchOptions o;
+  tools::bench::add_options(cli, o);
+  CLI11_PARSE(cli, argc, argv);
+  const long rom_steps = o.rom_steps;
+  const double full_seconds = o.full_seconds;
+  const bool rom_only = o.rom_only;
   const model::Drivetrain d = model::paper_2mw();
   std::string error;
   const std::optional<FullModel> m = build_full_model(d, {}, &error);

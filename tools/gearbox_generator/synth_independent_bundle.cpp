@@ -13,26 +13,18 @@
 
 #include "hal/recording_bundle.hpp"
 #include "independent_gearbox.hpp"
+#include "synth_independent_bundle_options.hpp"
 
 namespace {
 int run(int argc, char** argv) {
   CLI::App cli{"Recording bundle of paper-2mw from an independent lumped gearbox model"};
-  std::string out;
-  tools::generator::GeneratorSettings s;
-  std::uint64_t seed = 1;
-  bool no_tacho = false;
-  cli.add_option("--out", out, "Bundle directory to write")->required();
-  cli.add_option("--rpm", s.rotor_speed_rpm, "Mean rotor speed [rpm]")->check(CLI::PositiveNumber);
-  cli.add_option("--torque", s.input_torque_nm, "Mean rotor torque [N·m]")
-      ->check(CLI::NonNegativeNumber);
-  cli.add_option("--duration", s.duration_s, "Length [s]")->check(CLI::PositiveNumber);
-  cli.add_option("--seed", seed,
-                 "Seed of the generator's choices (structure, excitation, sensors)");
-  cli.add_option("--fs", s.sample_rate_hz, "Sample rate [Hz]")->check(CLI::Range(4096.0, 1e6));
-  cli.add_option("--settle", s.settle_s, "Seconds simulated and discarded first")
-      ->check(CLI::NonNegativeNumber);
-  cli.add_flag("--no-tacho", no_tacho, "Leave out the once-per-revolution hss tacho");
+  tools::generator::SynthIndependentOptions o;
+  tools::generator::add_options(cli, o, tools::options::operating_range(model::paper_2mw()));
   CLI11_PARSE(cli, argc, argv);
+  const std::string& out = o.out;
+  tools::generator::GeneratorSettings s = o.settings;
+  const std::uint64_t seed = o.seed;
+  const bool no_tacho = o.no_tacho;
   s.noise_seed = seed;
 
   const auto choices = tools::generator::GearboxChoices::draw(seed);

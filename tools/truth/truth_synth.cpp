@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "truth.hpp"
+#include "truth_synth_options.hpp"
 
 namespace {
 
@@ -178,41 +179,28 @@ truth::CaseSpec case_from_toml(const toml::table& t, const toml::table& defaults
 
 int run(int argc, char** argv) {
   CLI::App cli{"Recordings with known missing physics from the full-order dynamics model"};
-  cli.require_subcommand(1);
-
-  CLI::App* one = cli.add_subcommand("one", "One case from the command line");
-  std::string out, id = "case", effect, location;
-  std::vector<std::string> params;
-  bool conceal = false, no_tacho = false;
-  truth::CaseSpec spec;
-  std::vector<double> gain;
-  for (CLI::App* c : {one}) {
-    c->add_option("--out", out, "Output directory")->required();
-  }
-  one->add_option("--id", id, "Case id (bundle directory name)");
-  one->add_option("--effect", effect, "Effect id of the diagnosis contract (none: a control)");
-  one->add_option("--location", location, "Component id of the effect");
-  one->add_option("--param", params, "name=value of the effect's parameters");
-  one->add_flag("--conceal", conceal, "Scale the severity until the effect is concealed");
-  one->add_option("--rpm", spec.rotor_rpm, "Nominal rotor speed [rpm]");
-  one->add_option("--torque", spec.torque_nm, "Input torque [N·m]");
-  one->add_option("--seconds", spec.seconds, "Recorded length [s]");
-  one->add_option("--noise", spec.measurement.noise, "Noise RMS / healthy channel RMS");
-  one->add_option("--drift", spec.measurement.drift, "Slow speed drift amplitude (fraction)");
-  one->add_option("--gain", gain, "Sensor gains point1,point2")->delimiter(',')->expected(2);
-  one->add_flag("--no-tacho", no_tacho, "No tacho channel");
-  one->add_option("--jitter", spec.measurement.jitter, "Bearing impact spacing jitter (fraction)");
-  one->add_option("--seed", spec.seed, "Seed of noise, offsets and jitter");
-  one->add_option("--offset-spread", spec.offset_spread, "× the default parameter offsets");
-
-  CLI::App* list = cli.add_subcommand("list", "Every case of a case list (TOML)");
-  std::string list_file, only;
-  double seconds_override = 0.0;
-  list->add_option("file", list_file, "Case list")->required()->check(CLI::ExistingFile);
-  list->add_option("--out", out, "Output directory")->required();
-  list->add_option("--only", only, "Comma-separated case ids to run");
-  list->add_option("--seconds", seconds_override, "Override every case's length [s]");
+  tools::truth_synth::OneCaseOptions one_o;
+  tools::truth_synth::ListOptions list_o;
+  tools::truth_synth::add_options(cli, one_o, list_o,
+                                  tools::options::operating_range(model::paper_2mw()));
   CLI11_PARSE(cli, argc, argv);
+  CLI::App* one = cli.get_subcommand("one");
+  std::string out = *one ? one_o.out : list_o.out;
+  const std::string &id = one_o.id, &effect = one_o.effect, &location = one_o.location;
+  const std::vector<std::string>& params = one_o.params;
+  const bool conceal = one_o.conceal, no_tacho = one_o.no_tacho;
+  truth::CaseSpec spec;
+  spec.rotor_rpm = one_o.rpm;
+  spec.torque_nm = one_o.torque;
+  spec.seconds = one_o.seconds;
+  spec.measurement.noise = one_o.noise;
+  spec.measurement.drift = one_o.drift;
+  spec.measurement.jitter = one_o.jitter;
+  spec.seed = one_o.seed;
+  spec.offset_spread = one_o.offset_spread;
+  const std::vector<double>& gain = one_o.gain;
+  const std::string &list_file = list_o.file, &only = list_o.only;
+  const double seconds_override = list_o.seconds;
 
   const model::Drivetrain d = model::paper_2mw();
   if (*one) {

@@ -77,10 +77,18 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
     std::snprintf(name, sizeof name, "mesh_stiffness_scale.stage%zu", i + 1);
     s.add(ParameterField::kMeshScale, i, true, 0.25, v / 2.0, v * 2.0, name, "-");
   }
+  for (std::size_t i = 0; i < 3; ++i) {
+    std::snprintf(name, sizeof name, "mesh_tip_relief.stage%zu", i + 1);
+    s.add(ParameterField::kMeshTipRelief, i, false, 0.35, 0.0, 1.0, name, "-");
+  }
   for (std::size_t i = 0; i < 6; ++i) {
     const double v = prior.bearing_stiffness_factor[i];
     std::snprintf(name, sizeof name, "bearing_stiffness.b%zu", i + 1);
     s.add(ParameterField::kBearingFactor, i, true, kLn2, v / 4.0, v * 4.0, name, "-");
+  }
+  if (const double v = prior.bearing_stiffness_fluctuation; v > 0.0) {
+    s.add(ParameterField::kBearingFluctuation, 0, true, kLn2, v / 10.0, std::min(1.0, v * 10.0),
+          "bearing_stiffness_fluctuation", "-");
   }
   for (std::size_t st = 0; st < kTransmissionErrorStages; ++st) {
     for (std::size_t h = 1; h <= kTransmissionErrorHarmonics; ++h) {
@@ -138,6 +146,10 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.damping_band_factor[i];
     case ParameterField::kMeshScale:
       return p.mesh_stiffness_scale[i];
+    case ParameterField::kMeshTipRelief:
+      return p.mesh_tip_relief[i];
+    case ParameterField::kBearingFluctuation:
+      return p.bearing_stiffness_fluctuation;
     case ParameterField::kBearingShaftScale:
       return p.bearing_stiffness_scale[i];
     case ParameterField::kBearingFactor:
@@ -174,6 +186,12 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kMeshScale:
       p.mesh_stiffness_scale[i] = value;
+      break;
+    case ParameterField::kMeshTipRelief:
+      p.mesh_tip_relief[i] = value;
+      break;
+    case ParameterField::kBearingFluctuation:
+      p.bearing_stiffness_fluctuation = value;
       break;
     case ParameterField::kBearingShaftScale:
       p.bearing_stiffness_scale[i] = value;

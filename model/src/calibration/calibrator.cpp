@@ -51,6 +51,17 @@ void log_features(const dsp::PointFeatures& f, double* phi) {
 }
 
 constexpr double kBoundTolerance = 1e-3;  // [prior σ] a fitted variable this close is at its bound
+
+/// `otherwise`, or the bound a fitted variable ended on. A bound the prior itself sits on (tip
+/// relief 0: unmodified involutes) is where the description put the variable, not a limit the
+/// fit ran into: ending there is ending at the prior.
+VariableStatus bound_status(const CalibrationSpace& space, std::size_t i, double z,
+                            VariableStatus otherwise) {
+  const double lo = space.lower(i), hi = space.upper(i);
+  if (z <= lo + kBoundTolerance && lo < -kBoundTolerance) return VariableStatus::kAtLowerBound;
+  if (z >= hi - kBoundTolerance && hi > kBoundTolerance) return VariableStatus::kAtUpperBound;
+  return otherwise;
+}
 }  // namespace
 
 const char* to_string(VariableStatus s) {
@@ -739,10 +750,7 @@ void Calibrator::finish(bool cancelled) {
       // Identified: fitted in some round, or solved from resolved tones (the excitation).
       const bool fitted = determined_[i];
       VariableStatus st = fitted ? VariableStatus::kIdentified : VariableStatus::kNotIdentified;
-      if (fitted && chosen) {
-        if (z[i] <= config_.space.lower(i) + kBoundTolerance) st = VariableStatus::kAtLowerBound;
-        if (z[i] >= config_.space.upper(i) - kBoundTolerance) st = VariableStatus::kAtUpperBound;
-      }
+      if (fitted && chosen) st = bound_status(config_.space, i, z[i], st);
       r.status[i] = st;
       r.identified += fitted ? 1 : 0;
       r.at_bound =
@@ -779,12 +787,9 @@ void Calibrator::finish(bool cancelled) {
     mogoa_->archive_member(best, z.data(), nullptr);
     chosen = true;
     for (std::size_t i = 0; i < n; ++i) {
-      r.status[i] = VariableStatus::kIdentified;  // searched (no identification)
+      // searched (no identification)
+      r.status[i] = bound_status(config_.space, i, z[i], VariableStatus::kIdentified);
       r.posterior_ratio[i] = 1.0;
-      if (z[i] <= config_.space.lower(i) + kBoundTolerance)
-        r.status[i] = VariableStatus::kAtLowerBound;
-      if (z[i] >= config_.space.upper(i) - kBoundTolerance)
-        r.status[i] = VariableStatus::kAtUpperBound;
       r.at_bound = r.at_bound || r.status[i] != VariableStatus::kIdentified;
     }
     r.identified = n;

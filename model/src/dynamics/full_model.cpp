@@ -883,6 +883,14 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       return std::nullopt;
     }
   }
+  for (std::size_t i = 0; i < dp.mesh_tip_relief.size(); ++i) {
+    if (!(dp.mesh_tip_relief[i] >= 0.0 && dp.mesh_tip_relief[i] <= 1.0)) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: mesh_tip_relief must be in [0, 1] (index " + std::to_string(i) +
+                      ")");
+      return std::nullopt;
+    }
+  }
   for (std::size_t i = 0; i < dp.damping_band_factor.size(); ++i) {
     if (!(dp.damping_band_factor[i] > 0.0) || !std::isfinite(dp.damping_band_factor[i])) {
       fail(error, "drivetrain '" + d.name +
@@ -1230,8 +1238,10 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   // +w (the ring holds the reaction), separating (+u): n = cos α·w + sin α·u.
   const double planetary_order = kin.mesh_hz(0, 60.0);
   const double sun_torque_ratio = 1.0 / kin.stage_ratio(0);  // T_sun / T_in (ring fixed)
-  const MeshStiffness k_sp = mesh_stiffness(sp_pair, dp.mesh_stiffness_scale[0]);
-  const MeshStiffness k_rp = mesh_stiffness(rp_pair, dp.mesh_stiffness_scale[0]);
+  const MeshStiffness k_sp =
+      mesh_stiffness(sp_pair, dp.mesh_stiffness_scale[0], dp.mesh_tip_relief[0]);
+  const MeshStiffness k_rp =
+      mesh_stiffness(rp_pair, dp.mesh_stiffness_scale[0], dp.mesh_tip_relief[0]);
   const double gamma_rs = ring_sun_phase(planet.teeth);
   // Static transmission error of stage `stage` (DynamicsParameters::transmission_error_m):
   // e(t) = Σ_h a_h cos(2π h (order·N_rotor + phase) + φ_h), the mesh's own cycle; none when 0.
@@ -1324,7 +1334,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const Eigen::Vector2d nt = spin * std::cos(at) * w + std::sin(at) * u;
     const Eigen::Vector2d pitch = a.centre + geo.pitch_radius2_m * u;  // wheel = gear 2 of the pair
     const MeshVector mv = mesh_vector(a.centre, b.centre, pitch, nt, geo.base_helix_angle_rad, 1.0);
-    const MeshStiffness k = mesh_stiffness(pair, scale);
+    const MeshStiffness k = mesh_stiffness(pair, scale, dp.mesh_tip_relief[stage]);
     VaryingStiffness v;
     v.id = id;
     v.directions = mesh_direction(n_dof, a, b, mv);

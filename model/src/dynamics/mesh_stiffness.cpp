@@ -66,7 +66,7 @@ double iso_mesh_stiffness(const GearPair& p) {
   return iso_single_pair_stiffness(p) * (0.75 * g.transverse_contact_ratio + 0.25);
 }
 
-double contact_line_length_m(const MeshGeometry& g, double b, double cycles) {
+double contact_line_length_m(const MeshGeometry& g, double b, double cycles, double relief) {
   // Plane of action: s along the path of contact [0, g_α], y across the face [0, b].
   // A contact line is inclined by β_b: s(y) = s_j + y·tan β_b, and the pairs follow
   // each other at one base pitch.
@@ -74,6 +74,23 @@ double contact_line_length_m(const MeshGeometry& g, double b, double cycles) {
   const double cb = std::cos(g.base_helix_angle_rad);
   const double p = g.base_pitch_m;
   const double ga = g.path_of_contact_m;
+  // Tip relief: weight w(s) = min(1, s/L, (g_α − s)/L) with L = relief·(g_α − p_bt) (≤ g_α/2),
+  // and W(s) = ∫_0^s w its integral (piecewise quadratic), so that a helical contact line's
+  // weighted length is (W(s_hi) − W(s_lo)) / (tan β_b · cos β_b).
+  const double ramp = std::min(std::clamp(relief, 0.0, 1.0) * std::max(0.0, ga - p), 0.5 * ga);
+  const auto weight = [&](double s) {
+    if (s < 0.0 || s >= ga) return 0.0;
+    if (ramp <= 0.0) return 1.0;
+    return std::min({1.0, s / ramp, (ga - s) / ramp});
+  };
+  const auto integral = [&](double s) {
+    s = std::clamp(s, 0.0, ga);
+    if (ramp <= 0.0) return s;
+    if (s < ramp) return s * s / (2.0 * ramp);
+    if (s < ga - ramp) return 0.5 * ramp + (s - ramp);
+    const double u = s - (ga - ramp);
+    return 0.5 * ramp + (ga - 2.0 * ramp) + u - u * u / (2.0 * ramp);
+  };
   const double s0 = g.pitch_point_m - 0.5 * b * tb + cycles * p;  // reference pair at y = 0
   const int j_lo = static_cast<int>(std::floor((-b * tb - s0) / p)) - 1;
   const int j_hi = static_cast<int>(std::ceil((ga - s0) / p)) + 1;
@@ -81,17 +98,17 @@ double contact_line_length_m(const MeshGeometry& g, double b, double cycles) {
   for (int j = j_lo; j <= j_hi; ++j) {
     const double sj = s0 + j * p;
     if (tb == 0.0) {
-      if (sj >= 0.0 && sj < ga) total += b;
+      total += b * weight(sj);
       continue;
     }
     const double y_lo = std::max(0.0, -sj / tb);
     const double y_hi = std::min(b, (ga - sj) / tb);
-    if (y_hi > y_lo) total += (y_hi - y_lo) / cb;
+    if (y_hi > y_lo) total += (integral(sj + y_hi * tb) - integral(sj + y_lo * tb)) / (tb * cb);
   }
   return total;
 }
 
-MeshStiffness mesh_stiffness(const GearPair& pair, double scale) {
+MeshStiffness mesh_stiffness(const GearPair& pair, double scale, double relief) {
   const MeshGeometry g = mesh_geometry(pair);
   MeshStiffness k;
   // c_γα [N/(mm·µm)] · b [mm] = [N/µm]; ×1e6 → [N/m] in the transverse plane.
@@ -101,7 +118,7 @@ MeshStiffness mesh_stiffness(const GearPair& pair, double scale) {
   double sum = 0.0;
   for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
     const double tau = static_cast<double>(i) / static_cast<double>(PeriodicTable::kSize);
-    k.shape.values[i] = contact_line_length_m(g, pair.face_width_m, tau);
+    k.shape.values[i] = contact_line_length_m(g, pair.face_width_m, tau, relief);
     sum += k.shape.values[i];
   }
   const double mean = sum / static_cast<double>(PeriodicTable::kSize);

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/run.hpp"
+#include "config/drivetrain_file.hpp"
 #include "hal/recording_bundle.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 
@@ -29,13 +30,15 @@ fs::path scratch_dir(const std::string& name) {
 
 enum class Fault { kNone, kDropPoint2, kFlatPoint2, kClipPoint1 };
 
-// Table 3 drift (damping ×2, mesh ×0.8, bearing ×1.3), 5 % noise, paper operating point.
-fs::path write_bundle(const std::string& name, double duration_s, Fault fault = Fault::kNone) {
+// Table 3 drift (damping ×2, mesh ×0.8, bearing ×1.3), 5 % noise, paper operating point;
+// `hss_mesh_scale` replaces the high-speed stage's 0.8.
+fs::path write_bundle(const std::string& name, double duration_s, Fault fault = Fault::kNone,
+                      double hss_mesh_scale = 0.8) {
   const model::Drivetrain d = model::paper_2mw();
   model::DynamicsParameters truth = mc::with_nominal_damping(d.dynamics);
   truth.rayleigh_eta *= 2.0;
   truth.rayleigh_zeta *= 2.0;
-  truth.mesh_stiffness_scale = {0.8, 0.8, 0.8};
+  truth.mesh_stiffness_scale = {0.8, 0.8, hss_mesh_scale};
   truth.bearing_stiffness_scale = {1.3, 1.3, 1.3};
   mc::LumpedSimulatorConfig sc;
   sc.sample_rate_hz = 8192.0;
@@ -137,6 +140,79 @@ TEST(CalibrateCommand, RefusesBadInputWithAMessageNamingFileAndChannelAndWritesN
     EXPECT_NE(error.find(dir.string()), std::string::npos) << bad.name << ": " << error;
     EXPECT_FALSE(fs::exists(json)) << bad.name;
   }
+}
+
+// Issue 15, finding 2 at the command line: a parameter pinned at its bound was reported
+// CALIBRATED (exit 0), and calibrate could not write its result back.
+TEST(CalibrateCommand, AVariablePinnedAtItsBoundIsNotCalibratedAndUpdateWritesNothing) {
+  // Arrange: the high-speed mesh scale 0.3, below the paper space's bound 0.5.
+  const fs::path dir = write_bundle("pinned", 3.0, Fault::kNone, 0.3);
+  const fs::path json = dir.parent_path() / "pinned.json";
+  const fs::path update = dir.parent_path() / "pinned.toml";
+  // Act
+  testing::internal::CaptureStderr();
+  const std::string error = run_calibrate(
+      {dir.string(), "--json", json.string(), "--simulator", "lumped", "--method", "improved",
+       "--population", "16", "--iterations", "15", "--seed", "3", "--update", update.string()});
+  const std::string err = testing::internal::GetCapturedStderr();
+  // Assert: exit 2, not calibrated, the variable at its bound, the description not written.
+  ASSERT_EQ(error, "");
+  EXPECT_EQ(app::cli::exit_status(), 2);
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["at_bound"].get<bool>());
+  EXPECT_FALSE(j["calibrated"].get<bool>());
+  bool found = false;
+  for (const auto& v : j["variables"]) {
+    if (v["name"] != "mesh_stiffness_scale.stage3") continue;
+    found = true;
+    EXPECT_EQ(v["status"], "AT LOWER BOUND") << v;
+    EXPECT_NEAR(v["value"].get<double>(), 0.5, 1e-3) << v;
+  }
+  EXPECT_TRUE(found);
+  EXPECT_FALSE(fs::exists(update));
+  EXPECT_NE(err.find("not written (the result is NOT CALIBRATED)"), std::string::npos) << err;
+}
+
+TEST(CalibrateCommand,
+     UpdateWritesTheCalibratedParametersIntoADescriptionThatThenFitsTheRecording) {
+  // Arrange
+  const fs::path dir = write_bundle("update", 3.0);
+  const fs::path json = dir.parent_path() / "update.json";
+  const fs::path again = dir.parent_path() / "update-again.json";
+  const fs::path update = dir.parent_path() / "update.toml";
+  const std::vector<std::string> lumped{"--simulator",  "lumped", "--method",     "improved",
+                                        "--population", "16",     "--iterations", "15",
+                                        "--seed",       "3"};
+  std::vector<std::string> args{dir.string(), "--json", json.string(), "--update", update.string()};
+  args.insert(args.end(), lumped.begin(), lumped.end());
+  // Act
+  ASSERT_EQ(run_calibrate(args), "");
+  ASSERT_EQ(app::cli::exit_status(), 0);
+  // Assert: the file is a description the reader takes, holding the calibrated parameters...
+  ASSERT_TRUE(fs::exists(update));
+  const model::Drivetrain d = app::config::load_drivetrain(update.string());
+  std::ifstream in(json);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  const auto& p = j["parameters_calibrated"];
+  EXPECT_DOUBLE_EQ(d.dynamics.rayleigh_eta, p["rayleigh_eta_1_s"].get<double>());
+  EXPECT_DOUBLE_EQ(d.dynamics.rayleigh_zeta, p["rayleigh_zeta_s"].get<double>());
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_DOUBLE_EQ(d.dynamics.mesh_stiffness_scale[i],
+                     p["mesh_stiffness_scale"][i].get<double>());
+    EXPECT_DOUBLE_EQ(d.dynamics.bearing_stiffness_scale[i],
+                     p["bearing_stiffness_scale"][i].get<double>());
+  }
+  // ... and, as the prior of the next calibration, fits the recording: nothing left to do.
+  std::vector<std::string> next{dir.string(), "--json", again.string(), "--drivetrain",
+                                update.string()};
+  next.insert(next.end(), lumped.begin(), lumped.end());
+  ASSERT_EQ(run_calibrate(next), "");
+  EXPECT_EQ(app::cli::exit_status(), 0);
+  std::ifstream in2(again);
+  const nlohmann::json k = nlohmann::json::parse(in2);
+  EXPECT_FALSE(k["calibration_ran"].get<bool>()) << k["fit_before"];
+  EXPECT_TRUE(k["calibrated"].get<bool>());
 }
 
 }  // namespace

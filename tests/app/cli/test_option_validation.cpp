@@ -213,6 +213,25 @@ TEST_F(OptionValidation, Diagnose) {
                     {"--fit-evaluations", {"0", "10001"}, {"10"}, true}});
 }
 
+TEST_F(OptionValidation, Calibrate) {
+  // Its options got their validators when calib rewrote the command; their table here.
+  expect_validated({"calibrate", path("missing-bundle"), "--json", path("c.json")},
+                   "missing-bundle",
+                   {{"--evaluations", {"-1", "100001"}, {"0", "10"}, true},
+                    {"--population", {"0", "1", "65"}, {"2", "20"}, true},
+                    {"--iterations", {"0", "100001"}, {"50"}, true},
+                    {"--seed", {"-1"}, {"0", "1"}, true},
+                    {"--revolutions", {"0", "7", "4097"}, {"8", "64"}, true},
+                    {"--windows", {"0", "65"}, {"1", "4"}, true},
+                    {"--samples-per-rev", {"0", "15", "65537"}, {"16", "1024"}, true},
+                    {"--harmonics", {"0", "11"}, {"1", "3"}, true}});
+  const CommandResult r = run_command({"calibrate", path("missing-bundle"), "--method", "newton"});
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.error.find("--method: 'newton' is not one of trust-region, improved, published"),
+            std::string::npos)
+      << r;
+}
+
 TEST_F(OptionValidation, Run) {
   // --duration was checked by CLI::Range, which lets NaN through (every comparison false).
   expect_validated({"run", "--config", path("missing.toml")}, "missing.toml",

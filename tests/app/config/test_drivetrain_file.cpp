@@ -220,6 +220,19 @@ TEST(DrivetrainFile, OutOfRangeValueIsRejected) {
       << e;
 }
 
+TEST(DrivetrainFile, TipReliefIsReadPerStageAndRefusedOutsideZeroToOne) {
+  const auto d = app::config::parse_drivetrain(
+      "base = \"paper-2mw\"\n[dynamics]\nmesh_tip_relief = [0.5, 0.0, 1.0]\n", "r.toml");
+  EXPECT_DOUBLE_EQ(d.dynamics.mesh_tip_relief[0], 0.5);
+  EXPECT_DOUBLE_EQ(d.dynamics.mesh_tip_relief[2], 1.0);
+  const std::string e =
+      error_of("base = \"paper-2mw\"\n[dynamics]\nmesh_tip_relief = [0.5, 1.5, 0.0]\n");
+  EXPECT_NE(
+      e.find("key 'dynamics.mesh_tip_relief[1]': expected a finite number in [0, 1], got 1.5"),
+      std::string::npos)
+      << e;
+}
+
 TEST(DrivetrainFile, UnknownKeyIsRejectedWithItsPath) {
   const std::string e = error_of("base = \"paper-2mw\"\n[turbine]\nrated_powr_w = 2e6\n");
   EXPECT_NE(e.find("key 'turbine.rated_powr_w': unknown key"), std::string::npos) << e;
@@ -240,6 +253,24 @@ TEST(DrivetrainFile, ANewEntryMissingARequiredKeyIsRefusedNotWrittenBackAsAnErro
   EXPECT_NE(e.find("key 'gears[0].face_width_m': missing: a new entry needs it > 0"),
             std::string::npos)
       << e;
+}
+
+TEST(DrivetrainFile, ADescriptionWithoutBaseMissingARequiredKeyIsRefusedNotWrittenBackAsAnError) {
+  // Without `base`, [turbine] starts from Turbine{}'s defaults like a new list entry:
+  // rotor_radius_m = 0 is outside its range, and to_toml() wrote back a file the reader
+  // refused (found by fuzz_drivetrain_toml in CI: a [turbine] table cut off after
+  // cut_out_wind_mps).
+  const std::string e = error_of(
+      "name = \"x\"\n[turbine]\nrated_power_w = 2e6\nrated_torque_nm = 1.23e6\n"
+      "rated_rotor_speed_rpm = 14.8\nmin_rotor_speed_rpm = 0.0\ncut_in_wind_mps = 4.0\n"
+      "rated_wind_mps = 12.0\ncut_out_wind_mps = 20.0\n");
+  EXPECT_NE(e.find("key 'turbine.rotor_radius_m': missing: a description without `base` needs "
+                   "it > 0"),
+            std::string::npos)
+      << e;
+  // A table the file leaves out entirely is held to the same rule.
+  EXPECT_NE(error_of("name = \"x\"\n").find("missing: a description without `base` needs it"),
+            std::string::npos);
 }
 
 TEST(DrivetrainFile, ControlCharactersInAStringSurviveTheRoundTrip) {

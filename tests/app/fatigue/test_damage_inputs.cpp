@@ -218,4 +218,37 @@ TEST_F(DamageInputs, AComponentPastItsLifeSaysExceededSinceTheDateItsDamageReach
   EXPECT_NE(r.out.find(std::string("life exceeded since ") + date), std::string::npos) << r.out;
 }
 
+TEST_F(DamageInputs, DamageCheckNamesABadRowAmongTheComparedOnesBeforeBuildingTheSpectrum) {
+  // damage-check compares the online accumulator with history mode over the first --rows
+  // rows, so each is needed. Before: the dynamics spectrum was built (minutes), then the
+  // command said "only 5 of the first 6 rows are usable" without naming the row. Now the
+  // rows are read first, through the SCADA rows policy, and the bad one is named at once.
+  const std::string good = "0,8,10,1000,0,500000\n";
+  std::string rows = kHeader;
+  for (int i = 0; i < 6; ++i) {
+    std::string row = good;
+    row.replace(0, 1, std::to_string(600 * i));
+    if (i == 2) row = "1200,8,10,1000,0,nan\n";
+    if (i == 4) row = "2400,8,80,1000,0,500000\n";  // 80 rpm: beyond 1.5 x rated (22.2)
+    rows += row;
+  }
+  const fs::path csv = write("check.csv", rows);
+  // Act
+  const CommandResult r = run_command({"damage-check", csv.string(), "--rows", "6"});
+  // Assert
+  EXPECT_EQ(r.exit_code, 1) << r;
+  EXPECT_NE(r.error.find("row 3 (line 4), column 'torque_nm': 'nan' is not a finite number"),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.error.find("row 5 (line 6), column 'rotor_speed_rpm' (rotor_speed_rpm): 80 rpm"),
+            std::string::npos)
+      << r;
+  EXPECT_NE(r.error.find("2 rows rejected"), std::string::npos) << r;
+  EXPECT_EQ(r.err.find("building the dynamics load spectrum"), std::string::npos) << r.err;
+  // A file with fewer rows than --rows: said too, before the spectrum.
+  const CommandResult few = run_command({"damage-check", csv.string(), "--rows", "7"});
+  EXPECT_EQ(few.exit_code, 1) << few;
+  EXPECT_NE(few.error.find("6 data rows; --rows asks for 7"), std::string::npos) << few;
+}
+
 }  // namespace

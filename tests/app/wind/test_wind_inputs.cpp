@@ -1,7 +1,9 @@
 // Wind-side inputs and results that must not be taken at face value (issue 15): `fit-cp`
 // refuses a fitted Cp surface above the Betz limit (printed or written with --update) and
 // keeps the description file untouched; `torque` does not class a row without a wind
-// speed as "below cut-in" with a torque of 0 when its rotor turns at 10 rpm.
+// speed as "below cut-in" with a torque of 0 when its rotor turns at 10 rpm; one NaN,
+// ragged or implausible row neither stops `torque` nor `fit-cp` nor changes their result
+// (app/wind/scada_rows.hpp, the policy `damage` follows too).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -128,6 +130,78 @@ TEST_F(WindInputs, ARowWithoutWindButATurningRotorIsNotBelowCutIn) {
   EXPECT_NE(row1.find(" -"), std::string::npos) << row1;
   EXPECT_NE(json.out.find("\"region\":\"no_wind_speed\""), std::string::npos) << json.out;
   EXPECT_NE(json.out.find("\"torque_nm\":null"), std::string::npos) << json.out;
+}
+
+// The rows of `csv` with `bad` rows inserted after its good data rows 30, 60 and 90 (data
+// rows 31, 62 and 93 of the result). Each bad row has its own t_s between two good ones.
+std::string with_bad_rows(const std::string& csv, const std::vector<std::string>& bad) {
+  std::istringstream in(csv);
+  std::string line, out;
+  std::getline(in, line);
+  out = line + "\n";
+  int good = 0;
+  std::size_t next = 0;
+  while (std::getline(in, line)) {
+    out += line + "\n";
+    ++good;
+    if (good % 30 == 0 && next < bad.size()) out += bad[next++] + "\n";
+  }
+  return out;
+}
+
+// The lines of `text` that do not contain `skip` (the file's path, the rejected count).
+std::string without_lines_containing(const std::string& text, const std::string& skip) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    if (line.find(skip) == std::string::npos) out += line + "\n";
+  }
+  return out;
+}
+
+TEST_F(WindInputs, ANanRaggedOrImplausibleRowIsCountedNamedAndSkippedByTorqueAndFitCp) {
+  // Before: one such row in years of SCADA stopped `torque` and `fit-cp` with its message
+  // (`damage` counted it and carried on). Now all three follow one policy: the row is
+  // skipped, counted by reason, named on stderr, the command finishes on the other rows
+  // and exits 2. The result must be the result of the good rows alone.
+  const std::string good = tracking_rows(1.0);
+  const std::string clean = write("clean.csv", good);
+  const std::string bad = write(
+      "bad.csv", with_bad_rows(good, {"18300,6.0,8.0,nan", "36300,6.0,8.0", "54300,80,8.0,300"}));
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{"torque", "--compare", "--no-rows"},
+        std::vector<std::string>{"fit-cp", "--free", "none"}}) {
+    std::vector<std::string> on_clean{command[0], clean}, on_bad{command[0], bad};
+    on_clean.insert(on_clean.end(), command.begin() + 1, command.end());
+    on_bad.insert(on_bad.end(), command.begin() + 1, command.end());
+    // Act
+    const CommandResult reference = run_command(on_clean);
+    const CommandResult r = run_command(on_bad);
+    // Assert: exit 2, each row named with its row, line, column and what was wrong.
+    ASSERT_EQ(reference.exit_code, 0) << reference;
+    EXPECT_EQ(r.exit_code, 2) << command[0] << "\n" << r;
+    EXPECT_NE(r.err.find(bad + ": row 31 (line 32), column 'power_kw': 'nan' is not a finite "
+                               "number; row skipped"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(bad + ": row 62 (line 63): 3 fields, expected 4 as in the header; row "
+                               "skipped"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find(bad + ": row 93 (line 94), column 'wind_speed_mps' (wind_speed_mps): 80 "
+                               "m/s"),
+              std::string::npos)
+        << r.err;
+    EXPECT_NE(r.err.find("3 rows rejected (non-numeric or ragged 2, time 0, rotor speed 0, wind "
+                         "1, other out of range 0)"),
+              std::string::npos)
+        << r.err;
+    // The result is that of the 120 good rows, line for line (but the line naming the file).
+    EXPECT_EQ(without_lines_containing(r.out, ".csv"),
+              without_lines_containing(reference.out, ".csv"))
+        << command[0];
+    EXPECT_NE(r.out.find("rejected"), std::string::npos) << r.out;
+  }
 }
 
 }  // namespace

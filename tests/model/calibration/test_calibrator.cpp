@@ -292,7 +292,7 @@ TEST_F(ToneCalibratorTest, TrustRegionStepsDoNotAllocate) {
 }
 
 TEST_F(ToneCalibratorTest, VariablesTheRecordingCannotDetermineAreReportedAndKeptAtTheirPriors) {
-  // The standard space (62 variables with transmission error and housing modes in the prior);
+  // The standard space (66 variables with transmission error and housing modes in the prior);
   // the tones depend on η, ζ and the mesh scales only, so those 5 are identified and every
   // other variable must be reported not identified and left exactly at its prior.
   DynamicsParameters prior = model::paper_2mw().dynamics;

@@ -107,6 +107,59 @@ TEST(MeshStiffnessShape, HelicalMeshVariesLessThanTheSpurMesh) {
   EXPECT_GT(range(helical.shape), 0.0);
 }
 
+// Tip relief (contact_line_length_m): each pair's contact is weighted by a ramp of length
+// L = r·(g_α − p_bt) at both ends of the path, so a spur mesh's contact length is a periodic
+// sum of trapezoids (support g_α, plateau g_α − 2L) spaced one base pitch apart: a box of
+// width g_α − L convolved with a unit-area box of width L. Its Fourier coefficients are
+// therefore c_k/c_0 = sinc(π k (g_α − L)/p_bt) · sinc(π k L/p_bt), sinc x = sin x / x.
+double sinc(double x) { return x == 0.0 ? 1.0 : std::sin(x) / x; }
+
+/// Amplitude of harmonic k of a table (a cosine of amplitude A gives A).
+double harmonic(const PeriodicTable& t, int k) {
+  double re = 0.0, im = 0.0;
+  for (std::size_t i = 0; i < PeriodicTable::kSize; ++i) {
+    const double a = 2.0 * kPi * k * static_cast<double>(i) / PeriodicTable::kSize;
+    re += t.values[i] * std::cos(a);
+    im += t.values[i] * std::sin(a);
+  }
+  return 2.0 * std::hypot(re, im) / PeriodicTable::kSize;
+}
+
+TEST(MeshStiffnessShape, SpurTipReliefTurnsTheRectangularWaveIntoTheTrapezoidsHarmonics) {
+  const auto pair = sun_planet();
+  const auto g = model::dynamics::mesh_geometry(pair);
+  const double p = g.base_pitch_m;
+  for (const double r : {0.25, 0.5, 0.75}) {
+    const double ramp = r * (g.path_of_contact_m - p);
+    const auto k = model::dynamics::mesh_stiffness(pair, 1.0, r);
+    for (int h = 1; h <= 6; ++h) {
+      const double expected = 2.0 * std::abs(sinc(kPi * h * (g.path_of_contact_m - ramp) / p) *
+                                             sinc(kPi * h * ramp / p));
+      EXPECT_NEAR(harmonic(k.shape, h), expected, 2e-3) << "relief " << r << ", harmonic " << h;
+    }
+    // The mean contact length is the trapezoid's area per pitch: b·(g_α − L)/p_bt.
+    double sum = 0.0;
+    for (int i = 0; i < 1000; ++i) {
+      sum += model::dynamics::contact_line_length_m(g, pair.face_width_m, i / 1000.0, r);
+    }
+    EXPECT_NEAR(sum / 1000.0, pair.face_width_m * (g.path_of_contact_m - ramp) / p,
+                1e-3 * pair.face_width_m);
+  }
+}
+
+TEST(MeshStiffnessShape, FullTipReliefEvensTheStiffnessOutAndNoReliefLeavesItUnchanged) {
+  // At r = 1 the ramps of successive pairs complement each other (L = g_α − p_bt): constant.
+  for (const auto& pair : {sun_planet(), planet_ring(), intermediate()}) {
+    const auto flat = model::dynamics::mesh_stiffness(pair, 1.0, 1.0);
+    const auto [lo, hi] = std::minmax_element(flat.shape.values.begin(), flat.shape.values.end());
+    EXPECT_LT(*hi - *lo, 1e-9);
+    const auto none = model::dynamics::mesh_stiffness(pair, 1.0, 0.0);
+    const auto plain = model::dynamics::mesh_stiffness(pair);
+    EXPECT_EQ(none.shape.values, plain.shape.values);
+    EXPECT_DOUBLE_EQ(flat.mean_n_m, plain.mean_n_m);  // the ISO 6336-1 mean is kept
+  }
+}
+
 TEST(MeshPhasing, EquallySpacedPlanetsMeshInPhaseWhenToothCountsDivideByThePlanetCount) {
   // Parker & Lin 2004: γ_sn = z_s ψ_n / 2π mod 1. z_s = 21, ψ = 120°: 7 → 0.
   EXPECT_NEAR(model::dynamics::sun_planet_phase(21, 2 * kPi / 3), 0.0, 1e-9);

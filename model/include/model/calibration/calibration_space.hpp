@@ -14,7 +14,12 @@
 //   damping      Rayleigh η, ζ                         ln, σ = ln 2, bounds ×/÷ 10
 //                band factors at 100 / 500 / 2500 Hz   ln, σ = ln 2, bounds ×/÷ 5
 //   stiffness    mesh stiffness scale per stage        ln, σ = 0.25 (ISO 6336 c_γ), ×/÷ 2
+//                tip relief per stage (how smooth the  linear, σ = 0.35, 0 … 1 (the fraction
+//                stiffness variation is: its higher    of the modification that evens the
+//                harmonics)                            stiffness out; unknown for a real box)
 //                bearing stiffness b1..b6              ln, σ = ln 2 (preload, clearance), ×/÷ 4
+//                bearing stiffness fluctuation (the    ln, σ = ln 2, ×/÷ 10 (roller count and
+//                varying compliance at ball pass)      load zone; where the prior has one)
 //   excitation   transmission error per stage and harmonic 1..3
 //                                                      ln, σ = ln 3 (the accuracy grade is a
 //                                                      tolerance, not a measurement), ×/÷ 50
@@ -39,14 +44,16 @@
 
 namespace model::calibration {
 
-/// Largest calibration space (the standard one has 62 variables).
-inline constexpr std::size_t kMaxCalibrationVariables = 64;
+/// Largest calibration space (the standard one has 66 variables).
+inline constexpr std::size_t kMaxCalibrationVariables = 66;
 
 enum class ParameterField : std::uint8_t {
   kRayleighEta,
   kRayleighZeta,
   kDampingBand,             // index: knot
   kMeshScale,               // index: stage
+  kMeshTipRelief,           // index: stage
+  kBearingFluctuation,      // index: 0
   kBearingShaftScale,       // index: parallel shaft (paper's variables)
   kBearingFactor,           // index: bearing b1..b6
   kTransmissionError,       // index: stage·harmonics + h − 1

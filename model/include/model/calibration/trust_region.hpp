@@ -58,7 +58,7 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxLsqVariables = 64;  // the calibration's decision variables
+inline constexpr std::size_t kMaxLsqVariables = 66;  // the calibration's decision variables
 /// 4 operating points × 2 points × (RMS + 4 meshes × 5 harmonics) + one prior row per variable.
 inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 21 + kMaxLsqVariables;
 

@@ -179,7 +179,12 @@ inline constexpr std::array<double, kDampingKnots> kDampingKnotsHz{100.0, 500.0,
 struct DynamicsParameters {
   double rayleigh_eta = 0.0;   // [1/s] mass-proportional damping η (C = ηM + ζK)
   double rayleigh_zeta = 0.0;  // [s] stiffness-proportional damping ζ
-  std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};     // [-] per stage
+  std::array<double, 3> mesh_stiffness_scale{1.0, 1.0, 1.0};  // [-] per stage
+  /// [-] tip relief per stage, 0 … 1: the fraction of the profile modification that evens the
+  /// mesh stiffness out at its design load (model/dynamics/mesh_stiffness.hpp); it smooths
+  /// the stiffness variation and so takes the higher mesh harmonics out of its excitation.
+  /// 0: unmodified involutes (the model before this parameter).
+  std::array<double, 3> mesh_tip_relief{};
   std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
   double bearing_stiffness_fluctuation = 0.1;                    // [-] k_θ / k_a
   /// [-] per bearing b1..b6, on top of its shaft's bearing_stiffness_scale.

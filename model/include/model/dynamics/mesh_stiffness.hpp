@@ -65,7 +65,16 @@ double iso_mesh_stiffness(const GearPair& pair);  // [N/(mm·µm)]
 /// Total length of the contact lines in the plane of action [m] at mesh phase
 /// `cycles` (cycles = 0: a reference tooth pair crosses the pitch point at
 /// mid face width). Spur: b × (number of pairs in contact).
-double contact_line_length_m(const MeshGeometry& g, double face_width_m, double cycles);
+///
+/// `relief` ∈ [0, 1]: tip relief (a profile modification at both ends of the path of
+/// contact), as the fraction of the relief that evens the stiffness out at the load it is
+/// designed for. A relieved pair takes up its load along a ramp of length
+/// L = relief·(g_α − p_bt) at each end of the path instead of all at once, and each piece of
+/// contact line is weighted by that ramp: at relief = 1 the ramps of successive spur pairs
+/// complement each other and the sum is constant ("long relief" at its design load; Smith,
+/// Gear Noise and Vibration, 2003, ch. 6). 0: no modification (unrelieved involutes).
+double contact_line_length_m(const MeshGeometry& g, double face_width_m, double cycles,
+                             double relief = 0.0);
 
 /// The stiffness of one mesh along its normal line of action.
 struct MeshStiffness {
@@ -76,8 +85,9 @@ struct MeshStiffness {
 /// Mean from ISO 6336-1 (c_γα·b is the transverse stiffness; along the normal
 /// line of action k_n = c_γα·b / cos²β_b), variation proportional to the
 /// contact-line length (Cai's and Umezawa's approximation of the load-sharing
-/// between pairs), times `scale`.
-MeshStiffness mesh_stiffness(const GearPair& pair, double scale = 1.0);
+/// between pairs) with tip relief `relief` (contact_line_length_m), times `scale`.
+/// The mean stays ISO 6336-1's (its c_γα is for gears with the usual modifications).
+MeshStiffness mesh_stiffness(const GearPair& pair, double scale = 1.0, double relief = 0.0);
 
 /// ISO 1328-1:1995 §6 profile form deviation tolerance f_fα of one gear [µm]: the
 /// grade-5 value 2.5·√m_n + 0.17·√d + 0.5 (m_n, d in mm) times √2 per grade above 5
