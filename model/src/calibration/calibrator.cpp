@@ -511,9 +511,10 @@ StepStatus Calibrator::step() {
       if (z_start_[i] + h > config_.space.upper(i)) h = -h;
       z_work_[i] = z_start_[i] + h;
       const auto col = static_cast<Eigen::Index>(i);
+      // A probe is a finite difference, not a candidate: were it kept as the best point, the
+      // probed variable would end moved by probe_step while reported not identified (seen
+      // in the calibrated twin's null test).
       if (evaluate_variables(z_work_.data(), f_work_.data(), phi_work_.data())) {
-        consider(z_work_.data(), f_work_.data(),
-                 data_cost(phi_work_.data()) + prior_cost(z_work_.data()));
         for (std::size_t r = 0; r < feature_count_; ++r)
           model_(static_cast<Eigen::Index>(r), col) = (phi_work_[r] - phi_start_[r]) / h;
       } else {
