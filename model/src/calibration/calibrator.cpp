@@ -54,11 +54,13 @@ constexpr double kBoundTolerance = 1e-3;  // [prior σ] a fitted variable this c
 
 /// `otherwise`, or the bound a fitted variable ended on. A bound the prior itself sits on (tip
 /// relief 0: unmodified involutes) is where the description put the variable, not a limit the
-/// fit ran into: ending there is ending at the prior.
+/// fit ran into: ending there is ending at the prior. A lower bound that stands for zero (an
+/// error amplitude, CalibrationVariable::lower_is_zero) is inside the physical range.
 VariableStatus bound_status(const CalibrationSpace& space, std::size_t i, double z,
                             VariableStatus otherwise) {
   const double lo = space.lower(i), hi = space.upper(i);
-  if (z <= lo + kBoundTolerance && lo < -kBoundTolerance) return VariableStatus::kAtLowerBound;
+  if (z <= lo + kBoundTolerance && lo < -kBoundTolerance && !space.variable(i).lower_is_zero)
+    return VariableStatus::kAtLowerBound;
   if (z >= hi - kBoundTolerance && hi > kBoundTolerance) return VariableStatus::kAtUpperBound;
   return otherwise;
 }
