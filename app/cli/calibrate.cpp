@@ -71,7 +71,7 @@ struct CalibrateArgs {
   std::string method = "trust-region";
   std::string simulator = "rom";
   std::string space;  // "": standard with the ROM, paper with the lumped stand-in
-  std::size_t evaluations = 10;
+  std::size_t evaluations = 30;
   std::size_t population = 20;
   std::size_t iterations = 50;
   std::uint64_t seed = 1;
@@ -785,7 +785,7 @@ void setup_calibrate(CLI::App& sub) {
                  "rom (default, the dynamics ROM) or lumped (stand-in)")
       ->check(app::cli::one_of({"rom", "lumped"}));
   sub.add_option("--evaluations", args->evaluations,
-                 "trust-region: model evaluations of each round's fit at most (default 10; "
+                 "trust-region: model evaluations of each round's fit at most (default 30; "
                  "up to 8 rounds, each with its excitation solve and identification probes on "
                  "top)")
       ->check(app::cli::integer_in(0, 100000, "model evaluations"));

@@ -97,6 +97,7 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
       if (!(v > 0.0)) continue;  // no prior error on this harmonic: not calibrated
       std::snprintf(name, sizeof name, "transmission_error.stage%zu.h%zu", st + 1, h);
       s.add(ParameterField::kTransmissionError, i, true, kLn3, v / 50.0, v * 50.0, name, "m");
+      s.vars_[s.count_ - 1].lower_is_zero = true;
     }
   }
   for (std::size_t st = 0; st < kTransmissionErrorStages; ++st) {

@@ -54,11 +54,13 @@ constexpr double kBoundTolerance = 1e-3;  // [prior σ] a fitted variable this c
 
 /// `otherwise`, or the bound a fitted variable ended on. A bound the prior itself sits on (tip
 /// relief 0: unmodified involutes) is where the description put the variable, not a limit the
-/// fit ran into: ending there is ending at the prior.
+/// fit ran into: ending there is ending at the prior. A lower bound that stands for zero (an
+/// error amplitude, CalibrationVariable::lower_is_zero) is inside the physical range.
 VariableStatus bound_status(const CalibrationSpace& space, std::size_t i, double z,
                             VariableStatus otherwise) {
   const double lo = space.lower(i), hi = space.upper(i);
-  if (z <= lo + kBoundTolerance && lo < -kBoundTolerance) return VariableStatus::kAtLowerBound;
+  if (z <= lo + kBoundTolerance && lo < -kBoundTolerance && !space.variable(i).lower_is_zero)
+    return VariableStatus::kAtLowerBound;
   if (z >= hi - kBoundTolerance && hi > kBoundTolerance) return VariableStatus::kAtUpperBound;
   return otherwise;
 }
@@ -511,9 +513,10 @@ StepStatus Calibrator::step() {
       if (z_start_[i] + h > config_.space.upper(i)) h = -h;
       z_work_[i] = z_start_[i] + h;
       const auto col = static_cast<Eigen::Index>(i);
+      // A probe is a finite difference, not a candidate: were it kept as the best point, the
+      // probed variable would end moved by probe_step while reported not identified (seen
+      // in the calibrated twin's null test).
       if (evaluate_variables(z_work_.data(), f_work_.data(), phi_work_.data())) {
-        consider(z_work_.data(), f_work_.data(),
-                 data_cost(phi_work_.data()) + prior_cost(z_work_.data()));
         for (std::size_t r = 0; r < feature_count_; ++r)
           model_(static_cast<Eigen::Index>(r), col) = (phi_work_[r] - phi_start_[r]) / h;
       } else {

@@ -496,6 +496,30 @@ TEST(CalibrationSpace, RoundTripsParametersThroughItsWhitenedLogarithmicVariable
   }
 }
 
+TEST(CalibrationSpace,
+     TheStandardSpaceHasEveryPhysicalVariableOnceAndOnlyErrorAmplitudesReachZero) {
+  // paper-2mw's prior: 2 Rayleigh + 3 band + 3 mesh scale + 3 tip relief + 6 bearings + the
+  // fluctuation + 9 transmission errors and 9 phases + 6 housing modes × 5 = 66.
+  const CalibrationSpace space = CalibrationSpace::standard(model::paper_2mw().dynamics);
+  ASSERT_EQ(space.size(), 66u);
+  std::size_t relief = 0, zero_lower = 0;
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const auto& v = space.variable(i);
+    if (v.field == model::calibration::ParameterField::kMeshTipRelief) {
+      ++relief;
+      EXPECT_FALSE(v.logarithmic);
+      EXPECT_EQ(v.lower, 0.0);
+      EXPECT_EQ(v.upper, 1.0);
+    }
+    // Only an error amplitude's lower bound (prior/50, searched in ln) stands for zero.
+    EXPECT_EQ(v.lower_is_zero, v.field == model::calibration::ParameterField::kTransmissionError)
+        << space.name(i);
+    zero_lower += v.lower_is_zero ? 1 : 0;
+  }
+  EXPECT_EQ(relief, 3u);
+  EXPECT_EQ(zero_lower, 9u);
+}
+
 TEST_F(CalibratorTest,
        AnOffNominalRecordingTriggersCalibrationAndTheChosenParametersFitBothPoints) {
   // Arrange

@@ -23,6 +23,8 @@
 //   excitation   transmission error per stage and harmonic 1..3
 //                                                      ln, σ = ln 3 (the accuracy grade is a
 //                                                      tolerance, not a measurement), ×/÷ 50
+//                                                      (÷ 50 stands for "no error": ending
+//                                                      there is not AT BOUND)
 //                and its phase against the engagement cycle
 //                                                      linear, σ = π/√3 (uniform: unknown),
 //                                                      −2π … 2π (periodic: never a real bound)
@@ -72,6 +74,10 @@ struct CalibrationVariable {
   double prior_sd = 1.0;    // [units of u]
   double lower = 0.0;       // [units of the value] bounds
   double upper = 0.0;
+  /// The lower bound stands for zero of a quantity whose physical range starts there (an
+  /// error amplitude, searched in ln: prior/50 is "no error" to the model): a fit that ends on
+  /// it is within the physical range, not pressing against it.
+  bool lower_is_zero = false;
   std::array<char, 40> name{};  // e.g. "housing.point1.mode2.frequency_hz"
   std::array<char, 8> unit{};   // e.g. "Hz", "m", "-"
 };
