@@ -7,7 +7,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -174,10 +176,15 @@ TEST(StateStore, AWriterKilledAtRandomMomentsNeverLosesACompletedSave) {
   // reports every completed save through a pipe; the parent kills it with SIGKILL after a
   // random delay, 120 times, then restarts from the files (as the box would after a power
   // cut or a kill -9).
+  // The kill moments span the child's start-up and about five saves, timed on this machine in
+  // round 0 (which waits for two completed saves): a fixed window was too short under
+  // qemu-aarch64, where a fork and two fsyncs take longer than 40 ms and the writer hardly
+  // ever completed a save.
   const fs::path dir = fresh_dir("sigkill");
   std::mt19937_64 rng(20261122);
   std::uint64_t next_value = 1;
   std::uint64_t last_loaded = 0;
+  std::int64_t window_us = 40000;
   for (int round = 0; round < 120; ++round) {
     int fds[2];
     ASSERT_EQ(::pipe(fds), 0);
@@ -196,11 +203,25 @@ TEST(StateStore, AWriterKilledAtRandomMomentsNeverLosesACompletedSave) {
       }
     }
     ::close(fds[1]);
-    std::this_thread::sleep_for(std::chrono::microseconds(rng() % 40000));
+    std::uint64_t early = 0;  // saves round 0 read while timing them
+    if (round == 0) {
+      const auto start = std::chrono::steady_clock::now();
+      ASSERT_EQ(::read(fds[0], &early, sizeof early), static_cast<ssize_t>(sizeof early));
+      const auto one = std::chrono::steady_clock::now();
+      ASSERT_EQ(::read(fds[0], &early, sizeof early), static_cast<ssize_t>(sizeof early));
+      const auto two = std::chrono::steady_clock::now();
+      const auto us = [](auto d) {
+        return std::chrono::duration_cast<std::chrono::microseconds>(d).count();
+      };
+      window_us = std::max<std::int64_t>(window_us, us(one - start) + 5 * us(two - one));
+    } else {
+      std::this_thread::sleep_for(
+          std::chrono::microseconds(rng() % static_cast<std::uint64_t>(window_us)));
+    }
     ::kill(pid, SIGKILL);
     int status = 0;
     ::waitpid(pid, &status, 0);
-    std::uint64_t reported = 0, v = 0;
+    std::uint64_t reported = early, v = 0;
     while (::read(fds[0], &v, sizeof v) == static_cast<ssize_t>(sizeof v)) reported = v;
     ::close(fds[0]);
     ASSERT_TRUE(WIFSIGNALED(status)) << "the writer failed on its own: status " << status;
