@@ -57,7 +57,15 @@ TEST(DiagnoseOnline, AWorkerPublishesEveryStepAndACancelFromAnotherThreadEndsThe
       if (cancel_request.load(std::memory_order_relaxed)) diagnoser.cancel();
       st = diagnoser.step();
       md::DiagnosisSummary s;
-      if (diagnoser.read_result(s)) latest.write(s);
+      if (diagnoser.read_result(s)) {
+        latest.write(s);
+        // Mid-calibration, hold until the watcher has seen it and asked for the cancel: the
+        // calibration stage can be over in a few steps, before a watcher slowed by load or a
+        // sanitizer is scheduled (the cancel then arrived after the run had ended).
+        if (s.stage == md::DiagnosisStage::kCalibrate && !s.finished) {
+          while (!cancel_request.load()) std::this_thread::yield();
+        }
+      }
     } while (st == md::DiagnosisStep::kRunning);
     final_step.store(static_cast<int>(st));
   });
