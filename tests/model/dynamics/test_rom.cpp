@@ -27,6 +27,7 @@
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/rom.hpp"
+#include "paper_models.hpp"
 
 namespace {
 std::atomic<long> g_allocations{0};
@@ -46,12 +47,9 @@ namespace {
 using namespace model::dynamics;
 constexpr double kDt = 1.0 / 25600;
 
-FullModel paper_model(const model::Drivetrain& d = model::paper_2mw()) {
-  std::string error;
-  auto m = build_full_model(d, {}, &error);
-  EXPECT_TRUE(m.has_value()) << error;
-  return *m;
-}
+using test_support::paper_model;
+using test_support::quiet_model;
+using test_support::quiet_paper;
 
 TEST(Rom, RetainedModesMatchTheFullModelWithinOnePercent) {
   // Arrange
@@ -476,20 +474,6 @@ namespace {
 // are now quasi-static (rom.hpp, "Stability"). These tests run the ROM where it diverged.
 // (The step map's spectral radius at every carrier angle, pure linear algebra: natively only,
 // test_rom_stability.cpp.)
-
-// Constant mesh, bearing and path stiffness, no transmission error: what remains time-varying
-// is the carrier angle, so the free vibration's energy has nothing to be pumped by but ψ.
-model::Drivetrain quiet_paper() {
-  model::Drivetrain d = model::paper_2mw();
-  d.dynamics.transmission_error_m.fill(0.0);
-  d.dynamics.bearing_stiffness_fluctuation = 0.0;
-  return d;
-}
-FullModel quiet_model() {
-  FullModel m = paper_model(quiet_paper());
-  for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
-  return m;
-}
 
 // The physical energy ½q̇ᵀq̇ + ½qᵀK(ψ)q in the ROM's coordinates, K(ψ) = diag(ω²) +
 // k̄_r·(W_r(ψ)W_r(ψ)ᵀ − W_r(0)W_r(0)ᵀ) (rom.hpp; the other meshes are constant here).

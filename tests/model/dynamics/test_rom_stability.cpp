@@ -21,35 +21,20 @@
 #include "model/drivetrain/description.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/rom.hpp"
+#include "paper_models.hpp"
 
 namespace {
 
 using namespace model::dynamics;
 
-FullModel paper_model(const model::Drivetrain& d) {
-  std::string error;
-  auto m = build_full_model(d, {}, &error);
-  EXPECT_TRUE(m.has_value()) << error;
-  return *m;
-}
+using test_support::quiet_model;
+using test_support::quiet_paper;
 
 // Below 4096 Hz the ROM diverged once the planets turned with the carrier (docs/run.md, known
 // problems): the turning mesh's stiffness along its direction at ψ, less its mean along the
 // direction at 0, is a large, indefinite change of the modal stiffness, and the first-order
 // hold couples it through modes the step cannot resolve (ω·Δt near and above π). Those modes
 // are now quasi-static (rom.hpp, "Stability"). These tests run the ROM where it diverged.
-
-model::Drivetrain quiet_paper() {
-  model::Drivetrain d = model::paper_2mw();
-  d.dynamics.transmission_error_m.fill(0.0);
-  d.dynamics.bearing_stiffness_fluctuation = 0.0;
-  return d;
-}
-FullModel quiet_model() {
-  FullModel m = paper_model(quiet_paper());
-  for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
-  return m;
-}
 
 // The step's map of (q, v) over one step with the carrier frozen at ψ, written from the
 // equations in rom.hpp (not from the kernel): q⁺ = P_qq q + P_qv v + B0q g + B1q g⁺, the same
