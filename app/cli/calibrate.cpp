@@ -71,7 +71,7 @@ struct CalibrateArgs {
   std::string method = "trust-region";
   std::string simulator = "rom";
   std::string space;  // "": standard with the ROM, paper with the lumped stand-in
-  std::size_t evaluations = 30;
+  std::size_t evaluations = mc::kDefaultFitEvaluations;
   std::size_t population = 20;
   std::size_t iterations = 50;
   std::uint64_t seed = 1;
@@ -477,8 +477,8 @@ void run(const CalibrateArgs& args) {
                  "zeta %.3g s\n",
                  drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
   }
-  cc.space = space_name == "paper" ? mc::CalibrationSpace::paper(prior)
-                                   : mc::CalibrationSpace::standard(prior);
+  cc.space =
+      space_name == "paper" ? mc::CalibrationSpace::paper(prior) : mc::default_space(drivetrain);
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
   const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <limits>
 
+#include "model/calibration/lumped_simulator.hpp"
+
 namespace model::calibration {
 
 namespace {
@@ -37,7 +39,7 @@ dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics&
 }
 
 CalibratorConfig with_space(CalibratorConfig c, const Drivetrain& d) {
-  if (c.space.size() == 0) c.space = CalibrationSpace::standard(d.dynamics);
+  if (c.space.size() == 0) c.space = default_space(d);
   return c;
 }
 
@@ -78,6 +80,10 @@ const char* to_string(VariableStatus s) {
       return "AT UPPER BOUND";
   }
   return "?";
+}
+
+CalibrationSpace default_space(const Drivetrain& d) {
+  return CalibrationSpace::standard(with_nominal_damping(d.dynamics));
 }
 
 bool needs_calibration(const PointIndicators& indicators) {

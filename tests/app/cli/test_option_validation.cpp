@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/option_table.hpp"
 #include "support/run_command.hpp"
 
 namespace {
@@ -22,20 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 using test_support::CommandResult;
 using test_support::joined;
+using test_support::NumericOption;
+using test_support::refused_values;
 using test_support::run_command;
-
-// No numeric option may take these.
-const std::vector<std::string> kNeverANumber{"nan", "NaN",   "inf",  "-inf", "1e999",
-                                             "abc", "12abc", "0x10", "",     " 5"};
-// Nor an integer option these.
-const std::vector<std::string> kNeverAnInteger{"1.5", "1e3", "3x"};
-
-struct NumericOption {
-  std::string name;                       // "--period"
-  std::vector<std::string> out_of_range;  // refused by its range
-  std::vector<std::string> valid;         // taken by the parser
-  bool integer = false;
-};
 
 class OptionValidation : public ::testing::Test {
  protected:
@@ -54,10 +44,7 @@ class OptionValidation : public ::testing::Test {
   void expect_validated(const std::vector<std::string>& base, const std::string& missing_input,
                         const std::vector<NumericOption>& options) const {
     for (const NumericOption& o : options) {
-      std::vector<std::string> bad = kNeverANumber;
-      bad.insert(bad.end(), o.out_of_range.begin(), o.out_of_range.end());
-      if (o.integer) bad.insert(bad.end(), kNeverAnInteger.begin(), kNeverAnInteger.end());
-      for (const std::string& value : bad) {
+      for (const std::string& value : refused_values(o)) {
         std::vector<std::string> args = base;
         args.insert(args.end(), {o.name, value});
         // Act

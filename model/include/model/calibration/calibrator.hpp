@@ -169,6 +169,15 @@ struct CalibratorConfig {
   CalibrationSpace space{};               // empty: CalibrationSpace::standard(description's)
 };
 
+/// The calibration `drivetwin calibrate` runs by default, shared by every caller that wants
+/// the same (the diagnosis's calibration stage among them): the standard space around the
+/// description's parameters, with the nominal damping (lumped_simulator.hpp) where the
+/// description gives none; a Calibrator given an empty space uses it.
+CalibrationSpace default_space(const Drivetrain& d);
+/// Fit evaluations of the trust region per round by default (the probes come on top): 30 bring
+/// three of five independent-generator recordings within the thresholds (docs/calibration.md).
+inline constexpr std::size_t kDefaultFitEvaluations = 30;
+
 /// How a calibration left a variable.
 enum class VariableStatus : std::uint8_t {
   kNotIdentified,  // the recording cannot determine it: kept where it started
