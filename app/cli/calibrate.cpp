@@ -821,7 +821,7 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--residual-sd", args->residual_sd,
                  "Uncertainty of the spectral residual in the fit's last rounds (default 0.25; "
                  "0: tones and RMS only)")
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(app::cli::number_in(0.0, 10.0));
   sub.add_flag("--force", args->force,
                "Calibrate even when every indicator is within its threshold");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");
