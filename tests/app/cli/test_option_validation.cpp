@@ -211,7 +211,8 @@ TEST_F(OptionValidation, Calibrate) {
                     {"--revolutions", {"0", "7", "4097"}, {"8", "64"}, true},
                     {"--windows", {"0", "65"}, {"1", "4"}, true},
                     {"--samples-per-rev", {"0", "15", "65537"}, {"16", "1024"}, true},
-                    {"--harmonics", {"0", "11"}, {"1", "3"}, true}});
+                    {"--harmonics", {"0", "11"}, {"1", "3"}, true},
+                    {"--residual-sd", {"-0.1", "11"}, {"0", "0.25"}}});
   const CommandResult r = run_command({"calibrate", path("missing-bundle"), "--method", "newton"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.error.find("--method: 'newton' is not one of trust-region, improved, published"),
