@@ -71,7 +71,7 @@ struct CalibrateArgs {
   std::string method = "trust-region";
   std::string simulator = "rom";
   std::string space;  // "": standard with the ROM, paper with the lumped stand-in
-  std::size_t evaluations = 30;
+  std::size_t evaluations = mc::kDefaultFitEvaluations;
   std::size_t population = 20;
   std::size_t iterations = 50;
   std::uint64_t seed = 1;
@@ -79,6 +79,7 @@ struct CalibrateArgs {
   std::size_t revolutions = 64;
   std::size_t harmonics = 3;
   std::size_t windows = 4;
+  double residual_sd = 0.25;
   bool force = false;
   bool quiet = false;
 };
@@ -466,6 +467,8 @@ void run(const CalibrateArgs& args) {
   cc.mogoa.max_iterations = args.iterations;
   cc.mogoa.seed = args.seed;
   cc.trust_region.max_evaluations = args.evaluations;
+  cc.residual_model_sd = args.residual_sd;
+  cc.residual_band_hz = kResidualBandHz;
   cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
   const model::DynamicsParameters prior = mc::with_nominal_damping(drivetrain.dynamics);
   if (prior.rayleigh_eta != drivetrain.dynamics.rayleigh_eta) {
@@ -474,8 +477,8 @@ void run(const CalibrateArgs& args) {
                  "zeta %.3g s\n",
                  drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
   }
-  cc.space = space_name == "paper" ? mc::CalibrationSpace::paper(prior)
-                                   : mc::CalibrationSpace::standard(prior);
+  cc.space =
+      space_name == "paper" ? mc::CalibrationSpace::paper(prior) : mc::default_space(drivetrain);
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
   const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
@@ -520,6 +523,13 @@ void run(const CalibrateArgs& args) {
   for (const MeasuredBundle& b : bundles) cases.push_back(b.measured);
   if (!calibrator->set_measurements(cases.data(), cases.size()))
     throw CommandError("calibrate: too many features for the calibration's capacity");
+  // The fit also weighs the spectral residual against each point's averaged order spectrum.
+  for (std::size_t c = 0; c < bundles.size(); ++c) {
+    for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+      const std::vector<double>& sp = bundles[c].spectrum[p];
+      (void)calibrator->set_measured_spectrum(c, p, sp.data(), sp.size());
+    }
+  }
 
   // A parameter set simulated at bundle c: its features and order spectra.
   struct Simulated {
@@ -808,6 +818,10 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--harmonics", args->harmonics,
                  "Mesh harmonics compared, fundamental included (default 3)")
       ->check(app::cli::integer_in(1, 10, "harmonics"));
+  sub.add_option("--residual-sd", args->residual_sd,
+                 "Uncertainty of the spectral residual in the fit's last rounds (default 0.25; "
+                 "0: tones and RMS only)")
+      ->check(app::cli::number_in(0.0, 10.0));
   sub.add_flag("--force", args->force,
                "Calibrate even when every indicator is within its threshold");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");

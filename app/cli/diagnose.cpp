@@ -43,7 +43,7 @@ struct Args {
   std::string json;
   std::string html;
   std::string drivetrain;
-  std::size_t evaluations = 40;
+  std::size_t evaluations = model::calibration::kDefaultFitEvaluations;
   std::size_t candidates = 3;
   std::size_t fit_evaluations = 10;
   bool quiet = false;
@@ -193,7 +193,8 @@ void setup(CLI::App& sub) {
   sub.add_option("--html", args->html, "Write the offline HTML report to this file");
   sub.add_option("--drivetrain", args->drivetrain, "Drivetrain NAME|FILE (default: the bundle's)");
   sub.add_option("--evaluations", args->evaluations,
-                 "Calibration: model evaluations at most (default 40)")
+                 "Calibration: fit evaluations per round, as `drivetwin calibrate --evaluations` "
+                 "(default 30)")
       ->check(app::cli::integer_in(1, 100000, "model evaluations"));
   sub.add_option("--candidates", args->candidates, "Hypotheses modelled and refitted (default 3)")
       ->check(app::cli::integer_in(1, 20, "hypotheses"));

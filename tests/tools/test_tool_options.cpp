@@ -25,27 +25,18 @@
 #include "diagnosis/synth_lumped_bundle_options.hpp"
 #include "dynamics_bench/dynamics_bench_options.hpp"
 #include "gearbox_generator/synth_independent_bundle_options.hpp"
+#include "support/option_table.hpp"
 #include "truth/truth_synth_options.hpp"
 
 namespace {
 
-// No numeric option may take these.
-const std::vector<std::string> kNeverANumber{"nan", "NaN",   "inf",  "-inf", "1e999",
-                                             "abc", "12abc", "0x10", "",     " 5"};
-// Nor an integer option these.
-const std::vector<std::string> kNeverAnInteger{"1.5", "1e3", "3x"};
+using test_support::NumericOption;
+using test_support::refused_values;
 
 // paper-2mw's rated point (shared/reference/drivetrain-2mw.md: 14.8 rpm, 1.23e6 N·m) and
 // the range a recording of it is held to (120 % of rated speed, 150 % of rated torque):
 // 17.76 rpm and 1.845e6 N·m.
 const tools::options::OperatingRange kPaperRange{1.2 * 14.8, 1.5 * 1.23e6};
-
-struct NumericOption {
-  std::string name;                       // "--rpm"
-  std::vector<std::string> out_of_range;  // refused by its range
-  std::vector<std::string> valid;         // taken by the parser
-  bool integer = false;
-};
 
 /// What parsing one command line ended with.
 struct Parsed {
@@ -70,6 +61,7 @@ Parsed parse(const Declare& declare, const std::vector<std::string>& args) {
   return {};
 }
 
+// Quoted, so that an empty or blank value shows.
 std::string joined(const std::vector<std::string>& args) {
   std::string s = "tool";
   for (const auto& a : args) s += " '" + a + "'";
@@ -82,10 +74,7 @@ void expect_validated(const Declare& declare, const std::vector<std::string>& ba
   const Parsed defaults = parse(declare, base);
   EXPECT_EQ(defaults.exit_code, 0) << joined(base) << ": " << defaults.message;
   for (const NumericOption& o : options) {
-    std::vector<std::string> bad = kNeverANumber;
-    bad.insert(bad.end(), o.out_of_range.begin(), o.out_of_range.end());
-    if (o.integer) bad.insert(bad.end(), kNeverAnInteger.begin(), kNeverAnInteger.end());
-    for (const std::string& value : bad) {
+    for (const std::string& value : refused_values(o)) {
       std::vector<std::string> args = base;
       args.insert(args.end(), {o.name, value});
       // Act

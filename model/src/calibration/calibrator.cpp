@@ -9,6 +9,8 @@
 #include <cstring>
 #include <limits>
 
+#include "model/calibration/lumped_simulator.hpp"
+
 namespace model::calibration {
 
 namespace {
@@ -37,7 +39,7 @@ dsp::FeatureConfig with_mesh_orders(dsp::FeatureConfig config, const Kinematics&
 }
 
 CalibratorConfig with_space(CalibratorConfig c, const Drivetrain& d) {
-  if (c.space.size() == 0) c.space = CalibrationSpace::standard(d.dynamics);
+  if (c.space.size() == 0) c.space = default_space(d);
   return c;
 }
 
@@ -80,6 +82,10 @@ const char* to_string(VariableStatus s) {
   return "?";
 }
 
+CalibrationSpace default_space(const Drivetrain& d) {
+  return CalibrationSpace::standard(with_nominal_damping(d.dynamics));
+}
+
 bool needs_calibration(const PointIndicators& indicators) {
   return std::any_of(indicators.begin(), indicators.end(),
                      [](const Indicators& i) { return !within_thresholds(i); });
@@ -109,6 +115,9 @@ Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetra
         has_excitation_ || (config_.solve_excitation && te_amplitude_[k] < config_.space.size() &&
                             te_phase_[k] < config_.space.size());
   }
+  spectrum_lines_ = features_.config().samples_per_rev * features_.config().revolutions / 2 + 1;
+  spectrum_.assign(kMaxCalibrationCases * kMeasurementPoints * spectrum_lines_, 0.0);
+  spectrum_mask_.assign(spectrum_.size(), 0);
   const auto n = static_cast<Eigen::Index>(config_.space.size());
   model_.setZero(0, n);
   last_model_.setZero(0, n);
@@ -126,11 +135,14 @@ void Calibrator::set_measurement(const std::array<dsp::PointFeatures, kMeasureme
 
 bool Calibrator::set_measurements(const CalibrationCase* cases, std::size_t count) {
   if (count == 0 || count > kMaxCalibrationCases) return false;
-  const dsp::FeatureConfig& fc = features_.config();
-  const std::size_t per_case = kMeasurementPoints * (1 + fc.mesh_count * fc.harmonics);
+  const std::size_t per_case = kMeasurementPoints * per_point();
   if (count * per_case + config_.space.size() > kMaxLsqFeatures) return false;
   case_count_ = count;
   for (std::size_t c = 0; c < count; ++c) cases_[c] = cases[c];
+  residual_weight_.fill(0.0);
+  for (auto& lines : residual_lines_) lines.fill(0);
+  for (auto& e : residual_energy_) e.fill(0.0);
+  for (auto& r : residual_sim_) r.fill(0.0);
   feature_count_ = count * per_case;
   // Targets and weights (header): ln RMS with 1/σ_RMS; each resolved tone with
   // 1/√(σ_model² + (floor/A)²); unresolved tones 0.
@@ -148,12 +160,63 @@ bool Calibrator::set_measurements(const CalibrationCase* cases, std::size_t coun
         weight_[offset + 1 + i] =
             1.0 / std::sqrt(config_.tone_model_sd * config_.tone_model_sd + noise * noise);
       }
-      offset += 1 + m.count;
+      offset += per_point();  // ρ's row: weight 0 until set_measured_spectrum()
     }
   }
   const auto n = static_cast<Eigen::Index>(config_.space.size());
   model_.setZero(static_cast<Eigen::Index>(feature_count_), n);
   last_model_valid_ = false;
+  return true;
+}
+
+std::size_t Calibrator::per_point() const {
+  const dsp::FeatureConfig& fc = features_.config();
+  return 1 + fc.mesh_count * fc.harmonics + (has_residual_row() ? 1 : 0);
+}
+
+bool Calibrator::set_measured_spectrum(std::size_t c, std::size_t point, const double* amplitude,
+                                       std::size_t lines) {
+  if (!has_residual_row() || c >= case_count_ || point >= kMeasurementPoints ||
+      amplitude == nullptr || lines < 2)
+    return false;
+  // ρ's lines: 1 … residual_band_hz (line k at k/revolutions reference-shaft orders).
+  const double ref_hz = reference_hz(kinematics_, cases_[c].op.rotor_speed_rpm);
+  if (!(ref_hz > 0.0)) return false;
+  const double band_lines =
+      config_.residual_band_hz / ref_hz * static_cast<double>(features_.config().revolutions);
+  const std::size_t used =
+      std::min({lines, spectrum_lines_, static_cast<std::size_t>(std::max(0.0, band_lines)) + 1});
+  const std::size_t at = (c * kMeasurementPoints + point) * spectrum_lines_;
+  double* dst = spectrum_.data() + at;
+  unsigned char* mask = spectrum_mask_.data() + at;
+  double energy = 0.0;
+  for (std::size_t k = 1; k < used; ++k) {
+    dst[k] = amplitude[k];
+    mask[k] = 1;
+    energy += amplitude[k] * amplitude[k];
+  }
+  if (!(energy > 0.0)) return false;
+  // The fitted tones' own lines (their main lobes and first side lobes) are left out of ρ's
+  // misfit: their tone features fit them already, in ln units.
+  const dsp::FeatureConfig& fc = features_.config();
+  const auto revs = static_cast<double>(fc.revolutions);
+  const auto reach = static_cast<double>(fc.lobe_half_width);
+  const std::size_t row0 = (c * kMeasurementPoints + point) * per_point();
+  for (std::size_t s = 0; s < fc.mesh_count; ++s) {
+    for (std::size_t h = 1; h <= fc.harmonics; ++h) {
+      if (!(weight_[row0 + 1 + s * fc.harmonics + (h - 1)] > 0.0)) continue;
+      const double nu = fc.mesh_orders[s] * static_cast<double>(h) * revs;
+      const auto first = static_cast<std::size_t>(std::max(1.0, std::ceil(nu - reach)));
+      const auto last = static_cast<std::size_t>(std::max(0.0, std::floor(nu + reach)));
+      for (std::size_t k = first; k <= last && k < used; ++k) mask[k] = 0;
+    }
+  }
+  residual_lines_[c][point] = used;
+  residual_energy_[c][point] = energy;
+  const std::size_t row = (c * kMeasurementPoints + point + 1) * per_point() - 1;
+  residual_weight_[row] = 1.0 / config_.residual_model_sd;
+  weight_[row] = residual_active_ ? residual_weight_[row] : 0.0;
+  target_[row] = 0.0;
   return true;
 }
 
@@ -171,6 +234,20 @@ bool Calibrator::simulate_features(const DynamicsParameters& params, std::size_t
         features_.extract(waves[pt].samples, waves[pt].count, waves[pt].sample_rate_hz,
                           {nullptr, 0, ref_hz}, out[pt]);
     if (s != dsp::DspStatus::kOk) return false;
+    // ρ² against the measured spectrum (header), from the extraction's order spectrum.
+    const std::size_t used = residual_lines_[c][pt];
+    residual_sim_[c][pt] = 0.0;
+    if (used > 0) {
+      const double* m = spectrum_.data() + (c * kMeasurementPoints + pt) * spectrum_lines_;
+      const double* a = features_.order_spectrum();
+      double miss = 0.0;
+      const unsigned char* mask =
+          spectrum_mask_.data() + (c * kMeasurementPoints + pt) * spectrum_lines_;
+      for (std::size_t k = 1; k < used; ++k) {
+        if (mask[k]) miss += (m[k] - a[k]) * (m[k] - a[k]);
+      }
+      residual_sim_[c][pt] = miss / residual_energy_[c][pt];
+    }
   }
   return true;
 }
@@ -216,8 +293,11 @@ bool Calibrator::evaluate_variables(const double* z, double* f, double* phi) {
       fits_all = fits_all && within_thresholds(ind);
       worst = std::max(worst,
                        ind.valid ? worst_threshold_ratio(ind) : std::numeric_limits<double>::max());
-      if (phi) log_features(simulated[pt], phi + offset);
-      offset += 1 + simulated[pt].count;
+      if (phi) {
+        log_features(simulated[pt], phi + offset);
+        if (has_residual_row()) phi[offset + per_point() - 1] = std::sqrt(residual_sim_[c][pt]);
+      }
+      offset += per_point();
     }
   }
   problem_.best_ratio = std::min(problem_.best_ratio, worst);
@@ -247,6 +327,11 @@ void Calibrator::consider(const double* z, const double* f, double cost) {
   bool fits = true;
   static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
   for (std::size_t k = 0; k < kCalibrationObjectives; ++k) fits = fits && f[k] <= kThreshold[k % 3];
+  // The residual's rounds refine a calibration; a point they take onto a bound is no success.
+  for (std::size_t i = 0; fits && residual_active_ && i < n; ++i) {
+    fits = bound_status(config_.space, i, z[i], VariableStatus::kIdentified) ==
+           VariableStatus::kIdentified;
+  }
   if (fits && (!have_fit_ || cost < best_fit_cost_)) {
     have_fit_ = true;
     best_fit_cost_ = cost;
@@ -452,6 +537,8 @@ bool Calibrator::start(const DynamicsParameters& current,
     if (has_excitation_ && !start_model_given_) phase_ = Phase::kExcitation;
     probe_ = 0;
     round_ = 0;
+    set_residual_active(false);
+    residual_round_ = 0;
     round_start_cost_ = std::numeric_limits<double>::infinity();
     fit_count_ = 0;
     tr_.reset();
@@ -503,7 +590,7 @@ StepStatus Calibrator::step() {
       }
       const double cost = data_cost(phi_start_.data()) + prior_cost(z_start_.data());
       consider(z_start_.data(), f_work_.data(), cost);
-      if (round_ == 0) round_start_cost_ = cost;
+      if (round_ == 0 || residual_round_ == 1) round_start_cost_ = cost;
       probe_ = start_model_given_ && round_ == 0 ? n + 1 : 1;
     } else {
       // Probe variable probe_ − 1 by probe_step prior σ (backwards at the upper bound).
@@ -528,9 +615,24 @@ StepStatus Calibrator::step() {
   } else {
     more = tr_->step() && !tr_->finished();
     // A round ends: another one from the best point while rounds improve F by > 1 %.
-    if (!more && have_any_ && round_ + 1 < config_.max_rounds &&
-        best_any_cost_ < 0.99 * round_start_cost_) {
+    const bool improved = have_any_ && best_any_cost_ < 0.99 * round_start_cost_;
+    if (!more && !residual_active_ && improved && round_ + 1 < config_.max_rounds) {
       begin_round();
+      more = true;
+    } else if (!more && residual_active_ && improved && residual_round_ < config_.residual_rounds) {
+      begin_round();
+      ++residual_round_;
+      more = true;
+    } else if (!more && !residual_active_ && have_any_ && config_.residual_rounds > 0 &&
+               std::any_of(residual_weight_.begin(), residual_weight_.end(),
+                           [](double w) { return w > 0.0; })) {
+      // The tones and RMS settled: the spectral residual's rounds (header), from the chosen
+      // point, every candidate judged again by the cost with ρ.
+      z_start_ = have_fit_ ? best_fit_z_ : best_any_z_;
+      set_residual_active(true);
+      have_fit_ = have_any_ = false;
+      begin_round();
+      residual_round_ = 1;
       more = true;
     }
   }
@@ -547,8 +649,7 @@ bool Calibrator::simulate_cases(const DynamicsParameters& params) {
 }
 
 bool Calibrator::excitation_step() {
-  const dsp::FeatureConfig& fc = features_.config();
-  const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
+  const std::size_t per_point = this->per_point();
   const std::size_t blocks = case_count_ * kMeasurementPoints;
   // The tones of the last simulation (last_features_) as complex amplitudes, per feature index.
   const auto read_tones = [&](std::array<std::complex<double>, kMaxLsqFeatures>& out) {
@@ -597,7 +698,7 @@ bool Calibrator::excitation_step() {
 void Calibrator::solve_excitation() {
   const dsp::FeatureConfig& fc = features_.config();
   const std::size_t n = config_.space.size();
-  const std::size_t per_point = 1 + fc.mesh_count * fc.harmonics;
+  const std::size_t per_point = this->per_point();
   const std::size_t blocks = case_count_ * kMeasurementPoints;
   const double pw2 = config_.prior_weight * config_.prior_weight;
   constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
@@ -699,10 +800,23 @@ void Calibrator::solve_excitation() {
   }
 }
 
+void Calibrator::set_residual_active(bool on) {
+  residual_active_ = on && has_residual_row();
+  if (!has_residual_row()) return;
+  const std::size_t pp = per_point();
+  for (std::size_t b = 0; b < case_count_ * kMeasurementPoints; ++b) {
+    const std::size_t row = (b + 1) * pp - 1;
+    weight_[row] = residual_active_ ? residual_weight_[row] : 0.0;
+  }
+}
+
 void Calibrator::begin_round() {
-  // The next round re-identifies at the best point so far.
-  z_start_ = best_any_z_;
-  round_start_cost_ = best_any_cost_;
+  // The next round re-identifies at the best point so far (on the switch to the residual's
+  // rounds: at the point the caller set, the candidates being reset).
+  if (have_any_) {
+    z_start_ = best_any_z_;
+    round_start_cost_ = best_any_cost_;
+  }
   ++round_;
   phase_ = has_excitation_ ? Phase::kExcitation : Phase::kIdentify;
   excitation_iteration_ = 0;

@@ -482,18 +482,9 @@ bool Diagnoser::step_analyse() {
                                   static_cast<double>(config_.features.harmonics);
   w.adapter = std::make_unique<EffectCalibrationAdapter>(simulator_,
                                                          calibration::rom_sample_rate_hz(top_hz));
-  // The paper's 8 variables unless the configuration names a space: the diagnosis's
-  // budget and benchmark were set on them (the standard space's rounds cost ~10× more).
-  calibration::CalibratorConfig cc = config_.calibration;
-  // As the diagnosis was built and benchmarked: every one of them fitted, no pull to a prior,
-  // one round (re-identification rounds changed the drift-only control's fit enough for a
-  // housing resonance to be named at b5: DiagnoseBench's control test).
-  if (cc.space.size() == 0) {
-    cc.space = calibration::CalibrationSpace::paper(drivetrain_.dynamics);
-    cc.identify = false;
-    cc.prior_weight = 0.0;
-    cc.max_rounds = 1;
-  }
+  // The calibration `drivetwin calibrate` runs (calibrator.hpp default_space: the standard
+  // space with identification, priors and its rounds) unless the configuration names one.
+  const calibration::CalibratorConfig& cc = config_.calibration;
   w.calibrator =
       std::make_unique<calibration::Calibrator>(*w.adapter, drivetrain_, config_.features, cc);
   if (w.calibrator->status() != dsp::DspStatus::kOk) {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/option_table.hpp"
 #include "support/run_command.hpp"
 
 namespace {
@@ -22,20 +23,9 @@ namespace {
 namespace fs = std::filesystem;
 using test_support::CommandResult;
 using test_support::joined;
+using test_support::NumericOption;
+using test_support::refused_values;
 using test_support::run_command;
-
-// No numeric option may take these.
-const std::vector<std::string> kNeverANumber{"nan", "NaN",   "inf",  "-inf", "1e999",
-                                             "abc", "12abc", "0x10", "",     " 5"};
-// Nor an integer option these.
-const std::vector<std::string> kNeverAnInteger{"1.5", "1e3", "3x"};
-
-struct NumericOption {
-  std::string name;                       // "--period"
-  std::vector<std::string> out_of_range;  // refused by its range
-  std::vector<std::string> valid;         // taken by the parser
-  bool integer = false;
-};
 
 class OptionValidation : public ::testing::Test {
  protected:
@@ -54,10 +44,7 @@ class OptionValidation : public ::testing::Test {
   void expect_validated(const std::vector<std::string>& base, const std::string& missing_input,
                         const std::vector<NumericOption>& options) const {
     for (const NumericOption& o : options) {
-      std::vector<std::string> bad = kNeverANumber;
-      bad.insert(bad.end(), o.out_of_range.begin(), o.out_of_range.end());
-      if (o.integer) bad.insert(bad.end(), kNeverAnInteger.begin(), kNeverAnInteger.end());
-      for (const std::string& value : bad) {
+      for (const std::string& value : refused_values(o)) {
         std::vector<std::string> args = base;
         args.insert(args.end(), {o.name, value});
         // Act
@@ -224,7 +211,8 @@ TEST_F(OptionValidation, Calibrate) {
                     {"--revolutions", {"0", "7", "4097"}, {"8", "64"}, true},
                     {"--windows", {"0", "65"}, {"1", "4"}, true},
                     {"--samples-per-rev", {"0", "15", "65537"}, {"16", "1024"}, true},
-                    {"--harmonics", {"0", "11"}, {"1", "3"}, true}});
+                    {"--harmonics", {"0", "11"}, {"1", "3"}, true},
+                    {"--residual-sd", {"-0.1", "11"}, {"0", "0.25"}}});
   const CommandResult r = run_command({"calibrate", path("missing-bundle"), "--method", "newton"});
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.error.find("--method: 'newton' is not one of trust-region, improved, published"),

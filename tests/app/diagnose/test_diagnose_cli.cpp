@@ -136,7 +136,20 @@ TEST(DiagnoseCli, WritesTheContractsJsonWithEveryFieldAndAnOfflineHtmlReport) {
     EXPECT_GE(j[r].get<double>(), 0.0);
     EXPECT_LE(j[r].get<double>(), 1.0);
   }
-  EXPECT_LT(j["residual_calibrated"].get<double>(), j["residual_before"].get<double>());
+  // The recording is the twin's own ROM with drifted stiffness, a model the calibration space
+  // contains: calibration brings every indicator within the paper's thresholds (f1 ≤ 0.5,
+  // f2 ≤ 0.2, f3 ≤ 0.2), and it started outside them. (The whole-spectrum residual is not
+  // what the calibrator minimises: with the standard space it may move either way.)
+  bool outside_before = false;
+  for (const char* p : {"point1", "point2"}) {
+    outside_before = outside_before || j["fit_before"][p]["f1"].get<double>() > 0.5 ||
+                     j["fit_before"][p]["f2"].get<double>() > 0.2 ||
+                     j["fit_before"][p]["f3"].get<double>() > 0.2;
+    EXPECT_LE(j["fit_calibrated"][p]["f1"].get<double>(), 0.5) << p;
+    EXPECT_LE(j["fit_calibrated"][p]["f2"].get<double>(), 0.2) << p;
+    EXPECT_LE(j["fit_calibrated"][p]["f3"].get<double>(), 0.2) << p;
+  }
+  EXPECT_TRUE(outside_before);
   for (const auto& m : j["mismatch"]) {
     EXPECT_TRUE(m["channel"].is_string());
     EXPECT_EQ(m["band_hz"].size(), 2u);

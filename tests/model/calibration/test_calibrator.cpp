@@ -83,6 +83,14 @@ class ToneSimulator : public VibrationSimulator {
   // linear system would be, A = P + T·(e/e_ref)·exp(iφ), with fixed complex P (the stiffness
   // variation's own tone) and T (the path) per point and tone.
   void set_excitation(bool on) { excitation_ = on; }
+  // Lines outside the compared tones, at point 1: the model's own line at order
+  // kModelLineOrder, amplitude model_line·(1 − tip relief of stage 2) (a stiffness harmonic the
+  // relief smooths out; no tone depends on the relief), and a line at kRecordingLineOrder
+  // the model cannot make (a bearing line), amplitude recording_line.
+  static constexpr double kModelLineOrder = 40.5;
+  static constexpr double kRecordingLineOrder = 60.5;
+  double model_line = 0.0;
+  double recording_line = 0.0;
   static constexpr double kReferenceError = 1e-6;  // [m] e_ref
   static std::complex<double> parametric(std::size_t p, std::size_t t) {
     return std::polar(0.3, 0.7 * static_cast<double>(t) + static_cast<double>(p));
@@ -135,12 +143,23 @@ class ToneSimulator : public VibrationSimulator {
           re = next_re;
         }
       }
+      const double hss_hz = op.rotor_speed_rpm / 60.0 * kinematics_.overall_ratio();
+      if (p == 0) {
+        add_line(wave_[p], n, kModelLineOrder * hss_hz,
+                 model_line * (1.0 - params.mesh_tip_relief[1]));
+        add_line(wave_[p], n, kRecordingLineOrder * hss_hz, recording_line);
+      }
       out[p] = {wave_[p].data(), n, kSampleRateHz};
     }
     return true;
   }
 
  private:
+  static void add_line(std::vector<double>& w, std::size_t n, double f_hz, double a) {
+    if (a == 0.0) return;
+    const double dw = 2.0 * 3.14159265358979323846 * f_hz / kSampleRateHz;
+    for (std::size_t i = 0; i < n; ++i) w[i] += a * std::cos(dw * static_cast<double>(i) + 0.2);
+  }
   model::Kinematics kinematics_;
   std::array<std::vector<double>, kMeasurementPoints> wave_;
   bool excitation_ = false;
@@ -170,10 +189,12 @@ class ToneCalibratorTest : public ::testing::Test {
   }
   // A calibrator of `cc` against recordings of `truth` at each operating point (joint when
   // more than one).
+  // With `spectra`, each point's order spectrum is given too (the spectral residual ρ).
   std::unique_ptr<Calibrator> make_with(const DynamicsParameters& truth, const CalibratorConfig& cc,
-                                        std::span<const OperatingPoint> ops) {
+                                        std::span<const OperatingPoint> ops, bool spectra = false) {
     auto cal = std::make_unique<Calibrator>(simulator_, drivetrain_, small_features(), cc);
     std::vector<CalibrationCase> cases(ops.size());
+    std::vector<std::vector<double>> spectrum(ops.size() * kMeasurementPoints);
     for (std::size_t c = 0; c < ops.size(); ++c) {
       std::array<WaveformView, kMeasurementPoints> w{};
       EXPECT_TRUE(simulator_.simulate(truth, ops[c], 3.0, w));
@@ -185,10 +206,18 @@ class ToneCalibratorTest : public ::testing::Test {
         EXPECT_EQ(fx.extract(w[p].samples, w[p].count, w[p].sample_rate_hz, {nullptr, 0, hss_hz},
                              cases[c].measured[p]),
                   model::dsp::DspStatus::kOk);
+        const std::size_t lines =
+            cal->feature_config().samples_per_rev * cal->feature_config().revolutions / 2 + 1;
+        spectrum[c * kMeasurementPoints + p].assign(fx.order_spectrum(),
+                                                    fx.order_spectrum() + lines);
       }
       cases[c].op = ops[c];
     }
     EXPECT_TRUE(cal->set_measurements(cases.data(), cases.size()));
+    for (std::size_t i = 0; spectra && i < spectrum.size(); ++i) {
+      EXPECT_TRUE(cal->set_measured_spectrum(i / kMeasurementPoints, i % kMeasurementPoints,
+                                             spectrum[i].data(), spectrum[i].size()));
+    }
     return cal;
   }
   static CalibrationResult run(Calibrator& cal, const DynamicsParameters& current,
@@ -415,6 +444,83 @@ TEST_F(ToneCalibratorTest, CalibratingTheModelsOwnRecordingAtItsParametersMovesN
   cc.space.to_variables(r.parameters, z1.data());
   for (std::size_t i = 0; i < cc.space.size(); ++i)
     EXPECT_NEAR(z1[i], z0[i], 1e-3) << cc.space.name(i);
+}
+
+TEST_F(ToneCalibratorTest, TheSpectralResidualIsTheShareOfTheRecordedEnergyTheModelLeavesOut) {
+  // Arrange: the recording has the tones and a line the model cannot make (B = 0.2 at point 1);
+  // the model has the tones and a line the recording lacks (A = 0.3 at point 1).
+  simulator_.recording_line = 0.2;
+  CalibratorConfig cc = paper_config();
+  cc.residual_model_sd = 0.5;
+  auto cal = make_with(nominal_parameters(), cc, {&op_, 1}, true);
+  simulator_.recording_line = 0.0;
+  simulator_.model_line = 0.3;
+  // Act
+  PointIndicators ind{};
+  ASSERT_TRUE(cal->evaluate(nominal_parameters(), ind));
+  // Assert: by Parseval every line's spectrum sums to A²·(the window's noise bandwidth), the
+  // same factor for every line, so ρ² = Σ(missed lines' A²) / Σ(recorded lines' A²): at point 1
+  // (0.3² + 0.2²) / (Σ tones' A² + 0.2²), the tones 0.1/h (h = 1, 2, 3) of each of 3 meshes;
+  // at point 2 the spectra are equal.
+  const double tones = 3.0 * (0.01 + 0.0025 + 0.01 / 9.0);
+  const double expected = (0.09 + 0.04) / (tones + 0.04);
+  EXPECT_NEAR(cal->residual_share(0, 0), expected, 0.02 * expected);  // leakage between lines
+  EXPECT_LT(cal->residual_share(0, 1), 1e-6);
+}
+
+TEST_F(ToneCalibratorTest, ALineOnlyTheModelMakesIsFittedAwayWhenTheFitSeesTheSpectralResidual) {
+  // The model's extra line falls with stage 2's tip relief, which no compared tone depends on;
+  // the recording was made at relief 0.5 (line 0.2), the calibration starts at the prior 0
+  // (line 0.4). The RMS alone carries too little information to identify the relief
+  // (‖∂(ln RMS)/∂z‖²/σ_RMS² ≈ 1.3 < 3, posterior σ above half the prior's); with ρ (σ_ρ 0.25)
+  // it is identified, and it ends where the cost along it is least — the hand-derived
+  // F(z) = ((ln RMS(z) − ln RMS*)/σ_RMS)² + (ρ(z)/σ_ρ)² + z², with RMS² = Σ A_tone²/2 + a²/2,
+  // ρ = |a − a*| / √(Σ A_tone² + a*²), a = 0.4·(1 − relief), relief = 0.35·z — at 0.426,
+  // short of the truth by the prior's pull.
+  DynamicsParameters prior = model::paper_2mw().dynamics;
+  prior.rayleigh_eta = nominal_parameters().rayleigh_eta;
+  prior.rayleigh_zeta = nominal_parameters().rayleigh_zeta;
+  prior.mesh_tip_relief = {0.0, 0.0, 0.0};
+  DynamicsParameters truth = prior;
+  truth.mesh_tip_relief[1] = 0.5;
+  CalibratorConfig cc = paper_config(0, 40);
+  cc.space = CalibrationSpace::standard(prior);
+  cc.prior_weight = 1.0;
+  cc.residual_model_sd = 0.25;
+  std::size_t relief = cc.space.size();
+  for (std::size_t i = 0; i < cc.space.size(); ++i) {
+    if (cc.space.variable(i).field == ParameterField::kMeshTipRelief &&
+        cc.space.variable(i).index == 1)
+      relief = i;
+  }
+  ASSERT_LT(relief, cc.space.size());
+  simulator_.model_line = 0.4;
+  // Hand minimum of F along the relief.
+  const double tones = 3.0 * (0.01 + 0.0025 + 0.01 / 9.0);
+  const double a_true = 0.4 * 0.5;
+  auto cost = [&](double r) {
+    const double a = 0.4 * (1.0 - r);
+    const double ln_rms = 0.5 * std::log(0.5 * tones + 0.5 * a * a);
+    const double ln_rms_true = 0.5 * std::log(0.5 * tones + 0.5 * a_true * a_true);
+    const double rho = std::abs(a - a_true) / std::sqrt(tones + a_true * a_true);
+    const double z = r / 0.35;
+    return std::pow((ln_rms - ln_rms_true) / 0.25, 2) + std::pow(rho / 0.25, 2) + z * z;
+  };
+  double expected = 0.0;
+  for (double r = 0.0; r <= 1.0; r += 1e-4) expected = cost(r) < cost(expected) ? r : expected;
+  // Act
+  auto blind = make_with(truth, cc, {&op_, 1}, false);
+  const CalibrationResult without = run(*blind, prior);
+  auto seeing = make_with(truth, cc, {&op_, 1}, true);
+  const CalibrationResult with = run(*seeing, prior);
+  // Assert
+  EXPECT_EQ(without.status[relief], VariableStatus::kNotIdentified);
+  EXPECT_EQ(without.parameters.mesh_tip_relief[1], 0.0);
+  EXPECT_EQ(with.status[relief], VariableStatus::kIdentified);
+  EXPECT_NEAR(with.parameters.mesh_tip_relief[1], expected, 0.01);
+  EXPECT_LT(seeing->residual_share(0, 0),
+            0.2 * std::pow(0.4 - a_true, 2) / (tones + a_true * a_true));
+  EXPECT_TRUE(with.fits);
 }
 
 class CalibratorTest : public ::testing::Test {

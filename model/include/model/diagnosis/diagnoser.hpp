@@ -81,7 +81,13 @@ struct DiagnoserConfig {
   CatalogueConfig catalogue{};
   SpeedTrackingConfig speed{};
   dsp::FeatureConfig features{};  // the calibrator's features (mesh orders filled by it)
-  calibration::CalibratorConfig calibration{};
+  // `drivetwin calibrate`'s calibration: the default space (empty here), identification,
+  // priors, its rounds and its fit budget per round.
+  calibration::CalibratorConfig calibration = [] {
+    model::calibration::CalibratorConfig c;
+    c.trust_region.max_evaluations = model::calibration::kDefaultFitEvaluations;
+    return c;
+  }();
   std::size_t max_candidates = 3;             // hypotheses refitted
   std::size_t fit_evaluations = 10;           // per candidate, probes included
   std::size_t recalibration_evaluations = 0;  // calibrator with the effect on (0: not run)
