@@ -59,8 +59,10 @@
 namespace model::calibration {
 
 inline constexpr std::size_t kMaxLsqVariables = 66;  // the calibration's decision variables
-/// 4 operating points × 2 points × (RMS + 4 meshes × 5 harmonics) + one prior row per variable.
-inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 21 + kMaxLsqVariables;
+/// 4 operating points × 2 points × (RMS + 4 meshes × 5 harmonics + the spectral residual) + one
+/// prior row per variable (the Jacobian's fixed-size storage, 242 × 66 doubles, stays under
+/// Eigen's 128 kB fixed-size limit).
+inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 22 + kMaxLsqVariables;
 
 /// A box-bounded map x → φ(x) (the model's feature vector).
 class FeatureMap {
