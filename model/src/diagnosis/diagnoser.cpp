@@ -57,6 +57,25 @@ double spectral_residual(const Spectra& rec, const Spectra& sim, double max_hz) 
   return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
 }
 
+// The same sum over the lines of `windows` only (per point, line indices of the
+// recording's spectrum in the given domain).
+double signature_residual(const Spectra& rec, const Spectra& sim, Domain domain,
+                          const std::array<std::vector<std::size_t>, kPoints>& windows) {
+  double miss = 0.0, total = 0.0;
+  for (std::size_t p = 0; p < kPoints; ++p) {
+    const OrderSpectrum& m = domain == Domain::kEnvelope ? rec[p].envelope : rec[p].spectrum;
+    const OrderSpectrum& s = domain == Domain::kEnvelope ? sim[p].envelope : sim[p].spectrum;
+    for (std::size_t k : windows[p]) {
+      if (k >= m.amplitude.size()) continue;
+      const double a_s = k < s.amplitude.size() ? s.amplitude[k] : 0.0;
+      const double d = m.amplitude[k] - a_s;
+      miss += d * d;
+      total += m.amplitude[k] * m.amplitude[k];
+    }
+  }
+  return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
+}
+
 SpectrumTrace trace(const OrderSpectrum& s, double ref_hz, double max_hz, std::size_t points) {
   SpectrumTrace t;
   if (s.amplitude.empty() || points == 0) return t;
@@ -612,23 +631,8 @@ void Diagnoser::step_locate() {
                   f->domain == FeatureDomain::kAverage;
     report_.mismatch.push_back(std::move(m));
   }
-  // Candidates: the best-ranked hypothesis of each effect, best first. Effects share lines
-  // (a gear's run-out puts a line at its shaft's 1× as an unbalance does, and sidebands at
-  // the shaft speed as a crack does), so the ranking alone cannot tell them apart, while the
-  // refit can: a term that also makes lines the recording lacks fails on its own lines on
-  // the hold-out half. One effect's other locations come only when candidates are left.
-  std::vector<const HypothesisScore*> order;
+  // Candidates: the best-ranked hypotheses, the ones the model can switch on first.
   for (const HypothesisScore& s : w.located.ranking) {
-    bool seen = false;
-    for (const HypothesisScore* o : order)
-      seen = seen || catalogue_.hypotheses[o->hypothesis].effect ==
-                         catalogue_.hypotheses[s.hypothesis].effect;
-    if (!seen) order.push_back(&s);
-  }
-  for (const HypothesisScore& s : w.located.ranking)
-    if (std::find(order.begin(), order.end(), &s) == order.end()) order.push_back(&s);
-  for (const HypothesisScore* sp : order) {
-    const HypothesisScore& s = *sp;
     if (report_.candidates.size() >= config_.max_candidates) break;
     const Hypothesis& h = catalogue_.hypotheses[s.hypothesis];
     CandidateResult c;
@@ -811,40 +815,35 @@ bool Diagnoser::step_refit() {
   c.residual_fit_effect = spectral_residual(w.rec_a, half, max_hz);
   c.residual_holdout_calibrated = spectral_residual(w.rec_b, w.sim_cal_half, max_hz);
   c.residual_holdout_effect = spectral_residual(w.rec_b, half, max_hz);
-  // Its signature residual (locate.hpp signature_sums): the lines of its kinematic family
-  // (the fit lines for a resonance) where the recording exceeds the calibrated simulation,
-  // at every point; the term charged for lines nobody has, not credited for lowering lines
-  // the calibrated model overshoots.
-  const std::vector<double> sync = envelope_exclusions(catalogue_);
-  auto signature = [&](const Spectra& rec, const Spectra& sim) {
-    SignatureSums sum;
-    const bool env = h.domain == Domain::kEnvelope;
-    for (std::size_t p = 0; p < kPoints; ++p) {
-      const OrderSpectrum& rs = env ? rec[p].envelope : rec[p].spectrum;
-      if (rs.amplitude.empty()) continue;
-      std::vector<JudgedLine> lines;
-      if (h.effect == Effect::kHousingResonance) {
-        for (const FitLine& l : w.lines)
-          if (l.point == p) lines.push_back({l.order, 0.0, 1.0});
-      } else {
-        const double top =
-            static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
-        for (const SignatureLine& l : h.lines)
-          if (l.order * (1.0 + h.tolerance) <= top)
-            lines.push_back({l.order, h.tolerance, l.weight});
-      }
-      const SignatureSums one = signature_sums(
-          rs, env ? w.sim_cal_half[p].envelope : w.sim_cal_half[p].spectrum,
-          env ? sim[p].envelope : sim[p].spectrum, lines, config_.locate, env ? &sync : nullptr);
-      sum.miss += one.miss;
-      sum.total += one.total;
+  // Its signature: the windows of its lines (the fit lines for a resonance).
+  std::array<std::vector<std::size_t>, kPoints> windows;
+  for (std::size_t p = 0; p < kPoints; ++p) {
+    const OrderSpectrum& rs =
+        h.domain == Domain::kEnvelope ? w.rec_b[p].envelope : w.rec_b[p].spectrum;
+    if (rs.amplitude.empty()) continue;
+    const double r = static_cast<double>(rs.revolutions);
+    auto add = [&](double order, double tol) {
+      const auto lo = static_cast<long long>(std::floor(order * (1.0 - tol) * r - 2.5));
+      const auto hi = static_cast<long long>(std::ceil(order * (1.0 + tol) * r + 2.5));
+      for (long long k = std::max(1LL, lo);
+           k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
+        windows[p].push_back(static_cast<std::size_t>(k));
+    };
+    if (h.effect == Effect::kHousingResonance) {
+      for (const FitLine& l : w.lines)
+        if (l.point == p) add(l.order, 0.0);
+    } else {
+      const double top = static_cast<double>(rs.amplitude.size() - 3) / r;
+      for (const SignatureLine& l : h.lines)
+        if (l.order * (1.0 + h.tolerance) <= top) add(l.order, h.tolerance);
     }
-    return sum.residual();
-  };
-  c.signature_fit_calibrated = signature(w.rec_a, w.sim_cal_half);
-  c.signature_fit_effect = signature(w.rec_a, half);
-  c.signature_holdout_calibrated = signature(w.rec_b, w.sim_cal_half);
-  c.signature_holdout_effect = signature(w.rec_b, half);
+    std::sort(windows[p].begin(), windows[p].end());
+    windows[p].erase(std::unique(windows[p].begin(), windows[p].end()), windows[p].end());
+  }
+  c.signature_fit_calibrated = signature_residual(w.rec_a, w.sim_cal_half, h.domain, windows);
+  c.signature_fit_effect = signature_residual(w.rec_a, half, h.domain, windows);
+  c.signature_holdout_calibrated = signature_residual(w.rec_b, w.sim_cal_half, h.domain, windows);
+  c.signature_holdout_effect = signature_residual(w.rec_b, half, h.domain, windows);
   // Its lines' evidence on the hold-out half (against calibration alone).
   const bool env = h.domain == Domain::kEnvelope;
   c.holdout_evidence = 0.0;
@@ -868,6 +867,7 @@ bool Diagnoser::step_refit() {
       const double top =
           static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
       if (l.order * (1.0 + h.tolerance) > top) continue;
+      const std::vector<double> sync = envelope_exclusions(catalogue_);
       const LineMeasure m =
           measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
       if (m.significant) {
@@ -883,7 +883,7 @@ bool Diagnoser::step_refit() {
 void Diagnoser::step_decide() {
   const double gate = 1.0 - config_.min_improvement;
   auto judged = [](const CandidateResult& c) {
-    return c.modelled && c.signature_holdout_calibrated > 0.0 && c.signature_holdout_effect >= 0.0;
+    return c.modelled && c.signature_holdout_calibrated > 0.0 && c.signature_holdout_effect > 0.0;
   };
   std::vector<std::size_t> pass;
   for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
@@ -925,9 +925,8 @@ void Diagnoser::step_decide() {
     if (!judged(c)) continue;
     const double n = static_cast<double>(std::max<std::size_t>(c.lines, 1));
     const double k = static_cast<double>(c.parameters.size());
-    delta[i] =
-        n * std::log(std::max(c.signature_holdout_effect / c.signature_holdout_calibrated, 1e-6)) +
-        k * std::log(std::max(n, 2.0));
+    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) +
+               k * std::log(std::max(n, 2.0));
     best = std::min(best, delta[i]);
   }
   double z = std::exp(-0.5 * (0.0 - best));

@@ -69,36 +69,6 @@ LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, dou
   return m;
 }
 
-SignatureSums signature_sums(const OrderSpectrum& recorded, const OrderSpectrum& calibrated,
-                             const OrderSpectrum& simulated, const std::vector<JudgedLine>& lines,
-                             const LocateConfig& cfg, const std::vector<double>* exclude) {
-  SignatureSums out;
-  if (recorded.amplitude.empty()) return out;
-  const double r = static_cast<double>(recorded.revolutions);
-  auto tone_near = [r](const OrderSpectrum& x, double order, double tol) {
-    if (x.amplitude.empty()) return 0.0;
-    double best = x.tone(order);
-    if (tol > 0.0)
-      for (int dk = -2; dk <= 2; ++dk)
-        best = std::max(best, x.tone(order + static_cast<double>(dk) / r));
-    return best;
-  };
-  for (const JudgedLine& l : lines) {
-    const LineMeasure m = measure_line(recorded, calibrated, l.order, l.tolerance, cfg, exclude);
-    const double a_s = tone_near(simulated, m.order, l.tolerance);
-    const double a_m = std::sqrt(std::max(0.0, m.measured * m.measured - m.noise * m.noise));
-    if (m.significant) {
-      out.miss += l.weight * (a_m - a_s) * (a_m - a_s);
-      out.total += l.weight * a_m * a_m;
-    } else {
-      const double over =
-          std::max(0.0, a_s - std::max(a_m, tone_near(calibrated, m.order, l.tolerance)));
-      out.miss += l.weight * over * over;
-    }
-  }
-  return out;
-}
-
 namespace {
 
 struct Peak {

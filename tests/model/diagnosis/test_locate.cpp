@@ -243,45 +243,4 @@ TEST(Locate, FindsNoResonanceInAMisfitThatScattersFromLineToLine) {
     EXPECT_NE(f.domain, md::FeatureDomain::kBand) << f.resonance_hz;
 }
 
-// The signature residual on order spectra built by hand (10 Hz shaft, 128 revolutions, 1 %
-// noise): the recording has an effect line at order 5 (0.2) that the calibrated model lacks,
-// and a line at order 7 (0.5) the calibrated model overshoots (1.0). What each simulation
-// should be charged follows from the sums by hand: â_m ≈ 0.2 at order 5 is the only excess.
-md::OrderSpectrum tones(const std::vector<std::pair<double, double>>& lines, double noise_sd,
-                        unsigned seed) {
-  const double f = 10.0;
-  const std::size_t spr = 64, revs = 128, n = spr * (revs + 2);
-  std::mt19937_64 rng(seed);
-  std::normal_distribution<double> g(0.0, noise_sd > 0.0 ? noise_sd : 1.0);
-  std::vector<double> x(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const double th = static_cast<double>(i) / static_cast<double>(spr);
-    for (const auto& [order, a] : lines) x[i] += a * std::cos(2.0 * kPi * order * th + 0.3);
-    if (noise_sd > 0.0) x[i] += g(rng);
-  }
-  md::OrderSpectrum s;
-  EXPECT_TRUE(md::order_spectrum(x.data(), n, f * static_cast<double>(spr),
-                                 md::AngleMap::constant(f), 1.0, 0.5, spr, revs, s));
-  return s;
-}
-
-TEST(SignatureResidual, CreditsOnlyTheLinesTheRecordingHasInExcessAndChargesLinesNobodyHas) {
-  const md::LocateConfig cfg;
-  const md::OrderSpectrum rec = tones({{3.0, 1.0}, {5.0, 0.2}, {7.0, 0.5}}, 0.01, 3);
-  const md::OrderSpectrum cal = tones({{3.0, 1.0}, {7.0, 1.0}}, 0.0, 0);
-  const std::vector<md::JudgedLine> family = {{5.0, 0.0, 1.0}, {7.0, 0.0, 1.0}, {9.0, 0.0, 1.0}};
-  // Calibration alone misses all of the excess line: R = 0.2²/0.2².
-  EXPECT_NEAR(md::signature_sums(rec, cal, cal, family, cfg).residual(), 1.0, 0.05);
-  // A term that puts the line there explains it: R ≈ 0.
-  const md::OrderSpectrum right = tones({{3.0, 1.0}, {5.0, 0.2}, {7.0, 1.0}}, 0.0, 0);
-  EXPECT_LT(md::signature_sums(rec, cal, right, family, cfg).residual(), 0.05);
-  // A term that only lowers the line calibration overshoots is not credited: R stays ≈ 1.
-  const md::OrderSpectrum bent = tones({{3.0, 1.0}, {7.0, 0.5}}, 0.0, 0);
-  EXPECT_NEAR(md::signature_sums(rec, cal, bent, family, cfg).residual(), 1.0, 0.05);
-  // A term that also makes a line nobody has (0.3 at order 9) is charged for it:
-  // R ≈ 0.3²/0.2² = 2.25.
-  const md::OrderSpectrum extra = tones({{3.0, 1.0}, {5.0, 0.2}, {7.0, 1.0}, {9.0, 0.3}}, 0.0, 0);
-  EXPECT_NEAR(md::signature_sums(rec, cal, extra, family, cfg).residual(), 2.25, 0.25);
-}
-
 }  // namespace

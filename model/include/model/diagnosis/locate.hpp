@@ -111,35 +111,6 @@ LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& sim
                          double order, double tolerance, const LocateConfig& config,
                          const std::vector<double>* exclude = nullptr);
 
-/// One line of a hypothesis's signature as judged: where (± tolerance relative) and its weight.
-struct JudgedLine {
-  double order = 0.0;
-  double tolerance = 0.0;
-  double weight = 1.0;
-};
-
-/// The two sums of a signature residual over one spectrum (one point, one domain).
-struct SignatureSums {
-  double miss = 0.0;  // Σ_excess w(â_m − a_s)² + Σ_other w·max(0, a_s − max(â_m, a_cal))²
-  double total = 0.0;  // Σ_excess w·â_m²
-  double residual() const { return total > 0.0 ? miss / total : 1.0; }
-};
-
-/// How much of what calibration left in an effect's own lines a simulation still misses.
-/// Missing physics adds lines, so the lines judged are those where the recording exceeds the
-/// calibrated simulation (measure_line's significant excess against `calibrated`: the selection
-/// knows nothing of the simulation being judged). The recording's tone is read above its local
-/// noise floor, â_m = √max(m² − n², 0); the judged simulation's a_s at the recorded line's
-/// position (± 2 lines where the line has a tolerance: slip). Lines without excess charge the
-/// simulation only for what it puts above both the recording and the calibrated model (lines
-/// nobody has). A simulation is not credited for lowering a line the calibrated model
-/// overshoots — calibration's misfit, which an effect term must not be bent to absorb — nor
-/// for the noise around a line, which no deterministic term reproduces.
-SignatureSums signature_sums(const OrderSpectrum& recorded, const OrderSpectrum& calibrated,
-                             const OrderSpectrum& simulated, const std::vector<JudgedLine>& lines,
-                             const LocateConfig& config,
-                             const std::vector<double>* exclude = nullptr);
-
 /// Shafts at least this fast (in reference orders) have their harmonics excluded from
 /// bearing lines: their spacing is wide enough that ±2 lines around each leave a bearing's
 /// ±slip window almost whole, and an impact once per revolution (a cracked tooth) puts its
