@@ -174,8 +174,8 @@ struct CalibratorConfig {
 /// description's parameters, with the nominal damping (lumped_simulator.hpp) where the
 /// description gives none; a Calibrator given an empty space uses it.
 CalibrationSpace default_space(const Drivetrain& d);
-/// Fit evaluations of the trust region per round by default (the probes come on top): 30 bring
-/// three of five independent-generator recordings within the thresholds (docs/calibration.md).
+/// Fit evaluations of the trust region per round by default (the probes come on top); what
+/// they reach on the independent-generator recordings is Table 3 of docs/calibration.md.
 inline constexpr std::size_t kDefaultFitEvaluations = 30;
 
 /// How a calibration left a variable.
