@@ -15,23 +15,35 @@ bool excluded(double order, double revs, const std::vector<double>* exclude) {
   return false;
 }
 
+// Every harmonic of a mesh up to the envelope's top (kSynchronousTopOrder, or the highest
+// bearing line of the catalogue if above), and at least its first 8: a mesh's stiffness and load
+// sharing vary with period 1/f_mesh, so the envelope of a healthy gearbox holds its whole comb. For
+// the planetary mesh (just under one hss order on paper-2mw) 8 harmonics ended at 7.7 orders, and
+// its comb teeth above (measured to the 50th on the full-order model's recordings) were read as
+// bearing lines.
+void add_mesh_harmonics(const Catalogue& catalogue, std::vector<double>& out) {
+  const double top = std::max(kSynchronousTopOrder, envelope_max_order(catalogue));
+  for (const PartRate& m : catalogue.meshes) {
+    if (!(m.order > 0.0)) continue;
+    for (int h = 1; h <= 8 || h * m.order <= top; ++h) out.push_back(h * m.order);
+  }
+}
+
 // Envelope peaks are sought off the mesh harmonics only: a shaft's harmonics there are an
 // impact once per revolution, which a family names (build_catalogue), not noise to skip.
 std::vector<double> mesh_harmonics(const Catalogue& catalogue) {
   std::vector<double> out;
-  for (const PartRate& m : catalogue.meshes)
-    for (int h = 1; h <= 8; ++h) out.push_back(h * m.order);
+  add_mesh_harmonics(catalogue, out);
   return out;
 }
 }  // namespace
 
 std::vector<double> envelope_exclusions(const Catalogue& catalogue) {
   std::vector<double> out;
-  for (const PartRate& m : catalogue.meshes)
-    for (int h = 1; h <= 8; ++h) out.push_back(h * m.order);
+  add_mesh_harmonics(catalogue, out);
   for (const PartRate& s : catalogue.shafts)
     if (s.id != "planet" && s.order >= kSynchronousShaftOrder)
-      for (int k = 1; k * s.order <= 60.0; ++k) out.push_back(k * s.order);
+      for (int k = 1; k * s.order <= kSynchronousTopOrder; ++k) out.push_back(k * s.order);
   return out;
 }
 
@@ -43,7 +55,11 @@ LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, dou
   if (rec.amplitude.empty() || !(order > 0.0)) return m;
   const double r = static_cast<double>(rec.revolutions);
   double best_order = order;
-  double best = excluded(order, r, exclude) ? 0.0 : rec.tone(order);
+  // Searching among exclusions (the envelope's synchronous comb), only a line of its own
+  // counts: a position where the tone is a local maximum. Next to an excluded line its
+  // main lobe's flank (and, off-bin, its leakage) still reads high, falling away from it.
+  const bool own_lines = tolerance > 0.0 && exclude != nullptr;
+  double best = excluded(order, r, exclude) || own_lines ? 0.0 : rec.tone(order);
   if (tolerance > 0.0) {
     const auto k0 = static_cast<long long>(std::floor(order * (1.0 - tolerance) * r));
     const auto k1 = static_cast<long long>(std::ceil(order * (1.0 + tolerance) * r));
@@ -51,6 +67,7 @@ LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, dou
       const double o = static_cast<double>(k) / r;
       if (excluded(o, r, exclude)) continue;
       const double a = rec.tone(o);
+      if (own_lines && (a < rec.tone(o - 1.0 / r) || a < rec.tone(o + 1.0 / r))) continue;
       if (a > best) {
         best = a;
         best_order = o;

@@ -187,6 +187,29 @@ TEST(Locate, FindsOuterRaceImpactsOfB5InTheEnvelopeOfTheBandWhereTheyRing) {
   EXPECT_GE(a.rec.band.f_hi_hz, 6000.0);
 }
 
+TEST(Locate, TakesNoPlanetaryMeshCombInTheEnvelopeForABearingDefect) {
+  // A healthy gearbox's envelope carries every harmonic of each mesh: here a 6 kHz ring
+  // excited once per planetary-mesh period (99·f_carrier, 0.9609 hss orders), which the
+  // simulation lacks. Its comb teeth lie within ±2 % slip of bearing lines (the 10th at
+  // 9.61 orders, b5's BPFI at 9.49), but they are synchronous with a mesh: no bearing defect.
+  const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
+  const double pm = 99.0 / ((1.0 + 99.0 / 21.0) * (92.0 / 21.0) * (107.0 / 26.0));
+  const double wn = 2 * kPi * 6000.0;
+  const Case c = make_case([&](double, double th) {
+    const double since = std::fmod(th * pm, 1.0) / (pm * kHss);  // [s] since the last mesh pulse
+    return 0.25 * std::exp(-0.03 * wn * since) * std::sin(wn * since);
+  });
+  Analysed a;
+  analyse(c, cat, a);
+  for (const auto& s : a.result.ranking) {
+    const md::Effect e = cat.hypotheses[s.hypothesis].effect;
+    EXPECT_FALSE(e == md::Effect::kBearingOuterRaceDefect ||
+                 e == md::Effect::kBearingInnerRaceDefect || e == md::Effect::kBearingBallDefect)
+        << md::effect_id(e) << " @ " << cat.hypotheses[s.hypothesis].location << " score "
+        << s.score;
+  }
+}
+
 TEST(Locate, FindsNothingWhenTheRecordingIsTheSimulationPlusNoise) {
   const md::Catalogue cat = md::build_catalogue(model::paper_2mw(), {"b5"});
   Analysed a;

@@ -117,8 +117,13 @@ LineMeasure measure_line(const OrderSpectrum& recorded, const OrderSpectrum& sim
 /// envelope lines there.
 inline constexpr double kSynchronousShaftOrder = 0.2;
 
-/// The synchronous orders of the envelope: harmonics 1..8 of every mesh, and the harmonics
-/// (up to order 60) of every shaft of at least kSynchronousShaftOrder. No bearing line is
+/// [orders] the top of the synchronous comb excluded from bearing lines: above every bearing
+/// line of a description like paper-2mw's (3·BPFI + 2 shaft orders ≈ 30 hss orders).
+inline constexpr double kSynchronousTopOrder = 60.0;
+
+/// The synchronous orders of the envelope: the harmonics of every mesh (at least 8, and all
+/// up to kSynchronousTopOrder) and of every shaft of at least kSynchronousShaftOrder (up to
+/// kSynchronousTopOrder). No bearing line is
 /// read there (a defect line that falls exactly on one cannot be told from mesh modulation
 /// or a once-per-revolution impact).
 std::vector<double> envelope_exclusions(const Catalogue& catalogue);
