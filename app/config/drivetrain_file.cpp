@@ -51,7 +51,8 @@ template <class T>
 using Member =
     std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
                  std::array<double, 3> T::*, std::array<double, 6> T::*, std::array<double, 9> T::*,
-                 std::array<double, model::kCpTableKnots> T::*, StageType T::*, BearingType T::*>;
+                 std::array<double, 24> T::*, std::array<double, model::kCpTableKnots> T::*,
+                 StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
 /// units to stored units (stored = file · scale) and the allowed range.
@@ -178,6 +179,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
     {"housing_participation", &DynamicsParameters::housing_participation},
     {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
+    {"housing_seat_participation", &DynamicsParameters::housing_seat_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------
@@ -302,6 +304,7 @@ class Reader {
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
                                std::is_same_v<Field, std::array<double, 9>> ||
+                               std::is_same_v<Field, std::array<double, 24>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
@@ -725,6 +728,7 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
                                std::is_same_v<Field, std::array<double, 9>> ||
+                               std::is_same_v<Field, std::array<double, 24>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             out << '[';
             for (std::size_t i = 0; i < field.size(); ++i) {
