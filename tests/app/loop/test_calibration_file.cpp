@@ -44,6 +44,7 @@ model::DynamicsParameters unusual() {
   for (double& x : p.housing_modal_mass_kg) x = 100.0 * next();
   for (double& x : p.housing_participation) x = next();
   for (double& x : p.housing_cross_participation) x = -next() / 5.0;
+  for (double& x : p.housing_seat_participation) x = next() / 7.0;
   return p;
 }
 
@@ -70,6 +71,8 @@ void expect_same(const model::DynamicsParameters& a, const model::DynamicsParame
   expect_same(a.housing_participation, b.housing_participation, "housing_participation");
   expect_same(a.housing_cross_participation, b.housing_cross_participation,
               "housing_cross_participation");
+  expect_same(a.housing_seat_participation, b.housing_seat_participation,
+              "housing_seat_participation");
 }
 
 std::string read(const std::string& file) {
