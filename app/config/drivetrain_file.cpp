@@ -766,6 +766,37 @@ std::vector<std::string> builtin_drivetrain_names() {
   return names;
 }
 
+std::string dynamics_to_toml(const model::DynamicsParameters& parameters) {
+  std::ostringstream out;
+  out << "[dynamics]\n";
+  write(out, parameters, kDynamicsKeys);
+  return out.str();
+}
+
+model::DynamicsParameters parse_dynamics(std::string_view toml_text, const std::string& source,
+                                         const model::DynamicsParameters& base) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << source << ':' << e.source().begin.line << ':' << e.source().begin.column
+        << ": malformed TOML: " << e.description();
+    throw DrivetrainFileError(msg.str());
+  }
+  const Reader reader(source);
+  for (const auto& [name, node] : root)
+    if (name.str() != "dynamics")
+      reader.fail(&node, std::string(name.str()), "unknown key (only a [dynamics] table)");
+  model::DynamicsParameters p = base;
+  const toml::node* node = root.get("dynamics");
+  if (node == nullptr) reader.fail(nullptr, "dynamics", "missing: the [dynamics] table");
+  const toml::table* table = node->as_table();
+  if (table == nullptr) reader.fail(node, "dynamics", "expected a table [dynamics]");
+  reader.read(*table, p, kDynamicsKeys, "dynamics");
+  return p;
+}
+
 model::Drivetrain parse_drivetrain(std::string_view toml_text, const std::string& source) {
   return parse(toml_text, source, 0);
 }
