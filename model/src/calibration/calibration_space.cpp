@@ -56,7 +56,9 @@ CalibrationSpace CalibrationSpace::paper(const DynamicsParameters& prior) {
   return s;
 }
 
-CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
+CalibrationSpace CalibrationSpace::standard(
+    const DynamicsParameters& prior,
+    const std::array<bool, kHousingSeatBearings>& unmeasured_seats) {
   CalibrationSpace s;
   s.prior_ = prior;
   const double eta = prior.rayleigh_eta > 0.0 ? prior.rayleigh_eta : 5.0;
@@ -133,6 +135,17 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
       s.add(ParameterField::kHousingCross, i, false, 0.5, -1.0, 1.0, name, "-");
     }
   }
+  constexpr std::size_t kModes = kHousingPoints * kHousingModesPerPoint;
+  for (std::size_t b = 0; b < kHousingSeatBearings; ++b) {
+    if (!unmeasured_seats[b]) continue;
+    for (std::size_t k = 0; k < kModes; ++k) {
+      if (!(prior.housing_frequency_hz[k] > 0.0)) continue;
+      std::snprintf(name, sizeof name, "housing.b%zu.point%zu.mode%zu",
+                    b + kHousingSeatFirstBearing + 1, k / kHousingModesPerPoint + 1,
+                    k % kHousingModesPerPoint + 1);
+      s.add(ParameterField::kHousingSeat, b * kModes + k, false, 0.5, -1.0, 1.0, name, "-");
+    }
+  }
   return s;
 }
 
@@ -169,6 +182,8 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.housing_participation[i];
     case ParameterField::kHousingCross:
       return p.housing_cross_participation[i];
+    case ParameterField::kHousingSeat:
+      return p.housing_seat_participation[i];
   }
   return 0.0;
 }
@@ -220,6 +235,9 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kHousingCross:
       p.housing_cross_participation[i] = value;
+      break;
+    case ParameterField::kHousingSeat:
+      p.housing_seat_participation[i] = value;
       break;
   }
 }
