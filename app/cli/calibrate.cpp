@@ -181,7 +181,8 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
           {"housing_damping_ratio", p.housing_damping_ratio},
           {"housing_modal_mass_kg", p.housing_modal_mass_kg},
           {"housing_participation", p.housing_participation},
-          {"housing_cross_participation", p.housing_cross_participation}};
+          {"housing_cross_participation", p.housing_cross_participation},
+          {"housing_seat_participation", p.housing_seat_participation}};
 }
 
 void print_fit(const char* title, const mc::PointIndicators& ind) {
@@ -477,8 +478,8 @@ void run(const CalibrateArgs& args) {
                  "zeta %.3g s\n",
                  drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
   }
-  cc.space =
-      space_name == "paper" ? mc::CalibrationSpace::paper(prior) : mc::default_space(drivetrain);
+  cc.space = space_name == "paper" ? mc::CalibrationSpace::paper(prior)
+                                   : mc::default_space(drivetrain, space_name == "seats");
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
   const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
@@ -788,9 +789,10 @@ void setup_calibrate(CLI::App& sub) {
       ->check(app::cli::one_of({"trust-region", "improved", "published"}));
   sub.add_option("--space", args->space,
                  "standard (default with the ROM: damping, stiffness, transmission error with "
-                 "its phase, housing modes) or paper (the paper's 8 variables; the default with "
-                 "the lumped stand-in)")
-      ->check(app::cli::one_of({"standard", "paper"}));
+                 "its phase, housing modes), seats (standard + each housing mode's participation "
+                 "at the seats of the bearings without a sensor) or paper (the paper's 8 "
+                 "variables; the default with the lumped stand-in)")
+      ->check(app::cli::one_of({"standard", "seats", "paper"}));
   sub.add_option("--simulator", args->simulator,
                  "rom (default, the dynamics ROM) or lumped (stand-in)")
       ->check(app::cli::one_of({"rom", "lumped"}));

@@ -51,7 +51,8 @@ template <class T>
 using Member =
     std::variant<double T::*, int T::*, std::string T::*, std::vector<std::string> T::*,
                  std::array<double, 3> T::*, std::array<double, 6> T::*, std::array<double, 9> T::*,
-                 std::array<double, model::kCpTableKnots> T::*, StageType T::*, BearingType T::*>;
+                 std::array<double, 24> T::*, std::array<double, model::kCpTableKnots> T::*,
+                 StageType T::*, BearingType T::*>;
 
 /// One key of a table: its TOML name, the field it fills, the factor from file
 /// units to stored units (stored = file · scale) and the allowed range.
@@ -178,6 +179,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"housing_modal_mass_kg", &DynamicsParameters::housing_modal_mass_kg, Range::kNonNegative},
     {"housing_participation", &DynamicsParameters::housing_participation},
     {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
+    {"housing_seat_participation", &DynamicsParameters::housing_seat_participation},
 };
 
 // ---- enums ------------------------------------------------------------------------------------
@@ -302,6 +304,7 @@ class Reader {
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
                                std::is_same_v<Field, std::array<double, 9>> ||
+                               std::is_same_v<Field, std::array<double, 24>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             const toml::array* array = node.as_array();
             if (array == nullptr || array->size() != field.size()) {
@@ -725,6 +728,7 @@ void write(std::ostream& out, const T& object, const std::vector<Key<T>>& keys) 
           } else if constexpr (std::is_same_v<Field, std::array<double, 3>> ||
                                std::is_same_v<Field, std::array<double, 6>> ||
                                std::is_same_v<Field, std::array<double, 9>> ||
+                               std::is_same_v<Field, std::array<double, 24>> ||
                                std::is_same_v<Field, std::array<double, model::kCpTableKnots>>) {
             out << '[';
             for (std::size_t i = 0; i < field.size(); ++i) {
@@ -760,6 +764,37 @@ std::vector<std::string> builtin_drivetrain_names() {
     }
   }
   return names;
+}
+
+std::string dynamics_to_toml(const model::DynamicsParameters& parameters) {
+  std::ostringstream out;
+  out << "[dynamics]\n";
+  write(out, parameters, kDynamicsKeys);
+  return out.str();
+}
+
+model::DynamicsParameters parse_dynamics(std::string_view toml_text, const std::string& source,
+                                         const model::DynamicsParameters& base) {
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream msg;
+    msg << source << ':' << e.source().begin.line << ':' << e.source().begin.column
+        << ": malformed TOML: " << e.description();
+    throw DrivetrainFileError(msg.str());
+  }
+  const Reader reader(source);
+  for (const auto& [name, node] : root)
+    if (name.str() != "dynamics")
+      reader.fail(&node, std::string(name.str()), "unknown key (only a [dynamics] table)");
+  model::DynamicsParameters p = base;
+  const toml::node* node = root.get("dynamics");
+  if (node == nullptr) reader.fail(nullptr, "dynamics", "missing: the [dynamics] table");
+  const toml::table* table = node->as_table();
+  if (table == nullptr) reader.fail(node, "dynamics", "expected a table [dynamics]");
+  reader.read(*table, p, kDynamicsKeys, "dynamics");
+  return p;
 }
 
 model::Drivetrain parse_drivetrain(std::string_view toml_text, const std::string& source) {

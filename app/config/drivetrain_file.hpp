@@ -50,6 +50,16 @@ model::Drivetrain parse_drivetrain(std::string_view toml_text, const std::string
 /// Writes every field as a complete, self-contained TOML description (no `base`).
 std::string to_toml(const model::Drivetrain& drivetrain);
 
+/// The [dynamics] table alone (every key of model::DynamicsParameters, shortest round-trip
+/// decimal): what a calibration changes, in the description's own format.
+std::string dynamics_to_toml(const model::DynamicsParameters& parameters);
+
+/// Reads a document holding only a [dynamics] table over `base` (a key it does not give keeps
+/// base's value), with the description's names and ranges. Throws DrivetrainFileError naming
+/// source, line, column and key.
+model::DynamicsParameters parse_dynamics(std::string_view toml_text, const std::string& source,
+                                         const model::DynamicsParameters& base);
+
 /// Adds `--drivetrain NAME|FILE` (default paper-2mw) to a subcommand. Defined with
 /// the command-line plumbing (app/cli/command.cpp): only subcommands see CLI11.
 CLI::Option* add_drivetrain_option(CLI::App& sub, std::string& value);

@@ -47,10 +47,17 @@
 
 namespace app::loop {
 
+/// The calibration's variables (config key calibration.space).
+enum class WorkerSpace {
+  kStandard,  // model::calibration::default_space: what `drivetwin calibrate` fits
+  kPaper,     // the paper's 8 (CalibrationSpace::paper)
+};
+
 struct CalibrationWorkerSettings {
   model::calibration::CalibrationMethod method =
       model::calibration::CalibrationMethod::kTrustRegion;
-  std::size_t max_evaluations = 40;        // [-] trust-region budget
+  WorkerSpace space = WorkerSpace::kStandard;
+  std::size_t max_evaluations = 30;        // [-] trust-region budget of a fit round
   model::dynamics::RomSettings rom{};      // the loop's ROM step and cut-off
   std::string state_file;                  // calibrated parameters ("" = not saved)
   bool diagnosis = true;                   // diagnose a mismatch calibration cannot remove
@@ -118,11 +125,16 @@ class CalibrationWorker {
 };
 
 /// Saves / loads calibrated parameters crash-safely (write .tmp, fsync, rename, fsync the
-/// folder; a CRC over the text). load(): std::nullopt when the file is missing; an error
-/// message (and std::nullopt) when it is corrupt.
+/// folder; a CRC over the text). The file (version 2): "# drivetwin-calibration 2",
+/// "# generation N", then the description's [dynamics] table with every key
+/// (app/config/drivetrain_file.hpp). load() reads it, or a version-1 file (the paper's 8
+/// variables), over `base` (the description's parameters: a key the file does not give
+/// keeps base's value); std::nullopt when the file is missing; an error message (and
+/// std::nullopt) when it is corrupt or holds a value out of its range.
 bool save_calibration(const std::string& file, const model::DynamicsParameters& p,
                       std::uint32_t generation, std::string* error);
 std::optional<model::DynamicsParameters> load_calibration(const std::string& file,
+                                                          const model::DynamicsParameters& base,
                                                           std::uint32_t* generation,
                                                           std::string* error);
 

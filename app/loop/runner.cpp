@@ -301,7 +301,7 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     std::string probe_error;
     std::uint32_t probe_generation = 0;
     if (loaded.calibration &&
-        !load_calibration(calibration_file, &probe_generation, &probe_error)) {
+        !load_calibration(calibration_file, parameters, &probe_generation, &probe_error)) {
       // The calibration file is missing or corrupt; the state record holds its last copy.
       std::ofstream(calibration_file, std::ios::binary | std::ios::trunc)
           << loaded.calibration->text;
@@ -312,7 +312,7 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
   }
   {
     std::string error;
-    if (auto p = load_calibration(calibration_file, &generation, &error)) {
+    if (auto p = load_calibration(calibration_file, drivetrain.dynamics, &generation, &error)) {
       parameters = *p;
       log.line("drivetwin run: calibrated parameters of generation " + std::to_string(generation) +
                " loaded from " + calibration_file);
@@ -529,6 +529,7 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
                                                          : cfg.calibration_method == 1 ? 1
                                                                                        : 0);
   cws.max_evaluations = static_cast<std::size_t>(cfg.max_evaluations);
+  cws.space = cfg.calibration_space == 1 ? WorkerSpace::kPaper : WorkerSpace::kStandard;
   cws.rom = rs;
   cws.state_file = state_ok ? calibration_file : "";
   cws.diagnosis = cfg.diagnosis_enabled;

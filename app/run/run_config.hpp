@@ -68,11 +68,12 @@ struct RunConfig {
   // [calibration]
   bool calibration_enabled = false;
   int calibration_method = 0;            // index into kCalibrationMethodChoices
+  int calibration_space = 0;             // index into kCalibrationSpaceChoices
   double window_s = 0.0;                 // [s] CMS window compared with the model
   double check_interval_s = 0.0;         // [s] between comparisons
   double steady_speed_tolerance = 0.0;   // [-] max relative speed change inside a window
   double steady_torque_tolerance = 0.0;  // [-] max relative torque change inside a window
-  std::int64_t max_evaluations = 0;      // [-] trust-region budget
+  std::int64_t max_evaluations = 0;      // [-] trust-region budget of a fit round
   bool diagnosis_enabled = false;        // the missing-physics diagnosis after an unfit calibration
   double diagnosis_interval_s = 0.0;     // [s] between two diagnoses
 
@@ -99,6 +100,7 @@ struct RunConfig {
 inline constexpr std::array<std::string_view, 4> kTorqueSourceChoices{"auto", "torque", "power",
                                                                       "wind"};
 inline constexpr std::array<std::string_view, 2> kAlarmZoneChoices{"D", "C"};
+inline constexpr std::array<std::string_view, 2> kCalibrationSpaceChoices{"standard", "paper"};
 inline constexpr std::array<std::string_view, 3> kCalibrationMethodChoices{
     "trust-region", "improved-mogoa", "published-mogoa"};
 

@@ -56,7 +56,9 @@ CalibrationSpace CalibrationSpace::paper(const DynamicsParameters& prior) {
   return s;
 }
 
-CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
+CalibrationSpace CalibrationSpace::standard(
+    const DynamicsParameters& prior,
+    const std::array<bool, kHousingSeatBearings>& unmeasured_seats) {
   CalibrationSpace s;
   s.prior_ = prior;
   const double eta = prior.rayleigh_eta > 0.0 ? prior.rayleigh_eta : 5.0;
@@ -133,6 +135,21 @@ CalibrationSpace CalibrationSpace::standard(const DynamicsParameters& prior) {
       s.add(ParameterField::kHousingCross, i, false, 0.5, -1.0, 1.0, name, "-");
     }
   }
+  // One variable per (unmeasured seat, point): the three modes of a point share the seat's
+  // participation (the quasi-static picture of a seat on the same wall as the point's own; a
+  // point's 7–9 resolved tones do not determine three per seat and point — 12 free per-mode
+  // variables calibrated 2 of Table 3's 5 recordings, these 4 calibrate 4, docs/calibration.md).
+  constexpr std::size_t kModes = kHousingPoints * kHousingModesPerPoint;
+  for (std::size_t b = 0; b < kHousingSeatBearings; ++b) {
+    if (!unmeasured_seats[b]) continue;
+    for (std::size_t p = 0; p < kHousingPoints; ++p) {
+      if (!(prior.housing_frequency_hz[p * kHousingModesPerPoint] > 0.0)) continue;
+      std::snprintf(name, sizeof name, "housing.b%zu.point%zu", b + kHousingSeatFirstBearing + 1,
+                    p + 1);
+      s.add(ParameterField::kHousingSeat, b * kModes + p * kHousingModesPerPoint, false, 0.5, -1.0,
+            1.0, name, "-");
+    }
+  }
   return s;
 }
 
@@ -169,6 +186,12 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.housing_participation[i];
     case ParameterField::kHousingCross:
       return p.housing_cross_participation[i];
+    case ParameterField::kHousingSeat: {  // the mean over the point's modes (set() ties them)
+      double sum = 0.0;
+      for (std::size_t k = 0; k < kHousingModesPerPoint; ++k)
+        sum += p.housing_seat_participation[i + k];
+      return sum / static_cast<double>(kHousingModesPerPoint);
+    }
   }
   return 0.0;
 }
@@ -220,6 +243,10 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kHousingCross:
       p.housing_cross_participation[i] = value;
+      break;
+    case ParameterField::kHousingSeat:
+      for (std::size_t k = 0; k < kHousingModesPerPoint; ++k)
+        p.housing_seat_participation[i + k] = value;
       break;
   }
 }

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <string>
 
 #include "model/calibration/lumped_simulator.hpp"
 
@@ -82,8 +83,17 @@ const char* to_string(VariableStatus s) {
   return "?";
 }
 
-CalibrationSpace default_space(const Drivetrain& d) {
-  return CalibrationSpace::standard(with_nominal_damping(d.dynamics));
+CalibrationSpace default_space(const Drivetrain& d, bool seat_paths) {
+  // The seats of the parallel-stage bearings that carry no sensor stand in the housing too
+  // (housing_seat_participation): their participations join the space.
+  std::array<bool, kHousingSeatBearings> unmeasured{};
+  for (std::size_t b = 0; b < kHousingSeatBearings; ++b) {
+    const std::string id = "b" + std::to_string(b + kHousingSeatFirstBearing + 1);
+    unmeasured[b] =
+        seat_paths && std::none_of(d.measurement_points.begin(), d.measurement_points.end(),
+                                   [&](const MeasurementPoint& mp) { return mp.location == id; });
+  }
+  return CalibrationSpace::standard(with_nominal_damping(d.dynamics), unmeasured);
 }
 
 bool needs_calibration(const PointIndicators& indicators) {

@@ -1190,6 +1190,52 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       }
     }
   }
+  // Every other parallel-stage bearing's seat is in the same housing: mode k moves it by
+  // c·h_k along the sensor direction (housing_seat_participation; 0: the seat on ground, the
+  // model before the parameter). Reciprocally its bearing's force drives h_k with c: one
+  // term of the bearing's direction, so K stays symmetric and the coupling stores no energy
+  // of its own. The sensors do not read these seats.
+  std::array<std::vector<SeatDof>, kHousingSeatBearings> seat_couplings;
+  {
+    std::array<int, kHousingPoints * kHousingModesPerPoint> mode_dof{};
+    mode_dof.fill(-1);
+    for (const Seat& seat : seats) {
+      for (const SeatDof& sd : seat.dofs) {
+        if (sd.param >= 0) mode_dof[static_cast<std::size_t>(sd.param)] = sd.dof;
+      }
+    }
+    for (std::size_t b = 0; b < kHousingSeatBearings; ++b) {
+      const std::string& id = bearing_ids[kHousingSeatFirstBearing + b];
+      const bool measured = std::any_of(seats.begin(), seats.end(),
+                                        [&](const Seat& seat) { return seat.bearing == id; });
+      for (std::size_t k = 0; k < mode_dof.size(); ++k) {
+        const std::size_t i = b * mode_dof.size() + k;
+        const double c = dp.housing_seat_participation[i];
+        if (c == 0.0) continue;
+        std::string why;
+        if (!std::isfinite(c)) {
+          why = "is not finite";
+        } else if (measured) {
+          why = "is on measured bearing '" + id +
+                "' (its seat's participations are housing_participation and "
+                "housing_cross_participation)";
+        } else if (mode_dof[k] < 0) {
+          why = "names point " + std::to_string(k / kHousingModesPerPoint + 1) + "'s mode " +
+                std::to_string(k % kHousingModesPerPoint + 1) +
+                ", which is not modelled (housing_frequency_hz 0 or no such point)";
+        }
+        if (!why.empty()) {
+          fail(error, "drivetrain '" + d.name + "': dynamics: housing_seat_participation[" +
+                          std::to_string(i) + "] " + why);
+          return std::nullopt;
+        }
+        SeatDof sd;
+        sd.dof = mode_dof[k];
+        sd.dir = c * sensor_dir;
+        seat_couplings[b].push_back(sd);
+      }
+    }
+  }
 
   // ---- generator ----------------------------------------------------------------------------
   const int gen = as.add_dof("generator.theta", s.generator_inertia_kg_m2);
@@ -1377,6 +1423,13 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     for (const Seat& seat : seats) {
       if (seat.bearing != b.id) continue;
       for (const SeatDof& sd : seat.dofs) {
+        v.directions(sd.dof, 0) -= sd.dir.x();
+        v.directions(sd.dof, 1) -= sd.dir.y();
+      }
+    }
+    if (i >= static_cast<int>(kHousingSeatFirstBearing)) {
+      for (const SeatDof& sd :
+           seat_couplings[static_cast<std::size_t>(i) - kHousingSeatFirstBearing]) {
         v.directions(sd.dof, 0) -= sd.dir.x();
         v.directions(sd.dof, 1) -= sd.dir.y();
       }

@@ -507,6 +507,28 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
 
 Rom::Rom(const RomData& data) noexcept : data_(&data) { bind_kernel(); }
 
+Rom::Rom(const Rom& other) noexcept : data_(other.data_) { *this = other; }
+
+Rom& Rom::operator=(const Rom& other) noexcept {
+  if (this == &other) return *this;
+  data_ = other.data_;
+  q_ = other.q_;
+  v_ = other.v_;
+  g_ = other.g_;
+  z_ = other.z_;
+  t0_ = other.t0_;
+  steps_ = other.steps_;
+  whole_revs_ = other.whole_revs_;
+  frac_revs_ = other.frac_revs_;
+  phase_base_ = other.phase_base_;
+  cos_psi_ = other.cos_psi_;
+  sin_psi_ = other.sin_psi_;
+  psi_base_ = other.psi_base_;
+  steps_since_exact_ = other.steps_since_exact_;
+  bind_kernel();
+  return *this;
+}
+
 void Rom::bind_kernel() noexcept {
   const RomData& d = *data_;
   kernel_ = detail::RomKernelModel{d.dofs,

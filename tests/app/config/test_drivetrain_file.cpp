@@ -131,6 +131,8 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
   same_array(a.dynamics.housing_participation, b.dynamics.housing_participation, "housing p");
   same_array(a.dynamics.housing_cross_participation, b.dynamics.housing_cross_participation,
              "housing c");
+  same_array(a.dynamics.housing_seat_participation, b.dynamics.housing_seat_participation,
+             "housing seat c");
 }
 
 std::string error_of(const std::string& text, const std::string& source = "bad.toml") {

@@ -9,6 +9,8 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <new>
 #include <sstream>
 
@@ -17,6 +19,7 @@
 #include "model/dynamics/simulate.hpp"
 #include "run/run_config.hpp"
 #include "run_test_util.hpp"
+#include "supervisor/supervisor.hpp"
 
 namespace {
 thread_local bool t_on_rt_thread = false;
@@ -62,7 +65,10 @@ TEST(RtAllocations, NoneOnTheRealTimeThreadOverAReplayWithFullRateCmsAndCalibrat
         "format = \"drivetwin-run/1\"\n[twin]\nbus = \"bus.toml\"\n"
         "[loop]\nperiod_us = 1000\nrom_steps_per_cycle = 1\nrom_cutoff_hz = 150.0\n"
         "publish_divisor = 100\n"
+        // The paper's 8 variables: what runs on the calibration thread does not reach the
+        // RT thread; the next test adopts a model of the default (standard) space.
         "[calibration]\nenabled = true\ncheck_interval_s = 60.0\nmax_evaluations = 12\n"
+        "space = \"paper\"\n"
         "[persistence]\ncheckpoint_interval_s = 30.0\n"
         "[fatigue]\nrul_interval_s = 600.0\n"
         "[threads.rt_loop]\npolicy = \"other\"\npriority = 0\n");
@@ -136,13 +142,24 @@ TEST(RtAllocations, NoneWhileACalibratedModelIsHandedOverAndAdopted) {
   const long rt_before = g_rt_allocations.load();
   // Act
   const app::loop::RunSummary s = app::loop::run_twin(c, o);
-  // Assert: the mismatch was found, a calibrated model built off the RT thread, adopted by
-  // it at a cycle boundary and saved; the RT thread allocated nothing.
+  // Assert: the mismatch was found, a calibrated model (the standard space: transmission
+  // errors, housing modes…) built off the RT thread, adopted by it at a cycle boundary and
+  // saved; the RT thread allocated nothing.
   EXPECT_NE(log.str().find("calibration-check"), std::string::npos) << log.str();
   EXPECT_GE(s.last.counters.rom_adoptions, 1u) << log.str();
   EXPECT_GE(s.calibration_generation, 1u);
   EXPECT_TRUE(s.last.status_word & app::results::kStatusCalibrated);
+  // … and runs on: its kernel bound to its own phases, not to the Rom it was copied from
+  // (the handover swaps two Rom objects; the ROM ran wild after it until rom.cpp's copy).
+  EXPECT_EQ(s.last.fault_word & app::supervisor::kFaultRomDiverged, 0u) << log.str();
+  EXPECT_EQ(s.last.counters.rom_steps, s.last.counters.cycles * 8u);
   EXPECT_TRUE(std::filesystem::exists(dir.path / "state" / "calibration.txt"));
+  {
+    std::ifstream saved(dir.path / "state" / "calibration.txt");
+    const std::string text((std::istreambuf_iterator<char>(saved)), {});
+    EXPECT_EQ(text.rfind("# drivetwin-calibration 2\n", 0), 0u) << text;
+    EXPECT_NE(text.find("housing_frequency_hz = ["), std::string::npos) << text;
+  }
   EXPECT_EQ(g_rt_allocations.load() - rt_before, 0) << log.str();
   // In lockstep the whole run, calibration included, repeats bit for bit.
   c.state_dir = (dir.path / "state2").string();

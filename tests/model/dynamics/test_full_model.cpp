@@ -589,3 +589,78 @@ TEST(FullModelBuild, CrossParticipationCouplesTheOtherSeatReciprocally) {
   EXPECT_EQ(m0.bearings[2].directions(h, 1), 0.0);
   EXPECT_EQ(m0.sensors[1].row[h], 0.0);
 }
+
+namespace {
+
+// The one DOF a bearing's direction column `col` has at +1: its shaft node's x (0) or y (1).
+int node_dof(const VaryingStiffness& b, int col) {
+  for (int i = 0; i < b.directions.rows(); ++i) {
+    if (b.directions(i, col) == 1.0) return i;
+  }
+  ADD_FAILURE() << b.id << " has no node DOF";
+  return 0;
+}
+
+}  // namespace
+
+TEST(FullModelBuild, AnUnmeasuredSeatInTheHousingDrivesTheModeWithItsParticipation) {
+  // b6 (hss, no sensor) with participation c in point1's mode 1 (b5's seat, sensor +y): b6's
+  // seat moves by c·h along +y. Hand-derived free body of the mode DOF in static equilibrium
+  // under the paper torque: k_h·h = k_b5·(y5 − Σ_k h_k) + c·k_b6·(y6 − c·h), where y5, y6 are
+  // the shaft nodes' displacements along the sensor and k_h = m(2πf)² from the description —
+  // the b6 reaction reaches the mode with the same factor its seat moves by (reciprocity).
+  model::Drivetrain d = model::paper_2mw();
+  const double c = 0.3;
+  const std::size_t modes = model::kHousingPoints * model::kHousingModesPerPoint;
+  d.dynamics.housing_seat_participation[(5 - model::kHousingSeatFirstBearing) * modes + 0] = c;
+  const FullModel m = paper_model(d);
+  const FullModel m0 = paper_model();
+  ASSERT_EQ(m.dofs(), m0.dofs());  // no DOF of its own: the seat is the housing's
+  const int h1 = m.dof("seat.b5.mode1");
+  const int h2 = m.dof("seat.b5.mode2");
+  const int h3 = m.dof("seat.b5.mode3");
+  ASSERT_GE(h1, 0);
+  const VaryingStiffness& b5 = m.bearings[4];
+  const VaryingStiffness& b6 = m.bearings[5];
+  ASSERT_EQ(b6.id, "b6");
+  EXPECT_NEAR(b6.directions(h1, 1), -c, 1e-12);
+  EXPECT_NEAR(b6.directions(h1, 0), 0.0, 1e-12);
+  EXPECT_EQ(m0.bearings[5].directions(h1, 1), 0.0);  // default: on ground
+  // The sensors do not read the unmeasured seat, and the stiffness stays symmetric (a
+  // reciprocal coupling: no energy from nowhere).
+  for (std::size_t s = 0; s < m.sensors.size(); ++s) {
+    EXPECT_EQ((m.sensors[s].row - m0.sensors[s].row).cwiseAbs().maxCoeff(), 0.0);
+  }
+  EXPECT_LT((m.stiffness - m.stiffness.transpose()).cwiseAbs().maxCoeff(),
+            1e-14 * m.stiffness.cwiseAbs().maxCoeff());
+
+  const Eigen::VectorXd x = m.static_deflection(kPaperTorqueNm);
+  const double y5 = x[node_dof(b5, 1)];
+  const double y6 = x[node_dof(b6, 1)];
+  const double k_h = d.dynamics.housing_modal_mass_kg[0] *
+                     std::pow(2.0 * kPi * d.dynamics.housing_frequency_hz[0], 2);
+  const double reaction5 = b5.mean_n_m * (y5 - (x[h1] + x[h2] + x[h3]));
+  const double reaction6 = b6.mean_n_m * (y6 - c * x[h1]);
+  EXPECT_GT(std::abs(c * reaction6), 0.05 * std::abs(reaction5));  // the path carries load
+  EXPECT_NEAR(k_h * x[h1], reaction5 + c * reaction6, 1e-6 * std::abs(reaction5 + c * reaction6));
+  // Without the path the mode takes b5's reaction alone, and with it h moves by c·F6/k_h to
+  // first order: the new path is what changed it.
+  const Eigen::VectorXd x0 = m0.static_deflection(kPaperTorqueNm);
+  EXPECT_GT(std::abs(x[h1] - x0[h1]), 0.2 * std::abs(c * reaction6 / k_h));
+}
+
+TEST(FullModelBuild, SeatParticipationOnAMeasuredBearingOrAMissingModeIsRejectedNamingTheKey) {
+  const std::size_t modes = model::kHousingPoints * model::kHousingModesPerPoint;
+  model::Drivetrain d = model::paper_2mw();  // point1 on b5, point2 on b3
+  d.dynamics.housing_seat_participation[(4 - model::kHousingSeatFirstBearing) * modes + 3] = 0.2;
+  std::string error;
+  EXPECT_FALSE(build_full_model(d, {}, &error));
+  EXPECT_NE(error.find("housing_seat_participation[15]"), std::string::npos) << error;
+  EXPECT_NE(error.find("measured bearing 'b5'"), std::string::npos) << error;
+  d = model::paper_2mw();
+  d.dynamics.housing_frequency_hz[4] = 0.0;  // point2's mode 2 not modelled
+  d.dynamics.housing_seat_participation[(3 - model::kHousingSeatFirstBearing) * modes + 4] = 0.2;
+  EXPECT_FALSE(build_full_model(d, {}, &error));
+  EXPECT_NE(error.find("housing_seat_participation[10]"), std::string::npos) << error;
+  EXPECT_NE(error.find("not modelled"), std::string::npos) << error;
+}

@@ -197,6 +197,59 @@ TEST(Rom, AdoptedModelTakesOverKeepingTimeAndRotorAngleWithoutAllocating) {
   EXPECT_GT(revs, 0.0);
 }
 
+TEST(Rom, ACopyOrASwapRunsOnFromTheSameStateIndependentlyOfTheOriginal) {
+  // The step is deterministic: a copy of a running ROM, stepped with the same inputs, must
+  // give an untouched reference's outputs bit for bit, whatever the original does next —
+  // here it restarts elsewhere (other load, another revolution: other phases) — and also
+  // when the original was a temporary that is gone (the running twin builds its
+  // replacement so), and after std::swap (how the twin hands over to it).
+  // Arrange: paper-2mw at a coarse step (cheap under QEMU), two operating points.
+  constexpr double kCoarseDt = 1.0 / 4096;
+  const auto data = build_rom(paper_model(), kCoarseDt, 1500.0);
+  ASSERT_TRUE(data);
+  const RomInputs in_a{14.8, 1.23e6}, in_b{8.33, 361747.0};
+  Rom reference_a(*data), reference_b(*data), source(*data), copy_b(*data);
+  reference_a.reset(in_a, 2.25);
+  reference_b.reset(in_b, 3.5);
+  source.reset(in_a, 2.25);
+  RomOutputs ra, rb, oa, ob;
+  for (int i = 0; i < 300; ++i) {
+    reference_a.step(in_a, ra);
+    reference_b.step(in_b, rb);
+    source.step(in_a, oa);
+  }
+  Rom copy_a(source);
+  source.reset(in_b, 11.6);  // the original goes on elsewhere
+  {
+    Rom temporary(*data);
+    temporary.reset(in_b, 3.5);
+    for (int i = 0; i < 300; ++i) temporary.step(in_b, ob);
+    copy_b = temporary;  // the temporary goes out of scope here
+  }
+  // Act + Assert: 500 steps side by side.
+  for (int i = 0; i < 500; ++i) {
+    source.step(in_b, ob);
+    reference_a.step(in_a, ra);
+    copy_a.step(in_a, oa);
+    reference_b.step(in_b, rb);
+    copy_b.step(in_b, ob);
+    ASSERT_EQ(oa.mesh_force_n, ra.mesh_force_n) << "copy-constructed, step " << i;
+    ASSERT_EQ(oa.acceleration_m_s2, ra.acceleration_m_s2) << "copy-constructed, step " << i;
+    ASSERT_EQ(ob.mesh_force_n, rb.mesh_force_n) << "copy of a temporary, step " << i;
+  }
+  std::swap(copy_a, copy_b);
+  source.reset(in_a, 0.5);
+  for (int i = 0; i < 500; ++i) {
+    source.step(in_a, oa);
+    reference_a.step(in_a, ra);
+    reference_b.step(in_b, rb);
+    copy_b.step(in_a, oa);
+    copy_a.step(in_b, ob);
+    ASSERT_EQ(oa.mesh_force_n, ra.mesh_force_n) << "after the swap, step " << i;
+    ASSERT_EQ(ob.mesh_force_n, rb.mesh_force_n) << "after the swap, step " << i;
+  }
+}
+
 TEST(Rom, AReplacementStartedAtTheRunningAngleConvergesWithinItsSettleTime) {
   // Two trajectories of the same linear model under the same inputs differ by a free
   // vibration, which rom_settle_time_s() bounds: a ROM reset at the running ROM's time

@@ -33,6 +33,10 @@
 //                effective mass at the seat            ln, σ = ln 2, ×/÷ 4
 //                sensor participation                  ln, σ = 0.5, ×/÷ 4
 //                cross participation (other point)     linear, σ = 0.5, −1 … 1
+//                participation at each unmeasured      linear, σ = 0.5, −1 … 1 (prior the
+//                parallel-stage bearing's seat, one    description's: 0, the seat on ground)
+//                per point (its 3 modes tied)          (default_space(d, true): b4, b6 of
+//                                                      paper-2mw; only with the seats named)
 // The paper's 8 variables (η, ζ, mesh scale per stage, bearing scale per parallel shaft)
 // are paper(); the peers' comparison and the old tests use it.
 //
@@ -46,8 +50,9 @@
 
 namespace model::calibration {
 
-/// Largest calibration space (the standard one has 66 variables).
-inline constexpr std::size_t kMaxCalibrationVariables = 66;
+/// Largest calibration space (the standard one has 66 variables; with the two unmeasured
+/// seats of paper-2mw, 70).
+inline constexpr std::size_t kMaxCalibrationVariables = 70;
 
 enum class ParameterField : std::uint8_t {
   kRayleighEta,
@@ -65,6 +70,7 @@ enum class ParameterField : std::uint8_t {
   kHousingMass,
   kHousingParticipation,
   kHousingCross,
+  kHousingSeat,  // index: (bearing − b3)·modes of both points + point·modes (its 3 modes tied)
 };
 
 struct CalibrationVariable {
@@ -89,8 +95,12 @@ class CalibrationSpace {
   /// scales 0.5–2), prior σ = ln 2 (damping) and 0.25 (scales).
   static CalibrationSpace paper(const DynamicsParameters& prior);
   /// The standard space (header) around `prior`. Housing variables only where the prior
-  /// has housing modes (frequency > 0).
-  static CalibrationSpace standard(const DynamicsParameters& prior);
+  /// has housing modes (frequency > 0); the seat participations only of the parallel-stage
+  /// bearings b3..b6 marked in `unmeasured_seats` (their seats are in the housing but carry
+  /// no sensor: DynamicsParameters::housing_seat_participation).
+  static CalibrationSpace standard(
+      const DynamicsParameters& prior,
+      const std::array<bool, kHousingSeatBearings>& unmeasured_seats = {});
 
   CalibrationSpace() = default;
 

@@ -172,8 +172,10 @@ struct CalibratorConfig {
 /// The calibration `drivetwin calibrate` runs by default, shared by every caller that wants
 /// the same (the diagnosis's calibration stage among them): the standard space around the
 /// description's parameters, with the nominal damping (lumped_simulator.hpp) where the
-/// description gives none; a Calibrator given an empty space uses it.
-CalibrationSpace default_space(const Drivetrain& d);
+/// description gives none; a Calibrator given an empty space uses it. `seat_paths`: with the
+/// participations of the housing modes at the seats of the parallel-stage bearings that carry
+/// no sensor (DynamicsParameters::housing_seat_participation; `calibrate --space seats`).
+CalibrationSpace default_space(const Drivetrain& d, bool seat_paths = false);
 /// Fit evaluations of the trust region per round by default (the probes come on top); what
 /// they reach on the independent-generator recordings is Table 3 of docs/calibration.md.
 inline constexpr std::size_t kDefaultFitEvaluations = 30;

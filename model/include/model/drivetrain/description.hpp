@@ -168,6 +168,11 @@ inline constexpr std::size_t kTransmissionErrorHarmonics = 3;
 inline constexpr std::size_t kHousingPoints = 2;
 /// Housing modes per measurement point (in the sensor's direction).
 inline constexpr std::size_t kHousingModesPerPoint = 3;
+/// Bearings whose seats can stand in the housing modes: the parallel stages' b3..b6 (the sun
+/// shaft's b1, b2 turn with the carrier frame).
+inline constexpr std::size_t kHousingSeatBearings = 4;
+/// Index of b3 among b1..b6: housing_seat_participation's bearing index is (bearing − b3).
+inline constexpr std::size_t kHousingSeatFirstBearing = 2;
 /// Knots of the frequency-dependent damping factor (DynamicsParameters::damping_band_factor).
 inline constexpr std::size_t kDampingKnots = 3;
 /// Frequencies of those knots [Hz]: log-spaced over the band the mesh harmonics of a
@@ -215,6 +220,16 @@ struct DynamicsParameters {
   /// [-] the mode's participation at the OTHER measured point's seat relative to its own
   /// (housing modes are the whole housing's: cross-transmission between the points; 0: none)
   std::array<double, kHousingPoints * kHousingModesPerPoint> housing_cross_participation{};
+  /// [-] the seats of the bearings WITHOUT a measurement point (index
+  /// (bearing − b3)·kHousingPoints·kHousingModesPerPoint + point·kHousingModesPerPoint + mode):
+  /// each housing mode's participation at that seat relative to its own seat, along the sensor
+  /// direction. The seat then moves by Σ c·h_k and its bearing's force drives h_k with c (the
+  /// same factor both ways: the coupling is reciprocal and stores no energy of its own).
+  /// 0 for every mode (the default): the seat stands on ground, as before this parameter. A
+  /// measured bearing's entries must be 0 (its seat is housing_participation's and
+  /// housing_cross_participation's).
+  std::array<double, kHousingSeatBearings * kHousingPoints * kHousingModesPerPoint>
+      housing_seat_participation{};
 };
 
 struct Drivetrain {

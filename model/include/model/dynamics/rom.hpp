@@ -308,6 +308,12 @@ class Rom {
  public:
   /// @param data must outlive the Rom (or its use until adopt() names another).
   explicit Rom(const RomData& data) noexcept;
+  /// A copy runs on from the same state, independently of the original: the kernel's
+  /// pointers into the Rom's own phases are bound to the copy's (a member-wise copy would
+  /// leave them on the original's, or dangling once a temporary is gone). RT-safe.
+  Rom(const Rom& other) noexcept;
+  Rom& operator=(const Rom& other) noexcept;
+  ~Rom() = default;
 
   /// Static equilibrium under the mean stiffness and `in` at rotor angle
   /// `rotor_revolutions` [rev] and time `time_s` [s] (both 0 at a first start; a
@@ -359,7 +365,9 @@ class Rom {
   // current revolution, frac(frame_order·whole_revs_) [cycles].
   double cos_psi_ = 1.0, sin_psi_ = 0.0, psi_base_ = 0.0;
   int steps_since_exact_ = 0;
-  detail::RomKernelModel kernel_{};  // pointers into *data_ and phase_base_ for the kernel
+  // Pointers into *data_ and phase_base_ for the kernel: bound by bind_kernel(), never
+  // copied (a member added above must be added to the copy operations, rom.cpp).
+  detail::RomKernelModel kernel_{};
 };
 
 }  // namespace model::dynamics
