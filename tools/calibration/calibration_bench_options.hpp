@@ -19,6 +19,7 @@ struct CalibrationBenchOptions {
   bool lumped = false;
   std::string scenario = "all";
   std::string only;
+  std::string space = "paper";
   double tr_radius = 0.0;  // [-] set by the caller to TrustRegionConfig's default
 };
 
@@ -56,6 +57,10 @@ inline void add_options(CLI::App& cli, CalibrationBenchOptions& o) {
       ->check(opt::integer_in(158, 4096, "samples per revolution"));
   cli.add_flag("--lumped", o.lumped,
                "The lumped stand-in for truth and calibration (the old problem)");
+  cli.add_option("--space", o.space,
+                 "paper (default: the paper's 8 variables) or standard (calibrate's default "
+                 "space: damping, stiffness, transmission error, housing modes)")
+      ->check(opt::one_of({"paper", "standard"}));
   cli.add_option("--only", o.only,
                  "Run only the method whose name contains this text (e.g. 'trust', 'NSGA')");
   cli.add_option("--tr-radius", o.tr_radius,

@@ -628,12 +628,13 @@ TEST(CalibrationSpace,
 
 TEST(CalibrationSpace, TheSeatSpaceAddsTheUnmeasuredSeatsParticipationsAtTheirPriorZero) {
   // paper-2mw measures b5 (point1) and b3 (point2): b4 and b6 are the parallel-stage bearings
-  // without a sensor, so default_space(d, true) adds their participation in each of the 6
-  // housing modes (12) to the standard 66; each linear, prior the description's 0, σ 0.5, ±1.
+  // without a sensor, so default_space(d, true) adds their participation per point (2 × 2 = 4)
+  // to the standard 66; each linear, prior the description's 0, σ 0.5, ±1, and setting one
+  // sets that point's three modes at that seat, and nothing else.
   const model::Drivetrain d = model::paper_2mw();
   EXPECT_EQ(model::calibration::default_space(d).size(), 66u);
   const CalibrationSpace space = model::calibration::default_space(d, true);
-  ASSERT_EQ(space.size(), 78u);
+  ASSERT_EQ(space.size(), 70u);
   std::size_t seats = 0;
   for (std::size_t i = 0; i < space.size(); ++i) {
     const auto& v = space.variable(i);
@@ -647,8 +648,14 @@ TEST(CalibrationSpace, TheSeatSpaceAddsTheUnmeasuredSeatsParticipationsAtTheirPr
     EXPECT_EQ(v.upper, 1.0);
     EXPECT_EQ(CalibrationSpace::get(space.prior(), v), 0.0);
     EXPECT_EQ(space.whiten(i, 0.0), 0.0);
+    model::DynamicsParameters p = space.prior();
+    CalibrationSpace::set(p, v, 0.4);
+    for (std::size_t k = 0; k < p.housing_seat_participation.size(); ++k) {
+      const bool tied = k >= v.index && k < v.index + model::kHousingModesPerPoint;
+      EXPECT_EQ(p.housing_seat_participation[k], tied ? 0.4 : 0.0) << space.name(i) << " " << k;
+    }
   }
-  EXPECT_EQ(seats, 12u);
+  EXPECT_EQ(seats, 4u);
 }
 
 TEST_F(CalibratorTest,

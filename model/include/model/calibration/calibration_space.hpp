@@ -34,8 +34,9 @@
 //                sensor participation                  ln, σ = 0.5, ×/÷ 4
 //                cross participation (other point)     linear, σ = 0.5, −1 … 1
 //                participation at each unmeasured      linear, σ = 0.5, −1 … 1 (prior the
-//                parallel-stage bearing's seat         description's: 0, the seat on ground)
-//                (default_space(): b4, b6 of paper-2mw; only with the seats named)
+//                parallel-stage bearing's seat, one    description's: 0, the seat on ground)
+//                per point (its 3 modes tied)          (default_space(d, true): b4, b6 of
+//                                                      paper-2mw; only with the seats named)
 // The paper's 8 variables (η, ζ, mesh scale per stage, bearing scale per parallel shaft)
 // are paper(); the peers' comparison and the old tests use it.
 //
@@ -50,8 +51,8 @@
 namespace model::calibration {
 
 /// Largest calibration space (the standard one has 66 variables; with the two unmeasured
-/// seats of paper-2mw, 78).
-inline constexpr std::size_t kMaxCalibrationVariables = 78;
+/// seats of paper-2mw, 70).
+inline constexpr std::size_t kMaxCalibrationVariables = 70;
 
 enum class ParameterField : std::uint8_t {
   kRayleighEta,
@@ -69,7 +70,7 @@ enum class ParameterField : std::uint8_t {
   kHousingMass,
   kHousingParticipation,
   kHousingCross,
-  kHousingSeat,  // index: (bearing − b3)·modes of both points + point·modes + mode
+  kHousingSeat,  // index: (bearing − b3)·modes of both points + point·modes (its 3 modes tied)
 };
 
 struct CalibrationVariable {

@@ -58,12 +58,12 @@
 
 namespace model::calibration {
 
-inline constexpr std::size_t kMaxLsqVariables = 78;  // the calibration's decision variables
-/// 4 operating points × 2 points × (RMS + 14 tones + the spectral residual) + one prior row per
-/// variable: 206 × 78 doubles, the most that stays under Eigen's 128 kB fixed-size limit for
-/// the Jacobian's storage. 14 tones: 3 meshes × 4 harmonics or 4 × 3 (the default is 3 × 3);
-/// more harmonics fit fewer operating points (Calibrator::set_measurements() refuses).
-inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 16 + kMaxLsqVariables;
+inline constexpr std::size_t kMaxLsqVariables = 70;  // the calibration's decision variables
+/// 4 operating points × 2 points × (RMS + 18 tones + the spectral residual) + one prior row per
+/// variable: 230 × 70 doubles, under Eigen's 128 kB fixed-size limit for the Jacobian's
+/// storage. 18 tones: 3 meshes × 5 harmonics or 4 × 4 (the default is 3 × 3); more fit fewer
+/// operating points (Calibrator::set_measurements() refuses).
+inline constexpr std::size_t kMaxLsqFeatures = 4 * 2 * 20 + kMaxLsqVariables;
 
 /// A box-bounded map x → φ(x) (the model's feature vector).
 class FeatureMap {
