@@ -1,6 +1,7 @@
 #include "model/dynamics/full_model.hpp"
 
 #include <Eigen/Eigenvalues>
+#include "model/dynamics/eigen_instances.hpp"
 
 #include <algorithm>
 #include <array>

@@ -1,4 +1,5 @@
 #include "model/dynamics/newmark.hpp"
+#include "model/dynamics/eigen_instances.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -1,5 +1,6 @@
 #include "model/dynamics/rom.hpp"
 
+#include "model/dynamics/eigen_instances.hpp"
 #include "rom_kernel.hpp"
 
 #include <unsupported/Eigen/MatrixFunctions>
@@ -218,7 +219,8 @@ std::unique_ptr<RomData> build_rom(const FullModel& m, double dt_s, double cutof
   }
   // Rayleigh–Ritz on the M-orthonormal basis.
   const Eigen::MatrixXd k_red = basis.transpose() * m.stiffness * basis;
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> red(0.5 * (k_red + k_red.transpose()));
+  const Eigen::MatrixXd k_red_sym = 0.5 * (k_red + k_red.transpose());
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> red(k_red_sym);
   const Eigen::MatrixXd phi_r = basis * red.eigenvectors();
   const Eigen::VectorXd& w2 = red.eigenvalues();
 

@@ -19,6 +19,7 @@
 
 #include "model/drivetrain/description.hpp"
 #include "model/drivetrain/effects.hpp"
+#include "model/dynamics/eigen_instances.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/rom.hpp"
 
@@ -289,7 +290,8 @@ TEST(EffectKinematics, HousingResonanceAddsAModeNearItsFrequencyAndTheSensorRide
       model_with({effect(EffectKind::kHousingResonance, "b5", {{"frequency_hz", 3000.0}})});
   EXPECT_EQ(m.dofs(), healthy.dofs() + 1);
   const Eigen::VectorXd s = m.mass.cwiseSqrt().cwiseInverse();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(s.asDiagonal() * m.stiffness * s.asDiagonal());
+  const Eigen::MatrixXd k_sym = s.asDiagonal() * m.stiffness * s.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(k_sym);
   double nearest = 1e9;
   for (Eigen::Index i = 0; i < es.eigenvalues().size(); ++i)
     nearest = std::min(nearest, std::abs(std::sqrt(es.eigenvalues()[i]) / (2 * kPi) - 3000.0));

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "model/drivetrain/description.hpp"
+#include "model/dynamics/eigen_instances.hpp"
 #include "model/dynamics/full_model.hpp"
 #include "model/dynamics/mesh_stiffness.hpp"
 #include "model/dynamics/newmark.hpp"
@@ -46,7 +47,8 @@ struct Modes {
 };
 Modes modes_of(const FullModel& m) {
   const Eigen::VectorXd s = m.mass.cwiseSqrt().cwiseInverse();
-  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(s.asDiagonal() * m.stiffness * s.asDiagonal());
+  const Eigen::MatrixXd k_sym = s.asDiagonal() * m.stiffness * s.asDiagonal();
+  Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(k_sym);
   return {es.eigenvalues().cwiseSqrt() / (2 * kPi), s.asDiagonal() * es.eigenvectors()};
 }
 
