@@ -444,16 +444,20 @@ const toml::node* locate(const toml::table& root, const DrivetrainIssue& issue) 
   return entry;
 }
 
-Drivetrain parse(std::string_view text, const std::string& source, int depth) {
-  toml::table root;
+/// TOML text → its root table; a syntax error → DrivetrainFileError naming source:line:column.
+toml::table parse_toml(std::string_view text, const std::string& source) {
   try {
-    root = toml::parse(text, source);
+    return toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     std::ostringstream msg;
     msg << source << ':' << e.source().begin.line << ':' << e.source().begin.column
         << ": malformed TOML: " << e.description();
     throw DrivetrainFileError(msg.str());
   }
+}
+
+Drivetrain parse(std::string_view text, const std::string& source, int depth) {
+  const toml::table root = parse_toml(text, source);
   const Reader reader(source);
 
   if (const toml::node* format = root.get("format")) {
@@ -775,15 +779,7 @@ std::string dynamics_to_toml(const model::DynamicsParameters& parameters) {
 
 model::DynamicsParameters parse_dynamics(std::string_view toml_text, const std::string& source,
                                          const model::DynamicsParameters& base) {
-  toml::table root;
-  try {
-    root = toml::parse(toml_text, source);
-  } catch (const toml::parse_error& e) {
-    std::ostringstream msg;
-    msg << source << ':' << e.source().begin.line << ':' << e.source().begin.column
-        << ": malformed TOML: " << e.description();
-    throw DrivetrainFileError(msg.str());
-  }
+  const toml::table root = parse_toml(toml_text, source);
   const Reader reader(source);
   for (const auto& [name, node] : root)
     if (name.str() != "dynamics")

@@ -301,7 +301,7 @@ RunSummary run_twin(const run::RunConfig& cfg, const RunOptions& opt) {
     std::string probe_error;
     std::uint32_t probe_generation = 0;
     if (loaded.calibration &&
-        !load_calibration(calibration_file, parameters, &probe_generation, &probe_error)) {
+        !load_calibration(calibration_file, drivetrain.dynamics, &probe_generation, &probe_error)) {
       // The calibration file is missing or corrupt; the state record holds its last copy.
       std::ofstream(calibration_file, std::ios::binary | std::ios::trunc)
           << loaded.calibration->text;
