@@ -4,7 +4,8 @@
 // parameters (model/calibration/; docs/calibration.md):
 //  - the space: --space standard (default: damping with band factors, mesh and per-bearing
 //    stiffness, each stage's transmission error, three housing modes per point; priors from
-//    the drivetrain description) or paper (the paper's 8 variables);
+//    the drivetrain description), seats, body (standard + the gearbox body on its mounts) or
+//    paper (the paper's 8 variables);
 //  - --method trust-region (default: the variables the recordings can determine are
 //    identified from the feature Jacobian, then fitted by Gauss–Newton with the prior,
 //    model/calibration/calibrator.hpp), improved or published MOGOA;
@@ -182,7 +183,10 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
           {"housing_modal_mass_kg", p.housing_modal_mass_kg},
           {"housing_participation", p.housing_participation},
           {"housing_cross_participation", p.housing_cross_participation},
-          {"housing_seat_participation", p.housing_seat_participation}};
+          {"housing_seat_participation", p.housing_seat_participation},
+          {"gearbox_body_mass_kg", p.gearbox_body_mass_kg},
+          {"gearbox_mount_stiffness_n_m", p.gearbox_mount_stiffness_n_m},
+          {"gearbox_mount_damping_ratio", p.gearbox_mount_damping_ratio}};
 }
 
 void print_fit(const char* title, const mc::PointIndicators& ind) {
@@ -471,15 +475,27 @@ void run(const CalibrateArgs& args) {
   cc.residual_model_sd = args.residual_sd;
   cc.residual_band_hz = kResidualBandHz;
   cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
-  const model::DynamicsParameters prior = mc::with_nominal_damping(drivetrain.dynamics);
+  // --space body: the gearbox body on its mounts joins the model, at the description's values
+  // or the engineering prior (calibration_space.hpp); "before" is that model's.
+  const model::DynamicsParameters prior =
+      space_name == "body"
+          ? mc::with_nominal_gearbox_body(mc::with_nominal_damping(drivetrain.dynamics))
+          : mc::with_nominal_damping(drivetrain.dynamics);
   if (prior.rayleigh_eta != drivetrain.dynamics.rayleigh_eta) {
     std::fprintf(stderr,
                  "calibrate: note: drivetrain '%s' has no damping; starting from eta %.3g 1/s, "
                  "zeta %.3g s\n",
                  drivetrain.name.c_str(), prior.rayleigh_eta, prior.rayleigh_zeta);
   }
-  cc.space = space_name == "paper" ? mc::CalibrationSpace::paper(prior)
-                                   : mc::default_space(drivetrain, space_name == "seats");
+  cc.space = space_name == "paper"
+                 ? mc::CalibrationSpace::paper(prior)
+                 : mc::default_space(drivetrain, space_name == "seats", space_name == "body");
+  if (cc.space.overflow() > 0) {
+    throw CommandError("--space " + space_name + ": drivetrain '" + drivetrain.name + "' needs " +
+                       std::to_string(cc.space.size() + cc.space.overflow()) +
+                       " calibration variables; the calibrator holds " +
+                       std::to_string(mc::kMaxCalibrationVariables) + " (use --space standard)");
+  }
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
   const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
@@ -790,9 +806,11 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--space", args->space,
                  "standard (default with the ROM: damping, stiffness, transmission error with "
                  "its phase, housing modes), seats (standard + each housing mode's participation "
-                 "at the seats of the bearings without a sensor) or paper (the paper's 8 "
-                 "variables; the default with the lumped stand-in)")
-      ->check(app::cli::one_of({"standard", "seats", "paper"}));
+                 "at the seats of the bearings without a sensor), body (standard + the gearbox "
+                 "body on its mounts: mass, mount stiffness and damping, from an engineering "
+                 "prior where the description has none) or paper (the paper's 8 variables; the "
+                 "default with the lumped stand-in)")
+      ->check(app::cli::one_of({"standard", "seats", "body", "paper"}));
   sub.add_option("--simulator", args->simulator,
                  "rom (default, the dynamics ROM) or lumped (stand-in)")
       ->check(app::cli::one_of({"rom", "lumped"}));

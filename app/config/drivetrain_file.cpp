@@ -180,6 +180,11 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"housing_participation", &DynamicsParameters::housing_participation},
     {"housing_cross_participation", &DynamicsParameters::housing_cross_participation},
     {"housing_seat_participation", &DynamicsParameters::housing_seat_participation},
+    {"gearbox_body_mass_kg", &DynamicsParameters::gearbox_body_mass_kg, Range::kNonNegative},
+    {"gearbox_mount_stiffness_n_m", &DynamicsParameters::gearbox_mount_stiffness_n_m,
+     Range::kNonNegative},
+    {"gearbox_mount_damping_ratio", &DynamicsParameters::gearbox_mount_damping_ratio,
+     Range::kNonNegative},
 };
 
 // ---- enums ------------------------------------------------------------------------------------

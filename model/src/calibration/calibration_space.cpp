@@ -19,7 +19,10 @@ void copy_text(std::array<char, 40>& out, const char* text) {
 
 void CalibrationSpace::add(ParameterField f, std::size_t index, bool logarithmic, double sd,
                            double lower, double upper, const char* name, const char* unit) {
-  if (count_ >= kMaxCalibrationVariables) return;
+  if (count_ >= kMaxCalibrationVariables) {
+    ++overflow_;
+    return;
+  }
   CalibrationVariable& v = vars_[count_];
   v.field = f;
   v.index = static_cast<std::uint8_t>(index);
@@ -150,6 +153,21 @@ CalibrationSpace CalibrationSpace::standard(
             1.0, name, "-");
     }
   }
+  // The gearbox body on its mounts (DynamicsParameters::gearbox_body_mass_kg): what the
+  // housing's low-frequency path from every bearing to both sensors is made of. Wide priors:
+  // neither the box's mass at the seats nor its supports are published for a real turbine.
+  if (const double m = prior.gearbox_body_mass_kg; m > 0.0) {
+    const double k = prior.gearbox_mount_stiffness_n_m;
+    const double xi =
+        prior.gearbox_mount_damping_ratio > 0.0 ? prior.gearbox_mount_damping_ratio : 0.05;
+    s.prior_.gearbox_mount_damping_ratio = xi;
+    s.add(ParameterField::kGearboxBodyMass, 0, true, kLn2, m / 4.0, m * 4.0, "gearbox_body.mass",
+          "kg");
+    s.add(ParameterField::kGearboxMountStiffness, 0, true, kLn3, k / 20.0, k * 20.0,
+          "gearbox_body.mount_stiffness", "N/m");
+    s.add(ParameterField::kGearboxMountDamping, 0, true, kLn2, 0.01, 0.3,
+          "gearbox_body.mount_damping", "-");
+  }
   return s;
 }
 
@@ -192,6 +210,12 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
         sum += p.housing_seat_participation[i + k];
       return sum / static_cast<double>(kHousingModesPerPoint);
     }
+    case ParameterField::kGearboxBodyMass:
+      return p.gearbox_body_mass_kg;
+    case ParameterField::kGearboxMountStiffness:
+      return p.gearbox_mount_stiffness_n_m;
+    case ParameterField::kGearboxMountDamping:
+      return p.gearbox_mount_damping_ratio;
   }
   return 0.0;
 }
@@ -247,6 +271,15 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
     case ParameterField::kHousingSeat:
       for (std::size_t k = 0; k < kHousingModesPerPoint; ++k)
         p.housing_seat_participation[i + k] = value;
+      break;
+    case ParameterField::kGearboxBodyMass:
+      p.gearbox_body_mass_kg = value;
+      break;
+    case ParameterField::kGearboxMountStiffness:
+      p.gearbox_mount_stiffness_n_m = value;
+      break;
+    case ParameterField::kGearboxMountDamping:
+      p.gearbox_mount_damping_ratio = value;
       break;
   }
 }

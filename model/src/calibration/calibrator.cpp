@@ -83,7 +83,7 @@ const char* to_string(VariableStatus s) {
   return "?";
 }
 
-CalibrationSpace default_space(const Drivetrain& d, bool seat_paths) {
+CalibrationSpace default_space(const Drivetrain& d, bool seat_paths, bool gearbox_body) {
   // The seats of the parallel-stage bearings that carry no sensor stand in the housing too
   // (housing_seat_participation): their participations join the space.
   std::array<bool, kHousingSeatBearings> unmeasured{};
@@ -93,7 +93,9 @@ CalibrationSpace default_space(const Drivetrain& d, bool seat_paths) {
         seat_paths && std::none_of(d.measurement_points.begin(), d.measurement_points.end(),
                                    [&](const MeasurementPoint& mp) { return mp.location == id; });
   }
-  return CalibrationSpace::standard(with_nominal_damping(d.dynamics), unmeasured);
+  const DynamicsParameters prior = with_nominal_damping(d.dynamics);
+  return CalibrationSpace::standard(gearbox_body ? with_nominal_gearbox_body(prior) : prior,
+                                    unmeasured);
 }
 
 bool needs_calibration(const PointIndicators& indicators) {

@@ -927,6 +927,18 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       return std::nullopt;
     }
   }
+  if (dp.gearbox_body_mass_kg != 0.0) {
+    const double m = dp.gearbox_body_mass_kg, k = dp.gearbox_mount_stiffness_n_m,
+                 xi = dp.gearbox_mount_damping_ratio;
+    if (!(m > 0.0) || !std::isfinite(m) || !(k > 0.0) || !std::isfinite(k) || !(xi >= 0.0) ||
+        !(xi < 1.0)) {
+      fail(error, "drivetrain '" + d.name +
+                      "': dynamics: gearbox body: gearbox_body_mass_kg and "
+                      "gearbox_mount_stiffness_n_m must be finite and > 0 (mass 0: no body), "
+                      "gearbox_mount_damping_ratio in [0, 1)");
+      return std::nullopt;
+    }
+  }
 
   const Kinematics kin(d);
   Assembler as;
@@ -1095,7 +1107,27 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   const Eigen::Vector2d sensor_dir(std::cos(s.sensor_angle_rad), std::sin(s.sensor_angle_rad));
   const Eigen::Vector2d across_dir(-sensor_dir.y(), sensor_dir.x());
   std::vector<Seat> seats;
-  std::vector<OwnDamper> own_dampers;  // housing modes and housing resonances
+  std::vector<OwnDamper> own_dampers;  // housing modes, housing resonances, the mounts
+  // The gearbox body on its mounts (DynamicsParameters::gearbox_body_mass_kg): one DOF u_b
+  // along the sensor direction, mass M_b on the mounts' stiffness K_b to the nacelle frame,
+  // with the mounts' own damping ratio. It is one more term of every parallel-stage seat's
+  // displacement (the measured seats' and, below, the unmeasured ones'), each with
+  // participation 1 — the rigid body moves every seat alike — so every such bearing's force
+  // drives it (the bearing's direction vector carries −s at u_b: K stays symmetric) and both
+  // sensors read its acceleration. The planetary stage (b1, b2, ring, carrier) is described in
+  // the turning carrier frame and stays on ground: the body is the parallel-stage end of the
+  // box moving on its supports about the planetary stage held by the main shaft and the
+  // torque arms (docs/dynamics.md).
+  SeatDof body;
+  if (dp.gearbox_body_mass_kg > 0.0) {
+    body.dof = as.add_dof("gearbox_body", dp.gearbox_body_mass_kg);
+    body.dir = sensor_dir;
+    body.sensor = 1.0;
+    body.stiffness = dp.gearbox_mount_stiffness_n_m;
+    body.damping_ratio = dp.gearbox_mount_damping_ratio;
+    as.spring({{body.dof, 1.0}}, body.stiffness);
+    own_dampers.push_back({{{body.dof, 1.0}}, body.stiffness, body.damping_ratio});
+  }
   for (std::size_t p = 0; p < d.measurement_points.size(); ++p) {
     const MeasurementPoint& mp = d.measurement_points[p];
     bool known = false;
@@ -1154,6 +1186,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       seat.dofs.push_back(x);
       seat.dofs.push_back(y);
     }
+    if (body.dof >= 0) seat.dofs.push_back(body);
     // housing_resonance: the sensor sits on a housing mass m on a spring k = m(2πf)² to the
     // seat, along the sensor's direction, with its own damper (assign_modal_damping()).
     const Effect* resonance = nullptr;
@@ -1233,6 +1266,12 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
         SeatDof sd;
         sd.dof = mode_dof[k];
         sd.dir = c * sensor_dir;
+        seat_couplings[b].push_back(sd);
+      }
+      if (body.dof >= 0 && !measured) {
+        SeatDof sd;
+        sd.dof = body.dof;
+        sd.dir = sensor_dir;  // the body moves this seat as it moves the measured ones
         seat_couplings[b].push_back(sd);
       }
     }

@@ -666,3 +666,90 @@ TEST(FullModelBuild, SeatParticipationOnAMeasuredBearingOrAMissingModeIsRejected
   EXPECT_NE(error.find("housing_seat_participation[10]"), std::string::npos) << error;
   EXPECT_NE(error.find("not modelled"), std::string::npos) << error;
 }
+
+namespace {
+
+model::Drivetrain with_body(double mass_kg, double stiffness_n_m, double damping_ratio) {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.gearbox_body_mass_kg = mass_kg;
+  d.dynamics.gearbox_mount_stiffness_n_m = stiffness_n_m;
+  d.dynamics.gearbox_mount_damping_ratio = damping_ratio;
+  return d;
+}
+
+}  // namespace
+
+TEST(GearboxBody, WithoutItTheModelIsTheOneBeforeAndWithItOneDofMoreAndNothingElseChanged) {
+  // paper-2mw carries no body (mass 0): no "gearbox_body" DOF. With one, every matrix entry
+  // between the other DOFs is the model without it bit for bit (the body only adds its own row
+  // and column), the sensors read it with 1, and every parallel-stage bearing's direction has
+  // −s on it (its seat moves with the body, the rigid body's participation 1), b1, b2 none.
+  const FullModel m0 = paper_model();
+  ASSERT_EQ(m0.dof("gearbox_body"), -1);
+  const FullModel m = paper_model(with_body(5000.0, 1.0e9, 0.08));
+  ASSERT_EQ(m.dofs(), m0.dofs() + 1);
+  const int body = m.dof("gearbox_body");
+  ASSERT_GE(body, 0);
+  std::vector<int> map(static_cast<std::size_t>(m0.dofs()));
+  for (int i = 0; i < m0.dofs(); ++i) {
+    map[static_cast<std::size_t>(i)] = m.dof(m0.dof_names[static_cast<std::size_t>(i)]);
+    ASSERT_GE(map[static_cast<std::size_t>(i)], 0) << m0.dof_names[static_cast<std::size_t>(i)];
+  }
+  for (int i = 0; i < m0.dofs(); ++i) {
+    const int a = map[static_cast<std::size_t>(i)];
+    ASSERT_EQ(m.mass[a], m0.mass[i]);
+    for (int j = 0; j < m0.dofs(); ++j) {
+      ASSERT_EQ(m.stiffness(a, map[static_cast<std::size_t>(j)]), m0.stiffness(i, j))
+          << m0.dof_names[static_cast<std::size_t>(i)] << ", "
+          << m0.dof_names[static_cast<std::size_t>(j)];
+    }
+    for (std::size_t s = 0; s < m.sensors.size(); ++s)
+      ASSERT_EQ(m.sensors[s].row[a], m0.sensors[s].row[i]);
+  }
+  EXPECT_EQ(m.mass[body], 5000.0);
+  for (const model::dynamics::Sensor& s : m.sensors) EXPECT_EQ(s.row[body], 1.0);
+  for (std::size_t b = 0; b < m.bearings.size(); ++b) {
+    const double expect = b >= model::kHousingSeatFirstBearing ? -1.0 : 0.0;  // sensor along +y
+    EXPECT_EQ(m.bearings[b].directions(body, 1), expect) << m.bearings[b].id;
+    EXPECT_NEAR(m.bearings[b].directions(body, 0), 0.0, 1e-15) << m.bearings[b].id;  // cos 90°
+  }
+  EXPECT_LT((m.stiffness - m.stiffness.transpose()).cwiseAbs().maxCoeff(),
+            1e-14 * m.stiffness.cwiseAbs().maxCoeff());
+}
+
+TEST(GearboxBody, TheMountsCarryTheNetReactionOfTheParallelStagesBearingsInStatics) {
+  // Free body of the gearbox body under the paper torque (Newton): the mounts' force K·u_b
+  // balances the sum over b3..b6 of each bearing's reaction on its seat along the sensor
+  // direction, k_b·(y_node − y_seat) with y_seat = Σ of the seat's housing modes + u_b at a
+  // measured bearing and u_b at an unmeasured one.
+  const double k_mount = 1.0e9;
+  const FullModel m = paper_model(with_body(5000.0, k_mount, 0.08));
+  const int body = m.dof("gearbox_body");
+  const Eigen::VectorXd x = m.static_deflection(kPaperTorqueNm);
+  double sum = 0.0, scale = 0.0;
+  for (std::size_t b = model::kHousingSeatFirstBearing; b < 6; ++b) {
+    const VaryingStiffness& v = m.bearings[b];
+    double y_seat = x[body];
+    for (int k = 1; k <= 3; ++k) {
+      const int h = m.dof("seat." + v.id + ".mode" + std::to_string(k));
+      if (h >= 0) y_seat += x[h];
+    }
+    const double reaction = v.mean_n_m * (x[node_dof(v, 1)] - y_seat);
+    sum += reaction;
+    scale += std::abs(reaction);
+  }
+  EXPECT_GT(std::abs(k_mount * x[body]), 1e-3 * scale);  // the body carries load
+  EXPECT_NEAR(k_mount * x[body], sum, 1e-6 * scale);
+}
+
+TEST(GearboxBody, AMassWithoutMountsIsRejectedNamingTheKeys) {
+  std::string error;
+  EXPECT_FALSE(build_full_model(with_body(5000.0, 0.0, 0.08), {}, &error));
+  EXPECT_NE(error.find("gearbox_mount_stiffness_n_m"), std::string::npos) << error;
+  error.clear();
+  EXPECT_FALSE(build_full_model(with_body(-1.0, 1e9, 0.08), {}, &error));
+  EXPECT_NE(error.find("gearbox_body_mass_kg"), std::string::npos) << error;
+  error.clear();
+  EXPECT_FALSE(build_full_model(with_body(5000.0, 1e9, 1.5), {}, &error));
+  EXPECT_NE(error.find("gearbox_mount_damping_ratio"), std::string::npos) << error;
+}

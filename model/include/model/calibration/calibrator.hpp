@@ -175,7 +175,10 @@ struct CalibratorConfig {
 /// description gives none; a Calibrator given an empty space uses it. `seat_paths`: with the
 /// participations of the housing modes at the seats of the parallel-stage bearings that carry
 /// no sensor (DynamicsParameters::housing_seat_participation; `calibrate --space seats`).
-CalibrationSpace default_space(const Drivetrain& d, bool seat_paths = false);
+/// `gearbox_body`: with the gearbox body on its mounts, at the description's values or, where
+/// it has none, at the engineering prior (with_nominal_gearbox_body(); `calibrate --space body`).
+CalibrationSpace default_space(const Drivetrain& d, bool seat_paths = false,
+                               bool gearbox_body = false);
 /// Fit evaluations of the trust region per round by default (the probes come on top); what
 /// they reach on the independent-generator recordings is Table 3 of docs/calibration.md.
 inline constexpr std::size_t kDefaultFitEvaluations = 30;

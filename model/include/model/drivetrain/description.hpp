@@ -230,6 +230,15 @@ struct DynamicsParameters {
   /// housing_cross_participation's).
   std::array<double, kHousingSeatBearings * kHousingPoints * kHousingModesPerPoint>
       housing_seat_participation{};
+  /// The gearbox as one body on its supports (torque arms, elastomer mounts): one DOF along
+  /// the sensor direction that moves the seat of every parallel-stage bearing b3..b6 and both
+  /// sensors alike — the low-frequency path from every bearing to every housing sensor that a
+  /// real gearbox has through its rigid-body modes on its mounts. [kg] the body's effective
+  /// mass at the seats; 0: no body (every seat on ground or on its housing modes, the model
+  /// before these parameters, bit for bit).
+  double gearbox_body_mass_kg = 0.0;
+  double gearbox_mount_stiffness_n_m = 0.0;  // [N/m] the mounts, body to nacelle frame
+  double gearbox_mount_damping_ratio = 0.0;  // [-] the body mode's own ratio (the elastomer's)
 };
 
 struct Drivetrain {
