@@ -2,10 +2,12 @@
 // similarity indicators f1/f2/f3 of the twin's simulated vibration against recordings at both
 // measurement points, and — when any is above its threshold — a calibration of the dynamics
 // parameters (model/calibration/; docs/calibration.md):
-//  - the space: --space standard (default: damping with band factors, mesh and per-bearing
+//  - the space: --space standard (damping with band factors, mesh and per-bearing
 //    stiffness, each stage's transmission error, three housing modes per point; priors from
-//    the drivetrain description), seats, body (standard + the gearbox body on its mounts) or
-//    paper (the paper's 8 variables);
+//    the drivetrain description), seats, body (standard + the gearbox body on its mounts),
+//    paper (the paper's 8 variables) or auto (the default with the ROM: standard, and
+//    standard + body from the same start only when standard does not calibrate; the result
+//    kept by mc::choose_space and named under "model_selection" in the JSON);
 //  - --method trust-region (default: the variables the recordings can determine are
 //    identified from the feature Jacobian, then fitted by Gauss–Newton with the prior,
 //    model/calibration/calibrator.hpp), improved or published MOGOA;
@@ -428,7 +430,18 @@ MeasuredBundle measure(const std::string& path, const CalibrateArgs& args,
   return out;
 }
 
-void run(const CalibrateArgs& args) {
+// One space's calibration: printed as it runs; its JSON and parameters for run() to keep.
+struct Attempt {
+  std::string space;
+  bool success = false;
+  mc::SpaceOutcome outcome;
+  double seconds = 0.0;
+  model::Drivetrain drivetrain;
+  model::DynamicsParameters parameters;
+  nlohmann::json json;
+};
+
+Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
   if (args.bundles.size() > mc::kMaxCalibrationCases) {
     throw CommandError("calibrate: at most " + std::to_string(mc::kMaxCalibrationCases) +
                        " bundles (operating points) calibrate jointly; got " +
@@ -446,9 +459,6 @@ void run(const CalibrateArgs& args) {
     throw CommandError("--method: expected 'trust-region', 'improved' or 'published', got '" +
                        args.method + "'");
   }
-  // The lumped stand-in knows only the paper's 8 variables.
-  const std::string space_name =
-      !args.space.empty() ? args.space : (args.simulator == "lumped" ? "paper" : "standard");
   if (args.simulator != "rom" && args.simulator != "lumped")
     throw CommandError("--simulator: expected 'rom' or 'lumped', got '" + args.simulator + "'");
 
@@ -713,8 +723,15 @@ void run(const CalibrateArgs& args) {
     }
   }
 
-  if (!args.json.empty()) {
-    nlohmann::json j;
+  Attempt out;
+  out.space = space_name;
+  out.success = success;
+  out.outcome = {success, mc::worst_case_ratio(result.case_indicators, bundles.size())};
+  out.seconds = seconds;
+  out.drivetrain = drivetrain;
+  out.parameters = result.parameters;
+  {
+    nlohmann::json& j = out.json;
     j["format"] = "drivetwin-calibration/2";
     const auto name_of = [](const fs::path& dir) {
       return dir.filename().string().empty() ? dir.parent_path().filename().string()
@@ -755,10 +772,79 @@ void run(const CalibrateArgs& args) {
     j["evaluations"] = result.evaluations;
     j["evaluations_to_threshold"] = result.evaluations_to_threshold;
     j["seconds"] = seconds;
+  }
+  return out;
+}
+
+// --space auto (the default with the ROM): the standard space; when it does not calibrate,
+// the standard + body space from the same start, and of the two the one mc::choose_space
+// keeps (nested-model selection, docs/calibration.md).
+void run(const CalibrateArgs& args) {
+  const bool auto_space = args.space.empty() || args.space == "auto";
+  if (auto_space && args.simulator == "lumped" && args.space == "auto")
+    throw CommandError("--space auto: the lumped stand-in knows only the paper space");
+  // The lumped stand-in knows only the paper's 8 variables.
+  const std::string first_space = !auto_space                  ? args.space
+                                  : args.simulator == "lumped" ? "paper"
+                                                               : "standard";
+  Attempt chosen = attempt(args, first_space);
+  if (auto_space && args.simulator != "lumped") {
+    nlohmann::json selection = {
+        {"rule",
+         "standard; standard+body only when standard does not calibrate; keep the one that "
+         "calibrates, else the lower worst indicator/threshold (standard on a tie)"}};
+    nlohmann::json tried = nlohmann::json::array();
+    tried.push_back({{"space", chosen.space},
+                     {"calibrated", chosen.success},
+                     {"worst_ratio", chosen.outcome.worst_ratio},
+                     {"seconds", chosen.seconds}});
+    std::string reason;
+    if (!mc::should_try_richer(chosen.outcome)) {
+      reason = "the standard space calibrates: the body is not tried";
+    } else {
+      if (!args.quiet) {
+        std::printf(
+            "model selection: the standard space did not calibrate (worst indicator/threshold "
+            "%.3f); fitting standard + gearbox body from the same start\n",
+            chosen.outcome.worst_ratio);
+        std::fflush(stdout);
+      }
+      Attempt richer = attempt(args, "body");
+      tried.push_back({{"space", richer.space},
+                       {"calibrated", richer.success},
+                       {"worst_ratio", richer.outcome.worst_ratio},
+                       {"seconds", richer.seconds}});
+      const bool keep_richer =
+          mc::choose_space(chosen.outcome, richer.outcome) == mc::SpaceChoice::kRicher;
+      char text[160];
+      if (chosen.success != richer.success) {
+        std::snprintf(text, sizeof text, "only the %s space calibrates",
+                      richer.success ? "body" : "standard");
+      } else {
+        std::snprintf(text, sizeof text,
+                      "%s calibrates; worst indicator/threshold standard %.3f, body %.3f",
+                      chosen.success ? "each" : "neither", chosen.outcome.worst_ratio,
+                      richer.outcome.worst_ratio);
+      }
+      reason = text;
+      if (keep_richer) chosen = std::move(richer);
+    }
+    selection["tried"] = tried;
+    selection["chosen"] = chosen.space;
+    selection["reason"] = reason;
+    chosen.json["model_selection"] = selection;
+    if (!args.quiet) {
+      std::printf("model selection: %s space kept (%s): %s\n", chosen.space.c_str(), reason.c_str(),
+                  chosen.success ? "CALIBRATED" : "NOT CALIBRATED");
+    }
+  }
+  if (!args.json.empty()) {
     std::ofstream out(args.json);
-    out << j.dump(2) << "\n";
+    out << chosen.json.dump(2) << "\n";
     if (!out) throw CommandError(args.json + ": cannot write");
   }
+  const bool success = chosen.success;
+  const model::Drivetrain& drivetrain = chosen.drivetrain;
   if (!args.update.empty()) {
     if (!success) {
       std::fprintf(stderr, "calibrate: --update %s: not written (the result is NOT CALIBRATED)\n",
@@ -774,7 +860,7 @@ void run(const CalibrateArgs& args) {
           throw CommandError(std::string("--update: ") + e.what());
         }
       }
-      d.dynamics = result.parameters;
+      d.dynamics = chosen.parameters;
       const std::string tmp = args.update + ".tmp";
       {
         std::ofstream out(tmp);
@@ -804,13 +890,15 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--method", args->method, "trust-region (default), improved or published MOGOA")
       ->check(app::cli::one_of({"trust-region", "improved", "published"}));
   sub.add_option("--space", args->space,
-                 "standard (default with the ROM: damping, stiffness, transmission error with "
+                 "auto (default with the ROM: standard, and standard + body only when standard "
+                 "does not calibrate, keeping the one that calibrates), standard (damping, "
+                 "stiffness, transmission error with "
                  "its phase, housing modes), seats (standard + each housing mode's participation "
                  "at the seats of the bearings without a sensor), body (standard + the gearbox "
                  "body on its mounts: mass, mount stiffness and damping, from an engineering "
                  "prior where the description has none) or paper (the paper's 8 variables; the "
                  "default with the lumped stand-in)")
-      ->check(app::cli::one_of({"standard", "seats", "body", "paper"}));
+      ->check(app::cli::one_of({"auto", "standard", "seats", "body", "paper"}));
   sub.add_option("--simulator", args->simulator,
                  "rom (default, the dynamics ROM) or lumped (stand-in)")
       ->check(app::cli::one_of({"rom", "lumped"}));

@@ -103,6 +103,23 @@ bool needs_calibration(const PointIndicators& indicators) {
                      [](const Indicators& i) { return !within_thresholds(i); });
 }
 
+bool should_try_richer(const SpaceOutcome& simpler) { return !simpler.calibrated; }
+
+SpaceChoice choose_space(const SpaceOutcome& simpler, const SpaceOutcome& richer) {
+  if (simpler.calibrated != richer.calibrated)
+    return simpler.calibrated ? SpaceChoice::kSimpler : SpaceChoice::kRicher;
+  return richer.worst_ratio < simpler.worst_ratio ? SpaceChoice::kRicher : SpaceChoice::kSimpler;
+}
+
+double worst_case_ratio(const std::array<PointIndicators, kMaxCalibrationCases>& indicators,
+                        std::size_t cases) {
+  double worst = 0.0;
+  for (std::size_t c = 0; c < std::min(cases, kMaxCalibrationCases); ++c) {
+    for (const Indicators& i : indicators[c]) worst = std::max(worst, worst_threshold_ratio(i));
+  }
+  return worst;
+}
+
 // ---- Calibrator ----------------------------------------------------------------------------
 
 Calibrator::Calibrator(VibrationSimulator& simulator, const Drivetrain& drivetrain,

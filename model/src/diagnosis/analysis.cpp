@@ -22,7 +22,7 @@ double envelope_max_order(const Catalogue& catalogue) {
 bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMap& map,
                      const AnalysisWindow& window, const Catalogue& catalogue,
                      const AnalysisConfig& config, double env_max_order, const KurtogramBand* band,
-                     ChannelAnalysis& out) {
+                     ChannelAnalysis& out, const WhiteningReference* whiten_as) {
   if (!map.valid() || window.revs < 8) return false;
   // The window's time span and slowest speed.
   const double t0 = map.time_at(window.start_rev);
@@ -46,8 +46,19 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
     return false;
 
   // Band where impacts ring: kurtogram of the prewhitened window (or the given band).
-  const std::vector<double> w =
-      config.prewhiten ? cepstral_prewhiten(x + i0, i1 - i0) : std::vector<double>(x + i0, x + i1);
+  // A recording is whitened by itself (its filter kept when the kurtogram runs on it); a
+  // simulation given `whiten_as` by the recording's filter.
+  const bool like = config.prewhiten && whiten_as != nullptr && whiten_as->valid();
+  out.whitening = {};
+  std::vector<double> w;
+  if (!config.prewhiten)
+    w.assign(x + i0, x + i1);
+  else if (like)
+    w = whiten_like(x + i0, i1 - i0, fs_hz, *whiten_as);
+  else if (band == nullptr)
+    w = cepstral_prewhiten(x + i0, i1 - i0, fs_hz, out.whitening);
+  else
+    w = cepstral_prewhiten(x + i0, i1 - i0);
   const double env_hz = std::max(env_max_order, 1.0) * mean_hz * 1.05;
   if (band != nullptr) {
     out.band = *band;
@@ -73,7 +84,17 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
   std::vector<double> env = squared_envelope(w.data(), w.size(), fs_hz, out.band.f_lo_hz,
                                              std::min(out.band.f_hi_hz, fs_hz / 2.0));
   double mean = 0.0;
-  for (double v : env) mean += v;
+  if (like) {
+    // The mean a record of this length whitened by itself would have: its bins all of unit
+    // magnitude, whatever their content (so the simulation's lines keep their strength
+    // against the recording's whitened floor, not against its own).
+    const std::vector<double> unit = cepstral_prewhiten(x + i0, i1 - i0);
+    for (double v : squared_envelope(unit.data(), unit.size(), fs_hz, out.band.f_lo_hz,
+                                     std::min(out.band.f_hi_hz, fs_hz / 2.0)))
+      mean += v;
+  } else {
+    for (double v : env) mean += v;
+  }
   mean /= static_cast<double>(std::max<std::size_t>(env.size(), 1));
   if (mean > 0.0)
     for (double& v : env) v /= mean;
@@ -118,6 +139,28 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
     }
   }
   return true;
+}
+
+void add_band_residual(const OrderSpectrum& rec, const OrderSpectrum& sim, std::size_t last,
+                       double& miss, double& total) {
+  if (rec.amplitude.empty()) return;
+  last = std::min(last, rec.amplitude.size() - 1);
+  const double ratio = std::exp2(1.0 / 12.0);
+  for (std::size_t k0 = 1; k0 <= last;) {
+    const std::size_t k1 = std::min(
+        last + 1,
+        std::max(k0 + 8, static_cast<std::size_t>(std::ceil(static_cast<double>(k0) * ratio))));
+    double em = 0.0, es = 0.0;
+    for (std::size_t k = k0; k < k1; ++k) {
+      em += rec.amplitude[k] * rec.amplitude[k];
+      const double a_s = k < sim.amplitude.size() ? sim.amplitude[k] : 0.0;
+      es += a_s * a_s;
+    }
+    const double d = std::sqrt(em) - std::sqrt(es);
+    miss += d * d;
+    total += em;
+    k0 = k1;
+  }
 }
 
 }  // namespace model::diagnosis

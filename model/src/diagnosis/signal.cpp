@@ -127,10 +127,8 @@ std::vector<double> squared_envelope(const double* x, std::size_t n, double fs_h
   return e;
 }
 
-std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
-  std::vector<double> out(n, 0.0);
-  if (n < 2) return out;
-  const Fft fft(fft_size_at_least(n));
+namespace {
+std::vector<Complex> tapered_spectrum(const double* x, std::size_t n, const Fft& fft) {
   // Tukey taper over the first and last kCpwTaper of the record: whitened, the step
   // at the record's ends (a line whose period does not divide the record leaks) would
   // otherwise become an impulse at both ends, the most impulsive thing in the signal.
@@ -143,7 +141,30 @@ std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
     tapered[i] *= w;
     tapered[n - 1 - i] *= w;
   }
-  std::vector<Complex> spec = padded_spectrum(tapered.data(), n, fft);
+  return padded_spectrum(tapered.data(), n, fft);
+}
+
+std::vector<double> real_part(const std::vector<Complex>& spec, const Fft& fft, std::size_t n) {
+  std::vector<Complex> y(fft.size());
+  fft.inverse(spec.data(), y.data());
+  std::vector<double> out(n, 0.0);
+  for (std::size_t i = 0; i < n && i < y.size(); ++i) out[i] = y[i].real();
+  return out;
+}
+
+std::vector<double> prewhiten(const double* x, std::size_t n, double fs_hz,
+                              WhiteningReference* reference) {
+  if (n < 2) return std::vector<double>(n, 0.0);
+  const Fft fft(fft_size_at_least(n));
+  std::vector<Complex> spec = tapered_spectrum(x, n, fft);
+  if (reference != nullptr) {
+    const std::size_t half = fft.size() / 2;
+    reference->bin_hz = fs_hz / static_cast<double>(fft.size());
+    reference->cumulative.assign(half + 2, 0.0);
+    const double scale = reference->bin_hz / (fs_hz * static_cast<double>(n));
+    for (std::size_t k = 0; k <= half; ++k)
+      reference->cumulative[k + 1] = reference->cumulative[k] + std::norm(spec[k]) * scale;
+  }
   double top = 0.0;
   for (const Complex& c : spec) top = std::max(top, std::abs(c));
   const double floor = 1e-12 * top;
@@ -152,10 +173,54 @@ std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
     c = a > floor ? c / a : Complex(0.0, 0.0);
   }
   spec[0] = Complex(0.0, 0.0);  // the mean carries no diagnostic information
-  std::vector<Complex> y(fft.size());
-  fft.inverse(spec.data(), y.data());
-  for (std::size_t i = 0; i < n; ++i) out[i] = y[i].real();
-  return out;
+  return real_part(spec, fft, n);
+}
+}  // namespace
+
+std::vector<double> cepstral_prewhiten(const double* x, std::size_t n) {
+  return prewhiten(x, n, 1.0, nullptr);
+}
+
+std::vector<double> cepstral_prewhiten(const double* x, std::size_t n, double fs_hz,
+                                       WhiteningReference& reference) {
+  return prewhiten(x, n, fs_hz, &reference);
+}
+
+double WhiteningReference::mean_psd(double f_lo_hz, double f_hi_hz) const {
+  if (!valid()) return 0.0;
+  const auto bins = static_cast<double>(cumulative.size() - 1);
+  // Running sum at frequency f: bins wholly below plus the covered part of the current one.
+  auto at = [&](double f) {
+    const double u = std::clamp(f / bin_hz + 0.5, 0.0, bins);
+    const auto j = static_cast<std::size_t>(std::floor(u));
+    if (j + 1 >= cumulative.size()) return cumulative.back();
+    return cumulative[j] + (u - static_cast<double>(j)) * (cumulative[j + 1] - cumulative[j]);
+  };
+  const double width = f_hi_hz - f_lo_hz;
+  if (!(width > 0.0)) return 0.0;
+  if (width < bin_hz) {  // narrower than a bin: that bin's value
+    const double c = 0.5 * (f_lo_hz + f_hi_hz);
+    return (at(c + 0.5 * bin_hz) - at(c - 0.5 * bin_hz)) / bin_hz;
+  }
+  return (at(f_hi_hz) - at(f_lo_hz)) / width;
+}
+
+std::vector<double> whiten_like(const double* x, std::size_t n, double fs_hz,
+                                const WhiteningReference& reference) {
+  if (n < 2 || !reference.valid() || !(fs_hz > 0.0)) return std::vector<double>(n, 0.0);
+  const Fft fft(fft_size_at_least(n));
+  const std::size_t m = fft.size();
+  std::vector<Complex> spec = tapered_spectrum(x, n, fft);
+  const double df = fs_hz / static_cast<double>(m);
+  const double to_bin = fs_hz * static_cast<double>(n);
+  spec[0] = Complex(0.0, 0.0);
+  for (std::size_t k = 1; k < m; ++k) {
+    const std::size_t kk = 2 * k <= m ? k : m - k;  // its positive frequency
+    const double f = static_cast<double>(kk) * df;
+    const double p = reference.mean_psd(f - 0.5 * df, f + 0.5 * df);
+    spec[k] = p > 0.0 ? spec[k] / std::sqrt(p * to_bin) : Complex(0.0, 0.0);
+  }
+  return real_part(spec, fft, n);
 }
 
 std::vector<double> real_cepstrum(const double* x, std::size_t n) {

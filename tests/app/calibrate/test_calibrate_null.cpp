@@ -135,6 +135,9 @@ void CalibrateNullTest::expect_null(const std::string& drivetrain) {
   for (const auto& v : p["variables"]) {
     EXPECT_EQ(v["value"].get<double>(), v["prior"].get<double>()) << v["name"];
   }
+  // The default model selection: the standard space explains it, the body is never tried.
+  EXPECT_EQ(p["model_selection"]["chosen"], "standard") << p["model_selection"];
+  EXPECT_EQ(p["model_selection"]["tried"].size(), 1u) << p["model_selection"];
 
   // Forced: CALIBRATED, nothing at a bound, every variable where the noise lets it be.
   ASSERT_EQ(forced.exit_code, 0) << forced;
@@ -143,6 +146,8 @@ void CalibrateNullTest::expect_null(const std::string& drivetrain) {
   EXPECT_TRUE(f["calibrated"].get<bool>());
   EXPECT_FALSE(f["at_bound"].get<bool>());
   expect_under_thresholds(f["fit_calibrated"], "calibrated");
+  EXPECT_EQ(f["model_selection"]["chosen"], "standard") << f["model_selection"];
+  EXPECT_EQ(f["model_selection"]["tried"].size(), 1u) << f["model_selection"];
   std::size_t identified = 0;
   for (const auto& v : f["variables"]) identified += v["status"] == "identified" ? 1 : 0;
   ASSERT_GT(identified, 0u);

@@ -2,10 +2,12 @@
 // hand-made signals, against values computed by hand in the comments.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
+#include "model/calibration/calibrator.hpp"
 #include "model/calibration/indicators.hpp"
 #include "model/dsp/mesh_features.hpp"
 
@@ -128,6 +130,47 @@ TEST(Indicators, FromHandMadeWaveformsMatchTheHandComputedValues) {
   EXPECT_NEAR(ind.f1, 0.0, 2e-3);
   EXPECT_NEAR(ind.f2, 9.0 / 42.0, 5e-3);
   EXPECT_NEAR(ind.f3, 0.5, 5e-3);
+}
+
+// Nested-model selection between the standard space and standard + body (calibrate's
+// default): hand-made outcomes, the expected choice stated by the rule itself.
+TEST(ModelSelection, TheRicherSpaceIsTriedOnlyWhenTheSimplerDoesNotCalibrate) {
+  using model::calibration::should_try_richer;
+  using model::calibration::SpaceOutcome;
+  EXPECT_FALSE(should_try_richer(SpaceOutcome{true, 0.6}));
+  EXPECT_TRUE(should_try_richer(SpaceOutcome{false, 1.17}));  // seed 4's f1 0.583 / 0.5
+  // Fits but a variable at a bound: not calibrated, so the richer space is tried.
+  EXPECT_TRUE(should_try_richer(SpaceOutcome{false, 0.9}));
+}
+
+TEST(ModelSelection, KeepsTheSpaceThatCalibratesElseTheLowerWorstRatioElseTheSimpler) {
+  using model::calibration::choose_space;
+  using model::calibration::SpaceChoice;
+  using model::calibration::SpaceOutcome;
+  // Only one calibrates: that one, whatever the ratios (a bound-pinned fit may have a lower one).
+  EXPECT_EQ(choose_space({false, 1.17}, {true, 0.63}), SpaceChoice::kRicher);
+  EXPECT_EQ(choose_space({true, 0.95}, {false, 0.40}), SpaceChoice::kSimpler);
+  // Neither: the lower worst ratio.
+  EXPECT_EQ(choose_space({false, 1.17}, {false, 3.68}), SpaceChoice::kSimpler);
+  EXPECT_EQ(choose_space({false, 3.68}, {false, 1.17}), SpaceChoice::kRicher);
+  // Both (not reached by calibrate, which stops at a calibrated simpler space): the lower.
+  EXPECT_EQ(choose_space({true, 0.9}, {true, 0.5}), SpaceChoice::kRicher);
+  // A tie: the simpler.
+  EXPECT_EQ(choose_space({false, 2.0}, {false, 2.0}), SpaceChoice::kSimpler);
+  EXPECT_EQ(choose_space({true, 0.5}, {true, 0.5}), SpaceChoice::kSimpler);
+}
+
+TEST(ModelSelection, TheWorstRatioIsTheLargestOverTheCasesUsedAndBothPoints) {
+  using model::calibration::Indicators;
+  using model::calibration::kMaxCalibrationCases;
+  using model::calibration::PointIndicators;
+  std::array<PointIndicators, kMaxCalibrationCases> ind{};
+  ind[0][0] = Indicators{0.25, 0.02, 0.1, true, 6};  // worst: f1 0.25 / 0.5 = 0.5
+  ind[0][1] = Indicators{0.1, 0.15, 0.1, true, 6};   // f2 0.15 / 0.2 = 0.75
+  ind[1][0] = Indicators{0.1, 0.0, 0.3, true, 6};    // f3 0.3 / 0.2 = 1.5
+  ind[2][1] = Indicators{5.0, 0.0, 0.0, true, 6};    // not among the cases used below
+  EXPECT_DOUBLE_EQ(model::calibration::worst_case_ratio(ind, 1), 0.75);
+  EXPECT_DOUBLE_EQ(model::calibration::worst_case_ratio(ind, 2), 1.5);
 }
 
 }  // namespace

@@ -135,6 +135,27 @@ using PointIndicators = std::array<Indicators, kMeasurementPoints>;
 /// the paper's trigger for a calibration.
 bool needs_calibration(const PointIndicators& indicators);
 
+/// One calibration space's outcome, as the choice between nested spaces sees it.
+struct SpaceOutcome {
+  bool calibrated = false;   // every indicator within its threshold, no fitted variable at a bound
+  double worst_ratio = 0.0;  // worst indicator / threshold over every case and point (≤ 1 fits)
+};
+
+enum class SpaceChoice : std::uint8_t { kSimpler, kRicher };
+
+/// Nested-model selection (docs/calibration.md): a richer space (the simpler one plus physics,
+/// e.g. the gearbox body) is fitted only when the simpler one did not calibrate — richer
+/// physics only when the simpler cannot explain the data.
+bool should_try_richer(const SpaceOutcome& simpler);
+
+/// Of the two fits, the one that calibrated; both or neither: the lower worst ratio, the
+/// simpler on a tie (it is never worse to explain the data with less).
+SpaceChoice choose_space(const SpaceOutcome& simpler, const SpaceOutcome& richer);
+
+/// Worst indicator / threshold over the first `cases` cases of `indicators`.
+double worst_case_ratio(const std::array<PointIndicators, kMaxCalibrationCases>& indicators,
+                        std::size_t cases);
+
 enum class CalibrationMethod : std::uint8_t {
   kPublishedMogoa,  // MOGOA as published, random initial population
   kImprovedMogoa,   // + warm start (current and previous parameters) + preference-guided target

@@ -50,6 +50,9 @@ struct ChannelAnalysis {
   Kurtogram kurtogram;       // of the (prewhitened) waveform; empty when a band was given
   KurtogramBand band;        // envelope band used
   OrderSpectrum envelope;    // squared envelope / its mean, reference orders
+  // The prewhitening filter of this window (when the kurtogram was run on it): pass a
+  // simulation through it (analyse_channel's `whiten_as`) to compare envelopes like with like.
+  WhiteningReference whitening;
   std::vector<ShaftAverage> averages;
   double max_order = 0.0;  // [orders] max_frequency_hz at the window's mean speed
 };
@@ -61,11 +64,25 @@ std::size_t samples_per_rev_for(double fs_hz, double slowest_ref_hz);
 /// Analyses x (n samples at fs_hz) over `window` of `map` (the reference shaft's angle).
 /// `band`: the envelope band to use (a simulated channel takes its recording's); nullptr:
 /// choose it by the kurtogram. `envelope_max_order`: highest order the envelope spectrum
-/// must cover. Returns false when the window does not fit in x.
+/// must cover. `whiten_as`: prewhiten x with this (a recording's) filter instead of its own,
+/// and normalise its squared envelope as that recording's is normalised — a simulation's
+/// envelope then compares with the recording's like with like (without it a noise-free
+/// simulation's numerical floor is whitened to unity and masks its impacts). Returns false
+/// when the window does not fit in x.
 bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMap& map,
                      const AnalysisWindow& window, const Catalogue& catalogue,
                      const AnalysisConfig& config, double envelope_max_order,
-                     const KurtogramBand* band, ChannelAnalysis& out);
+                     const KurtogramBand* band, ChannelAnalysis& out,
+                     const WhiteningReference* whiten_as = nullptr);
+
+/// Adds to (miss, total) the part of rec's order-spectrum energy over lines 1..last that sim
+/// does not explain, compared in power per band: Σ_b (√E_rec,b − √E_sim,b)² and Σ_b E_rec,b,
+/// bands 1/12 of an octave wide (at least 8 lines). An impact train with slip is not periodic:
+/// above its first harmonics its lines are a continuum whose line-by-line pattern is random,
+/// which a model can match in power per band only (line by line, even the true train would
+/// add its own pattern to the residual).
+void add_band_residual(const OrderSpectrum& rec, const OrderSpectrum& sim, std::size_t last,
+                       double& miss, double& total);
 
 /// Highest envelope-line order of the catalogue (with its tolerance).
 double envelope_max_order(const Catalogue& catalogue);

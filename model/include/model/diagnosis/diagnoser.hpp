@@ -169,8 +169,14 @@ struct CandidateResult {
   bool modelled = false;     // the dynamics model could switch its term on
   std::vector<std::pair<std::string, double>> parameters;  // fitted
   EffectSetting setting;                                   // fitted, for the final simulation
-  double residual_fit_calibrated = 0.0, residual_fit_effect = 0.0;            // half A
-  double residual_holdout_calibrated = 0.0, residual_holdout_effect = 0.0;    // half B
+  double residual_fit_calibrated = 0.0, residual_fit_effect = 0.0;          // half A
+  double residual_holdout_calibrated = 0.0, residual_holdout_effect = 0.0;  // half B
+  // The guard against a fit that spoils the rest of the spectrum (half B): the total
+  // residual line by line, or, for an impact train (envelope domain: slip makes it
+  // non-periodic, its raw-spectrum lines a continuum the model can only match in power), the
+  // same sum over the power of 1/12-octave bands.
+  double guard_holdout_calibrated = 0.0, guard_holdout_effect = 0.0;
+  bool guard_in_bands = false;
   double signature_fit_calibrated = 0.0, signature_fit_effect = 0.0;          // half A, its lines
   double signature_holdout_calibrated = 0.0, signature_holdout_effect = 0.0;  // half B, its lines
   double holdout_evidence = 0.0;  // Σ w·(m/n)² of its significant lines on half B

@@ -73,6 +73,33 @@ inline constexpr double kCpwTaper = 0.02;
 /// result away from its ends.
 std::vector<double> cepstral_prewhiten(const double* x, std::size_t n);
 
+/// The linear filter cepstral prewhitening applies to one record (1/|X| per bin), kept so
+/// that another record — a simulation, at another rate and length — can be passed through
+/// the same filter and compared with it like with like. Stored as the record's periodogram
+/// P(f) = |X(f)|²/(fs·n) (tapered as cepstral_prewhiten tapers), as running sums over its
+/// FFT bins (bin j covers [(j − ½)·bin_hz, (j + ½)·bin_hz)).
+struct WhiteningReference {
+  double bin_hz = 0.0;
+  std::vector<double> cumulative;  // Σ_{j<k} P_j·bin_hz, k = 0..bins
+  bool valid() const { return bin_hz > 0.0 && cumulative.size() > 1; }
+  /// Mean of P over [f_lo, f_hi) (the bin containing f_lo when the interval is narrower);
+  /// 0 outside the record's band.
+  double mean_psd(double f_lo_hz, double f_hi_hz) const;
+};
+
+/// cepstral_prewhiten that also returns the filter it applied as `reference`.
+std::vector<double> cepstral_prewhiten(const double* x, std::size_t n, double fs_hz,
+                                       WhiteningReference& reference);
+
+/// x through another record's prewhitening filter: X_k / √(P_ref(f_k)·fs·n) with P_ref
+/// averaged over x's own bin, so that a record with the reference's spectrum comes out with
+/// unit bin magnitudes as cepstral_prewhiten gives it, and one with weaker or stronger
+/// content at some frequency comes out weaker or stronger there (a noise-free simulation
+/// prewhitened by itself would have every bin of its numerical floor raised to unity).
+/// Tapered and truncated as cepstral_prewhiten; zero where the reference has no power.
+std::vector<double> whiten_like(const double* x, std::size_t n, double fs_hz,
+                                const WhiteningReference& reference);
+
 /// Real cepstrum c[q] = IFFT(ln|X|)[q], q = 0..n−1 in samples (of the time or angle
 /// domain of x); |X| is floored at 1e-12 of its largest value. A family of lines spaced
 /// by Δ lines of an n-point spectrum shows as a peak at quefrency n/Δ (rahmonics).

@@ -23,6 +23,12 @@
 //    and the sensor reads Σ p_k·ḧ_k, p_k the mode's sensor-to-seat participation;
 //    across it, one seat mass on a support stiffness. A point without housing modes
 //    in DynamicsParameters keeps one seat mass on a spring in x and y (its own mode);
+//  * the gearbox as a body on its mounts (DynamicsParameters::gearbox_body_mass_kg, 0: none):
+//    one DOF u_b along the sensor direction, mass M_b on the mounts' stiffness K_b with
+//    their own damping ratio, one more term (participation 1) of the seat displacement of
+//    every parallel-stage bearing b3..b6, measured or not, read by both sensors: the
+//    rigid-body path from every bearing to every housing sensor. The planetary stage (carrier
+//    frame) stays on ground: the body is the parallel-stage end moving on its supports;
 //  * static transmission error (the geometric mesh excitation: profile and lead
 //    deviations, tip relief): each mesh element's force is k(t)·(δ − e(t)), e a
 //    Fourier series in mesh orders per stage (DynamicsParameters::transmission_error_m)
