@@ -163,4 +163,27 @@ void add_band_residual(const OrderSpectrum& rec, const OrderSpectrum& sim, std::
   }
 }
 
+void add_window_residual(const OrderSpectrum& rec, const OrderSpectrum& sim,
+                         const std::vector<std::size_t>& lines, double& miss, double& total) {
+  double em = 0.0, es = 0.0;
+  bool open = false;
+  std::size_t prev = 0;
+  auto close_run = [&] {
+    const double d = std::sqrt(em) - std::sqrt(es);
+    miss += d * d;
+    total += em;
+    em = es = 0.0;
+  };
+  for (std::size_t k : lines) {
+    if (k >= rec.amplitude.size()) continue;
+    if (open && k != prev + 1) close_run();
+    em += rec.amplitude[k] * rec.amplitude[k];
+    const double a_s = k < sim.amplitude.size() ? sim.amplitude[k] : 0.0;
+    es += a_s * a_s;
+    prev = k;
+    open = true;
+  }
+  if (open) close_run();
+}
+
 }  // namespace model::diagnosis

@@ -73,13 +73,20 @@ double band_residual(const Spectra& rec, const Spectra& sim, double max_hz) {
 }
 
 // The same sum over the lines of `windows` only (per point, line indices of the
-// recording's spectrum in the given domain).
+// recording's spectrum in the given domain). In the envelope (an impact train with slip:
+// its lines wander and broaden by a few lines where the periodic model's stay put) each
+// run of adjacent window lines is compared in power (analysis.hpp add_window_residual).
 double signature_residual(const Spectra& rec, const Spectra& sim, Domain domain,
                           const std::array<std::vector<std::size_t>, kPoints>& windows) {
   double miss = 0.0, total = 0.0;
+  const bool env = domain == Domain::kEnvelope;
   for (std::size_t p = 0; p < kPoints; ++p) {
-    const OrderSpectrum& m = domain == Domain::kEnvelope ? rec[p].envelope : rec[p].spectrum;
-    const OrderSpectrum& s = domain == Domain::kEnvelope ? sim[p].envelope : sim[p].spectrum;
+    const OrderSpectrum& m = env ? rec[p].envelope : rec[p].spectrum;
+    const OrderSpectrum& s = env ? sim[p].envelope : sim[p].spectrum;
+    if (env) {
+      add_window_residual(m, s, windows[p], miss, total);
+      continue;
+    }
     for (std::size_t k : windows[p]) {
       if (k >= m.amplitude.size()) continue;
       const double a_s = k < s.amplitude.size() ? s.amplitude[k] : 0.0;
@@ -106,6 +113,14 @@ SpectrumTrace trace(const OrderSpectrum& s, double ref_hz, double max_hz, std::s
     t.amplitude[i] = std::max(t.amplitude[i], s.amplitude[k]);
   }
   return t;
+}
+
+// Whether `order` lies within 2 lines (of an r-revolution spectrum) of one of `orders` — the
+// envelope's synchronous comb, where locate reads no bearing line (locate.hpp).
+bool near_any(double order, double r, const std::vector<double>& orders) {
+  for (double o : orders)
+    if (std::abs(order - o) * r <= 2.0) return true;
+  return false;
 }
 
 }  // namespace
@@ -223,7 +238,8 @@ class EffectFitMap : public calibration::FeatureMap {
           const double r = static_cast<double>(s.revolutions);
           for (long long k = static_cast<long long>(std::floor(l.order * (1.0 - l.tolerance) * r));
                k <= static_cast<long long>(std::ceil(l.order * (1.0 + l.tolerance) * r)); ++k)
-            if (k > 0) a_s = std::max(a_s, s.tone(static_cast<double>(k) / r));
+            if (k > 0 && !(env && near_any(static_cast<double>(k) / r, r, sync_)))
+              a_s = std::max(a_s, s.tone(static_cast<double>(k) / r));
         }
         phi[i] = 0.5 * std::log(a_s * a_s + l.noise * l.noise);
       }
@@ -246,6 +262,7 @@ class EffectFitMap : public calibration::FeatureMap {
   const ChannelAnalysis* bands_;  // the recording's whole-record analyses: band and filter
   double env_order_, measured_rate_;
   std::size_t& simulations_;
+  std::vector<double> sync_ = envelope_exclusions(cat_);  // never read a bearing line there
 };
 
 }  // namespace
@@ -763,6 +780,20 @@ bool Diagnoser::step_refit() {
         h.rate_order > 0.0 ? std::bit_ceil(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order)))
                            : 0);
     w.fit_revs = std::min(w.fit_revs, w.half_a.revs);
+    if (h.domain == Domain::kEnvelope) {
+      // ... and to keep each fit line 3 lines clear of the envelope's synchronous comb (which
+      // the simulation carries too: at a coarser resolution its flank reads as the line).
+      const std::vector<double> sync = envelope_exclusions(catalogue_);
+      auto clear = [&](std::size_t revs) {
+        const auto r = static_cast<double>(revs);
+        for (const FitLine& l : w.lines)
+          for (double o : sync)
+            if (std::abs(l.order - o) * r <= 3.0) return false;
+        return true;
+      };
+      while (w.fit_revs < w.half_a.revs && !clear(w.fit_revs))
+        w.fit_revs = std::min(2 * w.fit_revs, w.half_a.revs);
+    }
     const double measured_rate = h.domain == Domain::kEnvelope && rate > 0.0
                                      ? rate / h.lines.front().order * h.rate_order
                                      : 0.0;
@@ -833,7 +864,9 @@ bool Diagnoser::step_refit() {
                                                 : c.residual_holdout_calibrated;
   c.guard_holdout_effect =
       c.guard_in_bands ? band_residual(w.rec_b, half, max_hz) : c.residual_holdout_effect;
-  // Its signature: the windows of its lines (the fit lines for a resonance).
+  // Its signature: the windows of its lines (the fit lines for a resonance; in the envelope
+  // without the synchronous comb, as locate reads it).
+  const std::vector<double> sync = envelope_exclusions(catalogue_);
   std::array<std::vector<std::size_t>, kPoints> windows;
   for (std::size_t p = 0; p < kPoints; ++p) {
     const OrderSpectrum& rs =
@@ -845,7 +878,8 @@ bool Diagnoser::step_refit() {
       const auto hi = static_cast<long long>(std::ceil(order * (1.0 + tol) * r + 2.5));
       for (long long k = std::max(1LL, lo);
            k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
-        windows[p].push_back(static_cast<std::size_t>(k));
+        if (h.domain != Domain::kEnvelope || !near_any(static_cast<double>(k) / r, r, sync))
+          windows[p].push_back(static_cast<std::size_t>(k));
     };
     if (h.effect == Effect::kHousingResonance) {
       for (const FitLine& l : w.lines)
@@ -885,7 +919,6 @@ bool Diagnoser::step_refit() {
       const double top =
           static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
       if (l.order * (1.0 + h.tolerance) > top) continue;
-      const std::vector<double> sync = envelope_exclusions(catalogue_);
       const LineMeasure m =
           measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
       if (m.significant) {

@@ -84,6 +84,13 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
 void add_band_residual(const OrderSpectrum& rec, const OrderSpectrum& sim, std::size_t last,
                        double& miss, double& total);
 
+/// The same comparison over the given lines of rec (sorted indices), in power over each run
+/// of adjacent lines: Σ_run (√E_rec − √E_sim)² and Σ_run E_rec — a window around an envelope
+/// line of a train with slip, whose line wanders and broadens by a few lines where a periodic
+/// model's stays put.
+void add_window_residual(const OrderSpectrum& rec, const OrderSpectrum& sim,
+                         const std::vector<std::size_t>& lines, double& miss, double& total);
+
 /// Highest envelope-line order of the catalogue (with its tolerance).
 double envelope_max_order(const Catalogue& catalogue);
 
