@@ -1,5 +1,7 @@
 #include "config/drivetrain_checks.hpp"
 
+#include "units.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -15,7 +17,6 @@ using model::GearStage;
 using model::StageType;
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kDeg = kPi / 180.0;
 constexpr double kBetz = 16.0 / 27.0;
 constexpr double kMinPressureAngleDeg = 10.0;
 constexpr double kMaxPressureAngleDeg = 35.0;

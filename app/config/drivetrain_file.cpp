@@ -1,5 +1,7 @@
 #include "config/drivetrain_file.hpp"
 
+#include "units.hpp"
+
 #include <toml++/toml.h>
 
 #include <array>
@@ -34,8 +36,6 @@ using model::Shaft;
 using model::StageType;
 using model::Turbine;
 using model::TurbineCorrections;
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 /// What a numeric value must satisfy (in file units).
 enum class Range {

@@ -128,6 +128,6 @@ void run_fatigue_stage(const app::demo::DemoContext& ctx) {
   }
 }
 
-const bool kRegistered = app::demo::register_stage({30, "fatigue", &run_fatigue_stage});
+const bool kFatigueStageRegistered = app::demo::register_stage({30, "fatigue", &run_fatigue_stage});
 
 }  // namespace

@@ -172,6 +172,6 @@ void run_gearbox_stage(const app::demo::DemoContext& ctx) {
   }
 }
 
-const bool kRegistered = app::demo::register_stage({20, "gearbox", &run_gearbox_stage});
+const bool kGearboxStageRegistered = app::demo::register_stage({20, "gearbox", &run_gearbox_stage});
 
 }  // namespace

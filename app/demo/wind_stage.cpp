@@ -71,6 +71,6 @@ void run_wind_stage(const app::demo::DemoContext& ctx) {
   }
 }
 
-const bool kRegistered = app::demo::register_stage({10, "wind", &run_wind_stage});
+const bool kWindStageRegistered = app::demo::register_stage({10, "wind", &run_wind_stage});
 
 }  // namespace

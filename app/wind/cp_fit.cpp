@@ -1,5 +1,7 @@
 #include "wind/cp_fit.hpp"
 
+#include "units.hpp"
+
 #include <unsupported/Eigen/LevenbergMarquardt>
 #include <unsupported/Eigen/NumericalDiff>
 
@@ -44,8 +46,6 @@ constexpr double kShapeWeight = 300.0;
 int prior_count(const FitOptions& o) {
   return o.cp_table ? static_cast<int>(2 * model::kCpTableKnots - 1) : 0;
 }
-
-constexpr double kRpmToRadS = 2.0 * 3.14159265358979323846 / 60.0;
 
 int surface_parameter_count(const FitOptions& o) {
   return o.cp_table ? static_cast<int>(model::kCpTableKnots) : kSurfaceParams;
@@ -171,7 +171,6 @@ model::CpSurface textbook_cp_surface() {
 }
 
 FitRow fit_row_of(const hal::ScadaRow& row, const RowEstimate& e) {
-  constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
   FitRow r{row.get(hal::ScadaQuantity::kWindSpeed),
            row.get(hal::ScadaQuantity::kRotorSpeed) * kRpmToRadS,
            0.0,  // pitch: see TorqueEstimator (curtailment filter only)

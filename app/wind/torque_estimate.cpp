@@ -1,5 +1,7 @@
 #include "wind/torque_estimate.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,8 +13,6 @@
 
 namespace app::wind {
 namespace {
-constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 using hal::ScadaQuantity;
 using model::wind::OperatingRegion;
 

@@ -1,5 +1,7 @@
 #include "wind/torque_source.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -8,8 +10,6 @@
 
 namespace app::wind {
 namespace {
-constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 using Q = hal::ScadaQuantity;
 }  // namespace
 

@@ -1,20 +1,13 @@
 #include "model/diagnosis/analysis.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace model::diagnosis {
 
-namespace {
-std::size_t next_pow2(std::size_t n) {
-  std::size_t p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
-}  // namespace
-
 std::size_t samples_per_rev_for(double fs_hz, double slowest_ref_hz) {
-  return next_pow2(static_cast<std::size_t>(std::ceil(fs_hz / slowest_ref_hz)));
+  return std::bit_ceil(static_cast<std::size_t>(std::ceil(fs_hz / slowest_ref_hz)));
 }
 
 double envelope_max_order(const Catalogue& catalogue) {
@@ -106,7 +99,7 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
   if (mean > 0.0)
     for (double& v : env) v /= mean;
   const std::size_t spr_env =
-      next_pow2(static_cast<std::size_t>(std::ceil(4.0 * std::max(env_max_order, 4.0))));
+      std::bit_ceil(static_cast<std::size_t>(std::ceil(4.0 * std::max(env_max_order, 4.0))));
   env = lowpass(env.data(), env.size(), fs_hz, 0.45 * static_cast<double>(spr_env) * slowest);
   // The window as a map of its own: the envelope buffer starts at sample i0.
   std::vector<double> shifted = map.pulses();
@@ -139,7 +132,7 @@ bool analyse_channel(const double* x, std::size_t n, double fs_hz, const AngleMa
       }
       if (spec.mesh_orders.empty()) continue;
       const std::size_t spr_s = std::min<std::size_t>(
-          next_pow2(static_cast<std::size_t>(std::ceil(fs_hz / (slowest * s.order)))),
+          std::bit_ceil(static_cast<std::size_t>(std::ceil(fs_hz / (slowest * s.order)))),
           std::size_t{1} << 16);
       if (synchronous_average(x, n, fs_hz, map, s.order, start, spr_s, revs, spec, a.tsa))
         out.averages.push_back(std::move(a));

@@ -1,6 +1,7 @@
 #include "model/diagnosis/diagnoser.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <numeric>
@@ -122,6 +123,11 @@ bool near_any(double order, double r, const std::vector<double>& orders) {
   return false;
 }
 
+}  // namespace
+
+// Named, not file-local: Diagnoser::Work holds them (-Wsubobject-linkage once this file
+// shares the library's unity TU, docs/ci.md).
+namespace diagnoser_detail {
 // The line set a hypothesis is fitted and judged on.
 struct FitLine {
   std::size_t point = 0;
@@ -132,8 +138,8 @@ struct FitLine {
   double noise = 0.0;
   double weight = 1.0;
 };
-
-}  // namespace
+}  // namespace diagnoser_detail
+using diagnoser_detail::FitLine;
 
 struct Diagnoser::Work {
   DiagnosisInput input;
@@ -258,12 +264,6 @@ class EffectFitMap : public calibration::FeatureMap {
   std::size_t& simulations_;
   std::vector<double> sync_ = envelope_exclusions(cat_);  // never read a bearing line there
 };
-
-std::size_t next_pow2(std::size_t n) {
-  std::size_t p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
 
 }  // namespace
 
@@ -481,7 +481,7 @@ bool Diagnoser::step_speed() {
   w.op = {report_.rotor_speed_rpm, in.input_torque_nm};
   // The simulation's rate: a power of two samples per reference revolution covering the
   // analysis band 2.2 times, so a simulated waveform is already angle-sampled.
-  w.sim_spr = next_pow2(
+  w.sim_spr = std::bit_ceil(
       static_cast<std::size_t>(std::ceil(2.2 * config_.analysis.max_frequency_hz / w.ref_hz)));
   w.sim_fs = static_cast<double>(w.sim_spr) * w.ref_hz;
   w.env_order = envelope_max_order(catalogue_);
@@ -777,7 +777,7 @@ bool Diagnoser::step_refit() {
     // Fit resolution: enough revolutions to separate the hypothesis's lines.
     w.fit_revs = std::max<std::size_t>(
         config_.fit_revolutions,
-        h.rate_order > 0.0 ? next_pow2(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order)))
+        h.rate_order > 0.0 ? std::bit_ceil(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order)))
                            : 0);
     w.fit_revs = std::min(w.fit_revs, w.half_a.revs);
     if (h.domain == Domain::kEnvelope) {

@@ -1,6 +1,7 @@
 #include "model/diagnosis/speed_tracking.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numbers>
 
@@ -9,12 +10,6 @@ namespace model::diagnosis {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-std::size_t next_pow2(std::size_t n) {
-  std::size_t p = 1;
-  while (p < n) p <<= 1;
-  return p;
-}
 
 // Short-time spectra of x: Hann frames of `frame` samples, hop frame/2, zero-padded to
 // 4·frame; calls visit(centre_s, magnitudes) per frame.
@@ -96,7 +91,7 @@ std::vector<double> pulses_from_speed(const std::vector<double>& t, const std::v
 bool refine(const double* x, std::size_t n, double fs, const AngleMap& map, double order,
             double band, AngleMap& refined) {
   const double f_min_hz = map.mean_hz() * 0.95;
-  const std::size_t spr = next_pow2(static_cast<std::size_t>(std::ceil(fs / f_min_hz)));
+  const std::size_t spr = std::bit_ceil(static_cast<std::size_t>(std::ceil(fs / f_min_hz)));
   const double start = std::ceil(map.revolutions_at(2.0 / fs));
   const std::size_t avail = revolutions_available(n, fs, map, 1.0, start);
   const std::size_t revs = fft_size_at_most(avail);
@@ -172,12 +167,14 @@ TrackedSpeed track_speed(const double* x, std::size_t n, double fs_hz, double no
     std::size_t frame = 0;
   };
   Choice best;
-  const std::size_t max_frame = next_pow2(static_cast<std::size_t>(config.max_frame_s * fs_hz)) / 2;
+  const std::size_t max_frame =
+      std::bit_ceil(static_cast<std::size_t>(config.max_frame_s * fs_hz)) / 2;
   const std::size_t base_frame = std::min<std::size_t>(
-      max_frame, std::max<std::size_t>(1024, next_pow2(static_cast<std::size_t>(0.25 * fs_hz))));
+      max_frame,
+      std::max<std::size_t>(1024, std::bit_ceil(static_cast<std::size_t>(0.25 * fs_hz))));
   std::vector<double> avg;
   std::size_t frames = 0;
-  stft(x, n, fs_hz, std::min(base_frame, next_pow2(n) / 2),
+  stft(x, n, fs_hz, std::min(base_frame, std::bit_ceil(n) / 2),
        [&](double, const std::vector<double>& mag) {
          if (avg.empty()) avg.assign(mag.size(), 0.0);
          for (std::size_t k = 0; k < mag.size(); ++k) avg[k] += mag[k];
@@ -209,9 +206,9 @@ TrackedSpeed track_speed(const double* x, std::size_t n, double fs_hz, double no
     const double floor = median_of(std::move(around));
     const double prominence = floor > 0.0 ? peak / floor : 0.0;
     if (prominence > best.prominence) {
-      best = {
-          c.order, c.spacing, prominence,
-          std::max<std::size_t>(1024, next_pow2(static_cast<std::size_t>(needed_frame_s * fs_hz)))};
+      best = {c.order, c.spacing, prominence,
+              std::max<std::size_t>(
+                  1024, std::bit_ceil(static_cast<std::size_t>(needed_frame_s * fs_hz)))};
     }
   }
   if (best.prominence < config.min_prominence) return result;

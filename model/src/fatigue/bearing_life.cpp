@@ -1,12 +1,13 @@
 // ISO 281:2007 life modification factor and its inputs (see the header).
 #include "model/fatigue/bearing_life.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 
 namespace model::fatigue {
 namespace {
-constexpr double kMm = 1e3;  // [mm/m]
 constexpr double kZeroCelsiusK = 273.15;
 constexpr double kAisoMax = 50.0;  // ISO 281:2007 §9.3.1
 constexpr double kKappaMin = 0.1;  // the standard's curves span 0.1 ≤ κ ≤ 4

@@ -1,13 +1,14 @@
 // ISO 281:2007 basic dynamic radial load ratings from bearing geometry (see the header).
 #include "model/fatigue/bearing_rating.hpp"
 
+#include "units.hpp"
+
 #include <array>
 #include <cmath>
 #include <cstddef>
 
 namespace model::fatigue {
 namespace {
-constexpr double kMm = 1e3;  // [mm/m]
 
 // ISO 281:2007 Table 7, radial roller bearings: f_c at γ = 0.01, 0.02, ..., 0.37.
 constexpr double kRollerGammaStep = 0.01;

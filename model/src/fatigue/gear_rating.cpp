@@ -2,6 +2,8 @@
 // to those editions.
 #include "model/fatigue/gear_rating.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,7 +12,6 @@
 namespace model::fatigue {
 namespace {
 constexpr double kPi = std::numbers::pi;
-constexpr double kMm = 1e3;  // [mm/m]
 
 constexpr double kFshConstant = 0.023;    // [µm·mm/N] ISO 6336-1 method C, f_sh
 constexpr double kMinLineLoadNmm = 1e-6;  // [N/mm] floor of F_m/b in K_Hβ

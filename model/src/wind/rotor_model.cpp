@@ -1,5 +1,7 @@
 #include "model/wind/rotor_model.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -7,7 +9,6 @@
 namespace model::wind {
 
 namespace {
-constexpr double kRpmToRadS = 2.0 * std::numbers::pi / 60.0;
 constexpr double kMinSpeedRampStart = 0.95;  // T_gen → 0 at 0.95·ω_min (header)
 constexpr double kPitchStepRad = 0.1 * std::numbers::pi / 180.0;  // finite difference, 0.1°
 constexpr int kBisections = 80;

@@ -1,5 +1,7 @@
 #include "model/wind/wind_load.hpp"
 
+#include "units.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -8,7 +10,6 @@
 namespace model::wind {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kRpmToRadS = 2.0 * kPi / 60.0;
 }  // namespace
 
 const char* region_name(OperatingRegion region) {
