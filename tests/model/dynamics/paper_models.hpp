@@ -1,6 +1,6 @@
 #pragma once
-// The full models the ROM tests build from the reference drivetrain (test_rom.cpp,
-// test_rom_stability.cpp).
+// The full models the dynamics tests build from the reference drivetrain (test_rom.cpp,
+// test_rom_stability.cpp, test_full_model.cpp, test_fidelity.cpp).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -30,6 +30,16 @@ inline model::dynamics::FullModel quiet_model() {
   model::dynamics::FullModel m = paper_model(quiet_paper());
   for (auto& v : m.meshes) v.shape = model::dynamics::PeriodicTable::constant(1.0);
   return m;
+}
+
+// The reference drivetrain with the gearbox body on its mounts (mass 0: no body).
+inline model::Drivetrain paper_with_body(double mass_kg, double stiffness_n_m,
+                                         double damping_ratio) {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.gearbox_body_mass_kg = mass_kg;
+  d.dynamics.gearbox_mount_stiffness_n_m = stiffness_n_m;
+  d.dynamics.gearbox_mount_damping_ratio = damping_ratio;
+  return d;
 }
 
 }  // namespace test_support

@@ -17,6 +17,7 @@
 #include "model/dynamics/newmark.hpp"
 #include "model/dynamics/rom.hpp"
 #include "model/dynamics/simulate.hpp"
+#include "paper_models.hpp"
 
 namespace {
 
@@ -278,13 +279,7 @@ TEST(SeatParticipation,
 
 namespace {
 
-model::Drivetrain paper_with_body(double mass_kg, double stiffness_n_m, double damping_ratio) {
-  model::Drivetrain d = model::paper_2mw();
-  d.dynamics.gearbox_body_mass_kg = mass_kg;
-  d.dynamics.gearbox_mount_stiffness_n_m = stiffness_n_m;
-  d.dynamics.gearbox_mount_damping_ratio = damping_ratio;
-  return d;
-}
+using test_support::paper_with_body;
 
 // Frequency in [lo, hi] where the sensor's displacement |a|/ω² per unit force along
 // `pattern` peaks, on a log grid of step 1 + `step`.

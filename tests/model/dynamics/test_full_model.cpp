@@ -18,6 +18,7 @@
 #include "model/dynamics/mesh_stiffness.hpp"
 #include "model/dynamics/newmark.hpp"
 #include "model/dynamics/simulate.hpp"
+#include "paper_models.hpp"
 
 namespace {
 
@@ -667,18 +668,6 @@ TEST(FullModelBuild, SeatParticipationOnAMeasuredBearingOrAMissingModeIsRejected
   EXPECT_NE(error.find("not modelled"), std::string::npos) << error;
 }
 
-namespace {
-
-model::Drivetrain with_body(double mass_kg, double stiffness_n_m, double damping_ratio) {
-  model::Drivetrain d = model::paper_2mw();
-  d.dynamics.gearbox_body_mass_kg = mass_kg;
-  d.dynamics.gearbox_mount_stiffness_n_m = stiffness_n_m;
-  d.dynamics.gearbox_mount_damping_ratio = damping_ratio;
-  return d;
-}
-
-}  // namespace
-
 TEST(GearboxBody, WithoutItTheModelIsTheOneBeforeAndWithItOneDofMoreAndNothingElseChanged) {
   // paper-2mw carries no body (mass 0): no "gearbox_body" DOF. With one, every matrix entry
   // between the other DOFs is the model without it bit for bit (the body only adds its own row
@@ -686,7 +675,7 @@ TEST(GearboxBody, WithoutItTheModelIsTheOneBeforeAndWithItOneDofMoreAndNothingEl
   // −s on it (its seat moves with the body, the rigid body's participation 1), b1, b2 none.
   const FullModel m0 = paper_model();
   ASSERT_EQ(m0.dof("gearbox_body"), -1);
-  const FullModel m = paper_model(with_body(5000.0, 1.0e9, 0.08));
+  const FullModel m = paper_model(test_support::paper_with_body(5000.0, 1.0e9, 0.08));
   ASSERT_EQ(m.dofs(), m0.dofs() + 1);
   const int body = m.dof("gearbox_body");
   ASSERT_GE(body, 0);
@@ -723,7 +712,7 @@ TEST(GearboxBody, TheMountsCarryTheNetReactionOfTheParallelStagesBearingsInStati
   // direction, k_b·(y_node − y_seat) with y_seat = Σ of the seat's housing modes + u_b at a
   // measured bearing and u_b at an unmeasured one.
   const double k_mount = 1.0e9;
-  const FullModel m = paper_model(with_body(5000.0, k_mount, 0.08));
+  const FullModel m = paper_model(test_support::paper_with_body(5000.0, k_mount, 0.08));
   const int body = m.dof("gearbox_body");
   const Eigen::VectorXd x = m.static_deflection(kPaperTorqueNm);
   double sum = 0.0, scale = 0.0;
@@ -744,12 +733,12 @@ TEST(GearboxBody, TheMountsCarryTheNetReactionOfTheParallelStagesBearingsInStati
 
 TEST(GearboxBody, AMassWithoutMountsIsRejectedNamingTheKeys) {
   std::string error;
-  EXPECT_FALSE(build_full_model(with_body(5000.0, 0.0, 0.08), {}, &error));
+  EXPECT_FALSE(build_full_model(test_support::paper_with_body(5000.0, 0.0, 0.08), {}, &error));
   EXPECT_NE(error.find("gearbox_mount_stiffness_n_m"), std::string::npos) << error;
   error.clear();
-  EXPECT_FALSE(build_full_model(with_body(-1.0, 1e9, 0.08), {}, &error));
+  EXPECT_FALSE(build_full_model(test_support::paper_with_body(-1.0, 1e9, 0.08), {}, &error));
   EXPECT_NE(error.find("gearbox_body_mass_kg"), std::string::npos) << error;
   error.clear();
-  EXPECT_FALSE(build_full_model(with_body(5000.0, 1e9, 1.5), {}, &error));
+  EXPECT_FALSE(build_full_model(test_support::paper_with_body(5000.0, 1e9, 1.5), {}, &error));
   EXPECT_NE(error.find("gearbox_mount_damping_ratio"), std::string::npos) << error;
 }
