@@ -76,14 +76,14 @@ double band_residual(const Spectra& rec, const Spectra& sim, double max_hz) {
 // recording's spectrum in the given domain). In the envelope (an impact train with slip:
 // its lines wander and broaden by a few lines where the periodic model's stay put) each
 // run of adjacent window lines is compared in power (analysis.hpp add_window_residual).
-double signature_residual(const Spectra& rec, const Spectra& sim, Domain domain,
+double signature_residual(const Spectra& rec, const Spectra& sim, Domain domain, bool train,
                           const std::array<std::vector<std::size_t>, kPoints>& windows) {
   double miss = 0.0, total = 0.0;
   const bool env = domain == Domain::kEnvelope;
   for (std::size_t p = 0; p < kPoints; ++p) {
     const OrderSpectrum& m = env ? rec[p].envelope : rec[p].spectrum;
     const OrderSpectrum& s = env ? sim[p].envelope : sim[p].spectrum;
-    if (env) {
+    if (train) {
       add_window_residual(m, s, windows[p], miss, total);
       continue;
     }
@@ -238,7 +238,7 @@ class EffectFitMap : public calibration::FeatureMap {
           const double r = static_cast<double>(s.revolutions);
           for (long long k = static_cast<long long>(std::floor(l.order * (1.0 - l.tolerance) * r));
                k <= static_cast<long long>(std::ceil(l.order * (1.0 + l.tolerance) * r)); ++k)
-            if (k > 0 && !(env && near_any(static_cast<double>(k) / r, r, sync_)))
+            if (k > 0 && !(excl_ != nullptr && near_any(static_cast<double>(k) / r, r, *excl_)))
               a_s = std::max(a_s, s.tone(static_cast<double>(k) / r));
         }
         phi[i] = 0.5 * std::log(a_s * a_s + l.noise * l.noise);
@@ -263,6 +263,8 @@ class EffectFitMap : public calibration::FeatureMap {
   double env_order_, measured_rate_;
   std::size_t& simulations_;
   std::vector<double> sync_ = envelope_exclusions(cat_);  // never read a bearing line there
+  std::vector<double> gears_ = spectrum_exclusions(cat_);
+  const std::vector<double>* excl_ = bearing_exclusions(h_, sync_, gears_);
 };
 
 }  // namespace
@@ -642,6 +644,10 @@ void Diagnoser::step_locate() {
                        &w.rec_full[p], &w.sim_cal[p]});
   }
   w.located = locate(catalogue_, w.pairs, config_.locate);
+  report_.ranking.assign(
+      w.located.ranking.begin(),
+      w.located.ranking.begin() +
+          static_cast<long>(std::min<std::size_t>(16, w.located.ranking.size())));
   // The mismatch: every feature with a share worth naming, largest first.
   std::vector<const ResidualFeature*> feats;
   for (const ResidualFeature& f : w.located.features)
@@ -662,20 +668,34 @@ void Diagnoser::step_locate() {
                   f->domain == FeatureDomain::kAverage;
     report_.mismatch.push_back(std::move(m));
   }
-  // Candidates: the best-ranked hypotheses, the ones the model can switch on first.
-  for (const HypothesisScore& s : w.located.ranking) {
-    if (report_.candidates.size() >= config_.max_candidates) break;
-    const Hypothesis& h = catalogue_.hypotheses[s.hypothesis];
-    CandidateResult c;
-    c.hypothesis = s.hypothesis;
-    c.effect = h.effect;
-    c.location = h.location;
-    c.explanation = h.explanation;
-    c.prior_score = s.score;
-    c.modelled = !simulator_.parameters(h).empty();
-    if (!c.modelled)
-      c.verdict = "the dynamics model has no term for it: not modelled, not reported";
-    report_.candidates.push_back(std::move(c));
+  // Candidates: the best-ranked hypotheses, the ones the model can switch on first; then,
+  // as many again, the best-ranked bearings read in the waveform's spectrum (their own
+  // slots: the lines of a slow impact train, ranked with the gears', would take the slots of
+  // the effects read as before).
+  for (int pass = 0; pass < 2; ++pass) {
+    std::size_t taken = 0;
+    for (const HypothesisScore& s : w.located.ranking) {
+      if (taken >= config_.max_candidates) break;
+      const Hypothesis& h = catalogue_.hypotheses[s.hypothesis];
+      const bool spectrum_bearing = is_bearing(h.effect) && h.domain == Domain::kSpectrum;
+      if (spectrum_bearing != (pass == 1)) continue;
+      // One candidate per effect and location.
+      bool seen = false;
+      for (const CandidateResult& o : report_.candidates)
+        if (o.effect == h.effect && o.location == h.location) seen = true;
+      if (seen) continue;
+      CandidateResult c;
+      c.hypothesis = s.hypothesis;
+      c.effect = h.effect;
+      c.location = h.location;
+      c.explanation = h.explanation;
+      c.prior_score = s.score;
+      c.modelled = !simulator_.parameters(h).empty();
+      if (!c.modelled)
+        c.verdict = "the dynamics model has no term for it: not modelled, not reported";
+      report_.candidates.push_back(std::move(c));
+      ++taken;
+    }
   }
   w.candidate = 0;
 }
@@ -748,8 +768,9 @@ bool Diagnoser::step_refit() {
             static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
         if (l.order * (1.0 + h.tolerance) > top) continue;
         const std::vector<double> sync = envelope_exclusions(catalogue_);
-        const LineMeasure m =
-            measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
+        const std::vector<double> gears = spectrum_exclusions(catalogue_);
+        const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate,
+                                           bearing_exclusions(h, sync, gears));
         if (!m.significant) continue;
         w.lines.push_back(
             {p, h.domain, m.order,
@@ -780,21 +801,24 @@ bool Diagnoser::step_refit() {
         h.rate_order > 0.0 ? std::bit_ceil(static_cast<std::size_t>(std::ceil(6.0 / h.rate_order)))
                            : 0);
     w.fit_revs = std::min(w.fit_revs, w.half_a.revs);
-    if (h.domain == Domain::kEnvelope) {
-      // ... and to keep each fit line 3 lines clear of the envelope's synchronous comb (which
-      // the simulation carries too: at a coarser resolution its flank reads as the line).
+    if (is_bearing(h.effect)) {
+      // ... and to keep each fit line 3 lines clear of the envelope's synchronous comb, or in
+      // the spectrum of the gears' lines (which the simulation carries too: at a coarser
+      // resolution their flank reads as the line).
       const std::vector<double> sync = envelope_exclusions(catalogue_);
+      const std::vector<double> gears = spectrum_exclusions(catalogue_);
+      const std::vector<double>& excl = h.domain == Domain::kEnvelope ? sync : gears;
       auto clear = [&](std::size_t revs) {
         const auto r = static_cast<double>(revs);
         for (const FitLine& l : w.lines)
-          for (double o : sync)
+          for (double o : excl)
             if (std::abs(l.order - o) * r <= 3.0) return false;
         return true;
       };
       while (w.fit_revs < w.half_a.revs && !clear(w.fit_revs))
         w.fit_revs = std::min(2 * w.fit_revs, w.half_a.revs);
     }
-    const double measured_rate = h.domain == Domain::kEnvelope && rate > 0.0
+    const double measured_rate = is_bearing(h.effect) && rate > 0.0
                                      ? rate / h.lines.front().order * h.rate_order
                                      : 0.0;
     auto map = std::make_unique<EffectFitMap>(
@@ -859,7 +883,7 @@ bool Diagnoser::step_refit() {
   c.residual_fit_effect = spectral_residual(w.rec_a, half, max_hz);
   c.residual_holdout_calibrated = spectral_residual(w.rec_b, w.sim_cal_half, max_hz);
   c.residual_holdout_effect = spectral_residual(w.rec_b, half, max_hz);
-  c.guard_in_bands = h.domain == Domain::kEnvelope;
+  c.guard_in_bands = is_bearing(h.effect);
   c.guard_holdout_calibrated = c.guard_in_bands ? band_residual(w.rec_b, w.sim_cal_half, max_hz)
                                                 : c.residual_holdout_calibrated;
   c.guard_holdout_effect =
@@ -867,6 +891,8 @@ bool Diagnoser::step_refit() {
   // Its signature: the windows of its lines (the fit lines for a resonance; in the envelope
   // without the synchronous comb, as locate reads it).
   const std::vector<double> sync = envelope_exclusions(catalogue_);
+  const std::vector<double> gears = spectrum_exclusions(catalogue_);
+  const std::vector<double>* excl = bearing_exclusions(h, sync, gears);
   std::array<std::vector<std::size_t>, kPoints> windows;
   for (std::size_t p = 0; p < kPoints; ++p) {
     const OrderSpectrum& rs =
@@ -878,7 +904,7 @@ bool Diagnoser::step_refit() {
       const auto hi = static_cast<long long>(std::ceil(order * (1.0 + tol) * r + 2.5));
       for (long long k = std::max(1LL, lo);
            k <= hi && k < static_cast<long long>(rs.amplitude.size()); ++k)
-        if (h.domain != Domain::kEnvelope || !near_any(static_cast<double>(k) / r, r, sync))
+        if (excl == nullptr || !near_any(static_cast<double>(k) / r, r, *excl))
           windows[p].push_back(static_cast<std::size_t>(k));
     };
     if (h.effect == Effect::kHousingResonance) {
@@ -892,10 +918,10 @@ bool Diagnoser::step_refit() {
     std::sort(windows[p].begin(), windows[p].end());
     windows[p].erase(std::unique(windows[p].begin(), windows[p].end()), windows[p].end());
   }
-  c.signature_fit_calibrated = signature_residual(w.rec_a, w.sim_cal_half, h.domain, windows);
-  c.signature_fit_effect = signature_residual(w.rec_a, half, h.domain, windows);
-  c.signature_holdout_calibrated = signature_residual(w.rec_b, w.sim_cal_half, h.domain, windows);
-  c.signature_holdout_effect = signature_residual(w.rec_b, half, h.domain, windows);
+  c.signature_fit_calibrated = signature_residual(w.rec_a, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
+  c.signature_fit_effect = signature_residual(w.rec_a, half, h.domain, is_bearing(h.effect), windows);
+  c.signature_holdout_calibrated = signature_residual(w.rec_b, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
+  c.signature_holdout_effect = signature_residual(w.rec_b, half, h.domain, is_bearing(h.effect), windows);
   // Its lines' evidence on the hold-out half (against calibration alone).
   const bool env = h.domain == Domain::kEnvelope;
   c.holdout_evidence = 0.0;
@@ -919,8 +945,7 @@ bool Diagnoser::step_refit() {
       const double top =
           static_cast<double>(rs.amplitude.size() - 3) / static_cast<double>(rs.revolutions);
       if (l.order * (1.0 + h.tolerance) > top) continue;
-      const LineMeasure m =
-          measure_line(rs, ss, l.order, h.tolerance, config_.locate, env ? &sync : nullptr);
+      const LineMeasure m = measure_line(rs, ss, l.order, h.tolerance, config_.locate, excl);
       if (m.significant) {
         c.holdout_evidence += l.weight * (m.measured * m.measured) / (m.noise * m.noise);
         ++c.lines;

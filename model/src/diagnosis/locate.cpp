@@ -47,6 +47,19 @@ std::vector<double> envelope_exclusions(const Catalogue& catalogue) {
   return out;
 }
 
+std::vector<double> spectrum_exclusions(const Catalogue& catalogue) {
+  std::vector<double> out = envelope_exclusions(catalogue);
+  for (const Family& f : catalogue.families)
+    if (f.domain == Domain::kSpectrum) out.insert(out.end(), f.orders.begin(), f.orders.end());
+  return out;
+}
+
+const std::vector<double>* bearing_exclusions(const Hypothesis& h, const std::vector<double>& sync,
+                                              const std::vector<double>& gears) {
+  if (h.domain == Domain::kEnvelope) return &sync;
+  return is_bearing(h.effect) ? &gears : nullptr;
+}
+
 LineMeasure measure_line(const OrderSpectrum& rec, const OrderSpectrum& sim, double order,
                          double tolerance, const LocateConfig& cfg,
                          const std::vector<double>* exclude) {
@@ -299,6 +312,7 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
                     const LocateConfig& cfg) {
   LocateResult result;
   const std::vector<double> sync = envelope_exclusions(cat);
+  const std::vector<double> gears = spectrum_exclusions(cat);
   const std::vector<double> meshes = mesh_harmonics(cat);
   result.spectrum_total.assign(channels.size(), 0.0);
   result.envelope_total.assign(channels.size(), 0.0);
@@ -386,7 +400,7 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
         for (const SignatureLine& l : h.lines) {
           if (!usable(l.order, h.tolerance)) continue;
           const LineMeasure m =
-              measure_line(rs, ss, l.order, h.tolerance, cfg, env ? &sync : nullptr);
+              measure_line(rs, ss, l.order, h.tolerance, cfg, bearing_exclusions(h, sync, gears));
           if (!m.significant) continue;
           explained += l.weight * m.excess;
           present += l.weight;
@@ -400,7 +414,7 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
         for (const SignatureLine& l : h.lines) orders.push_back(l.order);
         for (double o : orders) {
           if (!usable(o, h.tolerance)) continue;
-          const LineMeasure m = measure_line(rs, ss, o, h.tolerance, cfg, env ? &sync : nullptr);
+          const LineMeasure m = measure_line(rs, ss, o, h.tolerance, cfg, bearing_exclusions(h, sync, gears));
           if (!m.significant) continue;
           bool dup = false;
           for (double q : seen)

@@ -390,6 +390,40 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
     }
   }
 
+  // The same defect frequencies in the waveform's own order spectrum. An impact lasting a
+  // large part of its period (a slow shaft, a wide defect: a half sine of several
+  // milliseconds) puts its energy in the defect lines themselves, below the band where a
+  // short impact rings the housing; cepstral prewhitening flattens such lines with the
+  // noise, and the kurtogram finds nothing impulsive (Randall & Antoni, MSSP 25 (2011) §2:
+  // the raw spectrum shows the harmonics of a defect when they are not masked). Read off
+  // every gear and shaft line (spectrum_exclusions()).
+  const std::size_t envelope_end = cat.hypotheses.size();
+  for (std::size_t i = 0; i < envelope_end; ++i) {
+    if (!is_bearing(cat.hypotheses[i].effect)) continue;
+    // Only on a shaft turning at least cfg.bearing_spectrum_min_shaft_order: the lines of a
+    // slower one's defect fall among the planetary stage's dense comb (carrier, planet and
+    // sun-shaft harmonics a few lines apart), where no line can be told from it.
+    const Bearing* br = d.bearing(cat.hypotheses[i].location);
+    const PartRate* sh = br != nullptr ? cat.shaft(br->shaft) : nullptr;
+    if (sh == nullptr || sh->order < cfg.bearing_spectrum_min_shaft_order) continue;
+    Hypothesis h = cat.hypotheses[i];
+    h.domain = Domain::kSpectrum;
+    // Its first group of lines (the defect rate and its modulation sidebands), repeated at
+    // every harmonic of the rate up to the top of the synchronous comb: where the impacts'
+    // energy lies in the raw spectrum depends on the pulse's length and on the structure's
+    // response, not on the first three harmonics the envelope reads.
+    const double rate = h.rate_order;
+    std::vector<SignatureLine> first, lines;
+    for (const SignatureLine& l : h.lines)
+      if (std::abs(l.order - rate) < 0.5 * rate) first.push_back(l);
+    const int k_top = std::clamp(static_cast<int>(std::floor(cfg.bearing_spectrum_top_order / rate)),
+                                 cfg.bearing_harmonics, cfg.bearing_spectrum_harmonics);
+    for (int kk = 1; kk <= k_top; ++kk)
+      for (const SignatureLine& l : first) lines.push_back({l.order + (kk - 1) * rate, l.weight});
+    h.lines.clear();
+    b.add(std::move(h), lines);
+  }
+
   // Housing resonances between a measured bearing and its sensor.
   for (const std::string& loc : sensor_locations) {
     if (d.bearing(loc) == nullptr) continue;

@@ -88,7 +88,7 @@ struct DiagnoserConfig {
     c.trust_region.max_evaluations = model::calibration::kDefaultFitEvaluations;
     return c;
   }();
-  std::size_t max_candidates = 3;             // hypotheses refitted
+  std::size_t max_candidates = 3;             // hypotheses refitted (and as many bearings read in the spectrum)
   std::size_t fit_evaluations = 10;           // per candidate, probes included
   std::size_t recalibration_evaluations = 0;  // calibrator with the effect on (0: not run)
   double min_improvement = 0.25;              // [-] of the calibrated hold-out signature residual
@@ -200,6 +200,7 @@ struct DiagnosisReport {
   DynamicsParameters parameters_before{}, parameters_calibrated{}, parameters_after{};
   std::size_t calibration_evaluations = 0;
   std::vector<MismatchEntry> mismatch;
+  std::vector<HypothesisScore> ranking;     // locate's, best first (the first 16)
   std::vector<CandidateResult> candidates;  // in the order refitted (prior score)
   std::vector<std::size_t> missing;         // indices into candidates, most likely first
   std::vector<PointSpectra> spectra;

@@ -128,6 +128,16 @@ inline constexpr double kSynchronousTopOrder = 60.0;
 /// or a once-per-revolution impact).
 std::vector<double> envelope_exclusions(const Catalogue& catalogue);
 
+/// Where no bearing line is read in the waveform's order spectrum: the envelope's
+/// synchronous comb and every line of a gear or shaft family of the catalogue (mesh
+/// harmonics and their sidebands, shaft harmonics, planet pass).
+std::vector<double> spectrum_exclusions(const Catalogue& catalogue);
+
+/// The exclusions of a hypothesis's lines: `sync` (envelope_exclusions()) in the envelope,
+/// `gears` (spectrum_exclusions()) for a bearing's lines in the spectrum, none otherwise.
+const std::vector<double>* bearing_exclusions(const Hypothesis& h, const std::vector<double>& sync,
+                                              const std::vector<double>& gears);
+
 struct HypothesisScore {
   std::size_t hypothesis = 0;  // index into Catalogue::hypotheses
   double share = 0.0;

@@ -57,6 +57,12 @@ inline constexpr std::size_t kEffectCount = 9;
 const char* effect_id(Effect effect);
 std::optional<Effect> effect_from_id(std::string_view id);
 
+/// A rolling-element bearing defect (an impact train with slip).
+inline bool is_bearing(Effect effect) {
+  return effect == Effect::kBearingOuterRaceDefect || effect == Effect::kBearingInnerRaceDefect ||
+         effect == Effect::kBearingBallDefect;
+}
+
 /// Where a line is looked for: the order spectrum of the waveform, or of its squared
 /// envelope in the band where impacts ring.
 enum class Domain : std::uint8_t { kSpectrum, kEnvelope };
@@ -95,6 +101,11 @@ struct CatalogueConfig {
   int crack_sidebands = 5;  // [-] K_crack
   int eccentricity_sidebands = 2;
   int bearing_harmonics = 3;  // [-] k = 1..3
+  // A bearing's lines in the waveform's spectrum: every harmonic of its rate up to this
+  // order (the top of the envelope's synchronous comb, locate.hpp), at most this many.
+  double bearing_spectrum_top_order = 60.0;  // [orders]
+  int bearing_spectrum_harmonics = 12;       // [-]
+  double bearing_spectrum_min_shaft_order = 0.2;  // [orders] kSynchronousShaftOrder
   double slip = 0.02;         // [-] rolling-element slip tolerance on bearing lines
   double max_order = 1e9;     // [orders] lines above are dropped (analysis band)
 };
