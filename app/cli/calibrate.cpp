@@ -177,6 +177,8 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
           {"mesh_tip_relief", p.mesh_tip_relief},
           {"bearing_stiffness_scale", p.bearing_stiffness_scale},
           {"bearing_stiffness_factor", p.bearing_stiffness_factor},
+          {"bearing_compliance_scale", p.bearing_compliance_scale},
+          {"bearing_stiffness_fluctuation", p.bearing_stiffness_fluctuation},
           {"damping_band_factor", p.damping_band_factor},
           {"transmission_error_m", p.transmission_error_m},
           {"transmission_error_phase_rad", p.transmission_error_phase_rad},
