@@ -177,6 +177,8 @@ nlohmann::json params_json(const model::DynamicsParameters& p) {
           {"mesh_tip_relief", p.mesh_tip_relief},
           {"bearing_stiffness_scale", p.bearing_stiffness_scale},
           {"bearing_stiffness_factor", p.bearing_stiffness_factor},
+          {"bearing_compliance_scale", p.bearing_compliance_scale},
+          {"bearing_stiffness_fluctuation", p.bearing_stiffness_fluctuation},
           {"damping_band_factor", p.damping_band_factor},
           {"transmission_error_m", p.transmission_error_m},
           {"transmission_error_phase_rad", p.transmission_error_phase_rad},
@@ -293,6 +295,131 @@ double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& m
     }
   }
   return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
+}
+
+// The residual's share before the clip above: > 1 when the twin adds more energy than it
+// explains (lines the recording lacks).
+double residual_unclipped(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
+                          const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated,
+                          std::size_t last_line) {
+  double miss = 0.0;
+  double total = 0.0;
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+    for (std::size_t k = 1; k <= last_line && k < measured[p].size(); ++k) {
+      const double d = measured[p][k] - simulated[p][k];
+      miss += d * d;
+      total += measured[p][k] * measured[p][k];
+    }
+  }
+  return total > 0.0 ? miss / total : 1.0;
+}
+
+// What carries the residual: the lines (local maxima of max(measured, simulated) over the
+// Hann main lobe, ±2 lines) whose lobes hold the most of Σ(a_m − a_s)², each named by the
+// nearest kinematic family of the description (mesh harmonics, shaft harmonics, bearings'
+// ball-pass harmonics and sums of two: a bearing's varying compliance) within ±1 line.
+struct ResidualLine {
+  std::size_t point = 0;
+  double hz = 0.0;
+  double order = 0.0;  // [hss orders]
+  double measured = 0.0;
+  double simulated = 0.0;
+  double share = 0.0;  // of the recording's energy at both points, 0–5 kHz
+  std::string family;
+};
+
+std::string line_family(const model::Drivetrain& d, const model::Kinematics& k, double rpm,
+                        double hz, double tolerance_hz) {
+  std::string best = "-";
+  double best_err = tolerance_hz;
+  const auto consider = [&](double f, const std::string& name) {
+    if (f > 0.0 && std::abs(f - hz) <= best_err) {
+      best_err = std::abs(f - hz);
+      best = name;
+    }
+  };
+  static const char* const kStage[] = {"planetary mesh", "intermediate mesh", "high-speed mesh"};
+  for (std::size_t s = 0; s < d.stages.size() && s < 3; ++s)
+    for (int h = 1; h <= 40; ++h)
+      consider(h * k.mesh_hz(s, rpm), std::to_string(h) + "x " + kStage[s]);
+  for (const model::Shaft& sh : d.shafts) {
+    const std::optional<double> f = k.shaft_hz(sh.id, rpm);
+    if (!f) continue;
+    for (int h = 1; h <= 6; ++h) consider(h * *f, std::to_string(h) + "x " + sh.id);
+  }
+  std::vector<std::pair<std::string, double>> bpfo;
+  for (const model::Bearing& b : d.bearings) {
+    const std::optional<model::BearingFrequencies> f = k.bearing_hz(b.id, rpm);
+    if (!f) continue;
+    bpfo.emplace_back(b.id, f->bpfo_hz);
+    for (int h = 1; h <= 4; ++h) consider(h * f->bpfo_hz, std::to_string(h) + "x BPFO " + b.id);
+  }
+  for (std::size_t i = 0; i < bpfo.size(); ++i)
+    for (std::size_t j = i + 1; j < bpfo.size(); ++j)
+      consider(bpfo[i].second + bpfo[j].second,
+               "BPFO " + bpfo[i].first + " + BPFO " + bpfo[j].first);
+  return best;
+}
+
+std::vector<ResidualLine> residual_lines(
+    const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
+    const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated, std::size_t last_line,
+    std::size_t revolutions, double hss_hz, const model::Drivetrain& d, const model::Kinematics& k,
+    double rpm, std::size_t per_point) {
+  double total = 0.0;
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p)
+    for (std::size_t i = 1; i <= last_line && i < measured[p].size(); ++i)
+      total += measured[p][i] * measured[p][i];
+  std::vector<ResidualLine> out;
+  if (!(total > 0.0)) return out;
+  const double line_hz = hss_hz / static_cast<double>(revolutions);
+  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+    const std::size_t n = std::min(last_line + 1, measured[p].size());
+    std::vector<ResidualLine> lines;
+    for (std::size_t i = 3; i + 2 < n; ++i) {
+      const auto peak = [&](std::size_t j) { return std::max(measured[p][j], simulated[p][j]); };
+      bool is_max = true;
+      for (std::size_t j = i - 2; j <= i + 2; ++j)
+        if (j != i && peak(j) > peak(i)) is_max = false;
+      if (!is_max) continue;
+      double miss = 0.0;
+      for (std::size_t j = i - 2; j <= i + 2; ++j) {
+        const double dd = measured[p][j] - simulated[p][j];
+        miss += dd * dd;
+      }
+      ResidualLine r;
+      r.point = p;
+      r.order = static_cast<double>(i) / static_cast<double>(revolutions);
+      r.hz = static_cast<double>(i) * line_hz;
+      r.measured = measured[p][i];
+      r.simulated = simulated[p][i];
+      r.share = miss / total;
+      lines.push_back(r);
+    }
+    const std::size_t keep = std::min(per_point, lines.size());
+    std::partial_sort(
+        lines.begin(), lines.begin() + static_cast<std::ptrdiff_t>(keep), lines.end(),
+        [](const ResidualLine& a, const ResidualLine& b) { return a.share > b.share; });
+    for (std::size_t i = 0; i < keep; ++i) {
+      lines[i].family = line_family(d, k, rpm, lines[i].hz, line_hz);
+      out.push_back(lines[i]);
+    }
+  }
+  return out;
+}
+
+nlohmann::json residual_lines_json(const std::vector<ResidualLine>& lines) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ResidualLine& r : lines) {
+    list.push_back({{"point", r.point + 1},
+                    {"hz", r.hz},
+                    {"order", r.order},
+                    {"measured", r.measured},
+                    {"simulated", r.simulated},
+                    {"share", r.share},
+                    {"family", r.family}});
+  }
+  return list;
 }
 
 // One bundle, measured: its calibration case (features averaged over its windows), the
@@ -587,6 +714,19 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
                                                     static_cast<double>(fx.config().revolutions));
     return residual(b.spectrum, sim.spectrum, last_line);
   };
+  auto residual_unclipped_of = [&](const Simulated& sim, std::size_t c) {
+    const MeasuredBundle& b = bundles[c];
+    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
+                                                    static_cast<double>(fx.config().revolutions));
+    return residual_unclipped(b.spectrum, sim.spectrum, last_line);
+  };
+  auto residual_lines_of = [&](const Simulated& sim, std::size_t c) {
+    const MeasuredBundle& b = bundles[c];
+    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
+                                                    static_cast<double>(fx.config().revolutions));
+    return residual_lines(b.spectrum, sim.spectrum, last_line, fx.config().revolutions, b.hss_hz,
+                          drivetrain, kinematics, b.measured.op.rotor_speed_rpm, 8);
+  };
 
   std::array<mc::PointIndicators, mc::kMaxCalibrationCases> fit_before{};
   if (!calibrator->evaluate_cases(prior, fit_before))
@@ -611,7 +751,8 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
                   b.dir.string().c_str(), b.measured.op.rotor_speed_rpm, b.speed_source.c_str(),
                   b.measured.op.input_torque_nm, b.windows, b.windows == 1 ? "" : "s");
       print_fit("fit before:", fit_before[c]);
-      std::printf("residual before: %.3f\n", residual_before[c]);
+      std::printf("residual before: %.3f (unclipped %.3f)\n", residual_before[c],
+                  residual_unclipped_of(sim_before[c], c));
     }
   }
 
@@ -707,7 +848,13 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     for (std::size_t c = 0; c < bundles.size(); ++c) {
       std::printf("bundle %s:\n", bundles[c].dir.string().c_str());
       print_fit("fit calibrated:", result.case_indicators[c]);
-      std::printf("residual calibrated: %.3f\n", residual_after[c]);
+      std::printf("residual calibrated: %.3f (unclipped %.3f); the lines that carry it:\n",
+                  residual_after[c], residual_unclipped_of(sim_after[c], c));
+      std::printf("  point  Hz        order    measured  simulated  share  family\n");
+      for (const ResidualLine& r : residual_lines_of(sim_after[c], c)) {
+        std::printf("  %zu      %8.1f  %7.3f  %8.4f  %9.4f  %5.3f  %s\n", r.point + 1, r.hz,
+                    r.order, r.measured, r.simulated, r.share, r.family.c_str());
+      }
       print_tones(tone_rows(c));
     }
     if (success) {
@@ -750,16 +897,21 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     j["residual_calibrated"] = residual_after[0];
     nlohmann::json cases_json = nlohmann::json::array();
     for (std::size_t c = 0; c < bundles.size(); ++c) {
-      cases_json.push_back({{"bundle", name_of(bundles[c].dir)},
-                            {"operating_point",
-                             {{"rotor_speed_rpm", bundles[c].measured.op.rotor_speed_rpm},
-                              {"input_torque_nm", bundles[c].measured.op.input_torque_nm}}},
-                            {"windows", bundles[c].windows},
-                            {"fit_before", fit_json(fit_before[c])},
-                            {"fit_calibrated", fit_json(result.case_indicators[c])},
-                            {"residual_before", residual_before[c]},
-                            {"residual_calibrated", residual_after[c]},
-                            {"tones", tones_json(tone_rows(c))}});
+      cases_json.push_back(
+          {{"bundle", name_of(bundles[c].dir)},
+           {"operating_point",
+            {{"rotor_speed_rpm", bundles[c].measured.op.rotor_speed_rpm},
+             {"input_torque_nm", bundles[c].measured.op.input_torque_nm}}},
+           {"windows", bundles[c].windows},
+           {"fit_before", fit_json(fit_before[c])},
+           {"fit_calibrated", fit_json(result.case_indicators[c])},
+           {"residual_before", residual_before[c]},
+           {"residual_calibrated", residual_after[c]},
+           {"residual_before_unclipped", residual_unclipped_of(sim_before[c], c)},
+           {"residual_calibrated_unclipped", residual_unclipped_of(sim_after[c], c)},
+           {"residual_lines_before", residual_lines_json(residual_lines_of(sim_before[c], c))},
+           {"residual_lines_calibrated", residual_lines_json(residual_lines_of(sim_after[c], c))},
+           {"tones", tones_json(tone_rows(c))}});
     }
     j["cases"] = cases_json;
     j["variables"] = variables_json(space, result, run_optimizer);

@@ -170,6 +170,8 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"bearing_stiffness_scale", &DynamicsParameters::bearing_stiffness_scale, Range::kPositive},
     {"bearing_stiffness_fluctuation", &DynamicsParameters::bearing_stiffness_fluctuation,
      Range::kNonNegative},
+    {"bearing_compliance_scale", &DynamicsParameters::bearing_compliance_scale,
+     Range::kNonNegative},
     {"bearing_stiffness_factor", &DynamicsParameters::bearing_stiffness_factor, Range::kPositive},
     {"damping_band_factor", &DynamicsParameters::damping_band_factor, Range::kPositive},
     {"transmission_error_m", &DynamicsParameters::transmission_error_m},

@@ -31,8 +31,7 @@ model::fatigue::AccumulatorConfig accumulator_config(double dt_s, std::uint32_t 
 Twin::Twin(const model::Drivetrain& drivetrain, const model::fatigue::ChannelSet& channels,
            const model::dynamics::RomData& rom, const TwinSettings& settings, Mailboxes& mailboxes,
            const TwinDevices& devices)
-    : drivetrain_(drivetrain),
-      channels_(channels),
+    : channels_(channels),
       settings_(settings),
       mail_(mailboxes),
       dev_(devices),
@@ -143,7 +142,7 @@ void Twin::window_samples(std::size_t point, const hal::CmsBlock& block) {
   if (point == 0 && fill == 0) window_device_start_ns_ = block.stamp.count();
   const std::size_t take = std::min(n, window_capacity_ - fill);
   double* out = window_->samples[point].data() + fill;
-  for (std::size_t i = 0; i < take; ++i) out[i] = x[i];
+  for (std::size_t i = 0; i < take; ++i) out[i] = static_cast<double>(x[i]);
   fill += take;
 }
 

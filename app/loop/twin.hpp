@@ -209,7 +209,6 @@ class Twin {
   void fill_snapshot(hal::Timestamp now);
   void checkpoint();
 
-  const model::Drivetrain& drivetrain_;
   const model::fatigue::ChannelSet& channels_;
   TwinSettings settings_;
   Mailboxes& mail_;

@@ -387,7 +387,8 @@ CarryOver restore_accumulator(const TwinState& saved, fat::DamageAccumulator& ac
   }
   // Carry over by key.
   auto st = std::make_unique<fat::AccumulatorState>(acc.state());  // zero, the new hash
-  const long double tick_scale = static_cast<long double>(was.tick_s) / now.tick_s;
+  const long double tick_scale =
+      static_cast<long double>(was.tick_s) / static_cast<long double>(now.tick_s);
   st->elapsed_ticks = static_cast<std::uint64_t>(std::llround(old.elapsed_ticks * tick_scale));
   st->rotor_rev_q = old.rotor_rev_q;
   st->valid_steps = old.valid_steps;

@@ -115,7 +115,7 @@ void VibrationZones::add(const float* samples, std::size_t n, std::size_t lost_b
   }
   const double dt2 = 0.5 / fs_;
   for (std::size_t i = 0; i < n; ++i) {
-    const double x = samples[i];
+    const double x = static_cast<double>(samples[i]);
     // Broadband moments (mean removed at the interval's end).
     const double x2 = x * x;
     raw_sum1_ += x;

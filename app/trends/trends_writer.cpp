@@ -413,7 +413,8 @@ void TrendsWriter::changes(const loop::Snapshot& p, const loop::Snapshot& s) {
   bits(p.status_word, s.status_word, "status", 0);
   bits(p.fault_word, s.fault_word, "fault", 16);
   if (p.torque_source != s.torque_source)
-    event(s.stamp_ns, "inputs", static_cast<int>(s.torque_source), s.rotor_torque_nm,
+    event(s.stamp_ns, "inputs", static_cast<int>(s.torque_source),
+          static_cast<double>(s.rotor_torque_nm),
           std::string("ROM inputs from ") + loop::to_string(s.torque_source));
   for (std::size_t i = 0; i < loop::kSnapshotPoints; ++i) {
     if (p.points[i].zone == s.points[i].zone) continue;
@@ -429,15 +430,16 @@ void TrendsWriter::changes(const loop::Snapshot& p, const loop::Snapshot& s) {
     b.real(settings_.origin_unix_s + t)
         .real(t)
         .i64(s.calibration_generation)
-        .real(s.calibration_residual);
+        .real(static_cast<double>(s.calibration_residual));
     for (std::size_t i = 0; i < loop::kSnapshotPoints; ++i)
-      for (std::size_t k = 0; k < 3; ++k) b.real(s.fit[i][k]);
+      for (std::size_t k = 0; k < 3; ++k) b.real(static_cast<double>(s.fit[i][k]));
     if (b.step()) {
       ++stats_.rows;
     } else {
       fail("calibration");
     }
-    event(s.stamp_ns, "calibration", s.calibration_generation, s.calibration_residual,
+    event(s.stamp_ns, "calibration", s.calibration_generation,
+          static_cast<double>(s.calibration_residual),
           "calibrated model adopted (generation " + std::to_string(s.calibration_generation) + ")");
   }
 }
@@ -463,44 +465,44 @@ void TrendsWriter::add(const loop::Snapshot& s) {
       a.open(b, t_loop);
     }
     ++a.samples;
-    a.speed.add(s.rotor_speed_rpm);
-    a.torque.add(s.rotor_torque_nm);
-    a.wind.add(s.wind_speed_mps);
-    a.power.add(s.power_kw);
-    a.hss.add(s.hss_speed_rpm);
-    a.age.add(s.scada_age_s);
+    a.speed.add(static_cast<double>(s.rotor_speed_rpm));
+    a.torque.add(static_cast<double>(s.rotor_torque_nm));
+    a.wind.add(static_cast<double>(s.wind_speed_mps));
+    a.power.add(static_cast<double>(s.power_kw));
+    a.hss.add(static_cast<double>(s.hss_speed_rpm));
+    a.age.add(static_cast<double>(s.scada_age_s));
     const auto src = static_cast<std::size_t>(s.torque_source);
     if (src < a.source.size()) ++a.source[src];
     a.status_any |= s.status_word;
     a.fault_any |= s.fault_word;
     a.generation.add(s.calibration_generation);
-    a.residual.add(s.calibration_residual);
+    a.residual.add(static_cast<double>(s.calibration_residual));
     if (a.samples == 1) a.overruns_first = s.counters.overruns;
     a.overruns_last = s.counters.overruns;
-    a.cycle.add(s.counters.cycle_time_max_us);
-    a.latency.add(s.counters.wakeup_latency_max_us);
+    a.cycle.add(static_cast<double>(s.counters.cycle_time_max_us));
+    a.latency.add(static_cast<double>(s.counters.wakeup_latency_max_us));
     for (std::size_t i = 0; i < loop::kSnapshotPoints; ++i) {
       const loop::PointSnapshot& ps = s.points[i];
       Aggregate::Point& pt = a.points[i];
-      pt.accel_hf.add(ps.accel_rms_10_2000_mps2);
-      pt.velocity.add(ps.velocity_rms_10_1000_mmps);
-      pt.accel_lf.add(ps.accel_rms_01_10_mps2);
-      pt.rms.add(ps.rms_mps2);
-      pt.kurtosis.add(ps.kurtosis);
+      pt.accel_hf.add(static_cast<double>(ps.accel_rms_10_2000_mps2));
+      pt.velocity.add(static_cast<double>(ps.velocity_rms_10_1000_mmps));
+      pt.accel_lf.add(static_cast<double>(ps.accel_rms_01_10_mps2));
+      pt.rms.add(static_cast<double>(ps.rms_mps2));
+      pt.kurtosis.add(static_cast<double>(ps.kurtosis));
       if (ps.zone != loop::VibrationZone::kUnknown)
         pt.zone_max = std::max(pt.zone_max, static_cast<int>(ps.zone));
-      for (std::size_t k = 0; k < 3; ++k) pt.f[k].add(s.fit[i][k]);
+      for (std::size_t k = 0; k < 3; ++k) pt.f[k].add(static_cast<double>(s.fit[i][k]));
     }
     const std::size_t n = std::min<std::size_t>(s.channel_count, a.channels.size());
     for (std::size_t c = 0; c < n; ++c) {
       const results::ChannelResult& r = s.channels[c];
       Aggregate::Channel& ch = a.channels[c];
       if (!std::isfinite(ch.before) && !std::isfinite(ch.damage.v))
-        ch.before = r.damage;  // first ever
-      ch.damage.add(r.damage);
-      ch.rul.add(r.rul_h);
-      ch.rul_low.add(r.rul_low_h);
-      ch.load.add(r.load);
+        ch.before = static_cast<double>(r.damage);  // first ever
+      ch.damage.add(static_cast<double>(r.damage));
+      ch.rul.add(static_cast<double>(r.rul_h));
+      ch.rul_low.add(static_cast<double>(r.rul_low_h));
+      ch.load.add(static_cast<double>(r.load));
     }
   }
   *last_ = s;

@@ -91,6 +91,16 @@ CalibrationSpace CalibrationSpace::standard(
     std::snprintf(name, sizeof name, "bearing_stiffness.b%zu", i + 1);
     s.add(ParameterField::kBearingFactor, i, true, kLn2, v / 4.0, v * 4.0, name, "-");
   }
+  // The derived varying compliance (model/dynamics/bearing_compliance.hpp): its amplitude at
+  // zero operating clearance is ~1e-4 of the stiffness for 14–22 rollers; an unknown clearance
+  // narrows the load zone and raises it — clearance/2 at 0.5 of the load deflection ×10–100,
+  // at 0.75 ×100 (1–3 %) — so σ = ln 10 and bounds ×/÷ 100 (2 σ, as every variable here);
+  // ÷ 100 is "no fluctuation" (a preloaded bearing), not a bound.
+  if (const double v = prior.bearing_compliance_scale; v > 0.0) {
+    s.add(ParameterField::kBearingComplianceScale, 0, true, std::log(10.0), v / 100.0, v * 100.0,
+          "bearing_compliance_scale", "-");
+    s.vars_[s.count_ - 1].lower_is_zero = true;
+  }
   if (const double v = prior.bearing_stiffness_fluctuation; v > 0.0) {
     s.add(ParameterField::kBearingFluctuation, 0, true, kLn2, v / 10.0, std::min(1.0, v * 10.0),
           "bearing_stiffness_fluctuation", "-");
@@ -186,6 +196,8 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.mesh_tip_relief[i];
     case ParameterField::kBearingFluctuation:
       return p.bearing_stiffness_fluctuation;
+    case ParameterField::kBearingComplianceScale:
+      return p.bearing_compliance_scale;
     case ParameterField::kBearingShaftScale:
       return p.bearing_stiffness_scale[i];
     case ParameterField::kBearingFactor:
@@ -240,6 +252,9 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kBearingFluctuation:
       p.bearing_stiffness_fluctuation = value;
+      break;
+    case ParameterField::kBearingComplianceScale:
+      p.bearing_compliance_scale = value;
       break;
     case ParameterField::kBearingShaftScale:
       p.bearing_stiffness_scale[i] = value;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "model/drivetrain/kinematics.hpp"
+#include "model/dynamics/bearing_compliance.hpp"
 #include "model/dynamics/mesh_stiffness.hpp"
 
 namespace model::dynamics {
@@ -863,10 +864,12 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
   }
   const DynamicsParameters& dp = d.dynamics;
   if (!(dp.rayleigh_eta >= 0.0) || !(dp.rayleigh_zeta >= 0.0) ||
-      !(dp.bearing_stiffness_fluctuation >= 0.0) || !(dp.bearing_stiffness_fluctuation < 1.0)) {
+      !(dp.bearing_stiffness_fluctuation >= 0.0) || !(dp.bearing_stiffness_fluctuation < 1.0) ||
+      !(dp.bearing_compliance_scale >= 0.0) || !std::isfinite(dp.bearing_compliance_scale)) {
     fail(error, "drivetrain '" + d.name +
-                    "': dynamics: rayleigh_eta, rayleigh_zeta must be ≥ 0 and "
-                    "bearing_stiffness_fluctuation in [0, 1)");
+                    "': dynamics: rayleigh_eta, rayleigh_zeta must be ≥ 0, "
+                    "bearing_stiffness_fluctuation in [0, 1) and bearing_compliance_scale a "
+                    "finite value ≥ 0");
     return std::nullopt;
   }
   for (std::size_t i = 0; i < 3; ++i) {
@@ -1476,7 +1479,20 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
     v.mean_n_m = b.radial_stiffness_n_m * b.rows *
                  dp.bearing_stiffness_scale[sites[i].shaft_group] * dp.bearing_stiffness_factor[i];
-    v.shape = PeriodicTable::cosine(dp.bearing_stiffness_fluctuation);
+    // Varying compliance: the elements passing through the load zone (bearing_compliance.hpp),
+    // derived from the bearing's element count and contact law, scaled, plus the explicit cosine.
+    v.shape = bearing_stiffness_shape(b.elements, b.type, dp.bearing_compliance_scale,
+                                      dp.bearing_stiffness_fluctuation);
+    {
+      double lo = v.shape.values[0];
+      for (double x : v.shape.values) lo = std::min(lo, x);
+      if (!(lo > 0.0)) {
+        fail(error, "drivetrain '" + d.name + "': dynamics: bearing '" + b.id +
+                        "': bearing_compliance_scale and bearing_stiffness_fluctuation make its "
+                        "stiffness reach zero within a ball pass");
+        return std::nullopt;
+      }
+    }
     const std::optional<BearingFrequencies> f = kin.bearing_hz(b.id, 60.0);
     if (!f) {
       fail(error, "drivetrain '" + d.name + "': bearings: '" + b.id + "': shaft '" + b.shaft +

@@ -19,7 +19,9 @@ using app::loop::VibrationZone;
 using hal::ScadaQuantity;
 using std::chrono::seconds;
 
-hal::ScadaData scada(double wind, double rpm, double power_kw, double torque = NAN) {
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+hal::ScadaData scada(double wind, double rpm, double power_kw, double torque = kNaN) {
   hal::ScadaData d;
   const auto set = [&](ScadaQuantity q, double v) {
     if (std::isnan(v)) return;
@@ -58,7 +60,7 @@ TEST_F(SupervisorTest, MeasuredTorqueComesFirstThenPowerThenWind) {
   EXPECT_EQ(r.source, TorqueSource::kPower);
   EXPECT_NEAR(r.rom.input_torque_nm, 900e3 / (12.0 * 2.0 * std::numbers::pi / 60.0), 1e-6);
   // Wind at the measured speed: the wind load model's own value.
-  r = s.update(hal::Timestamp{0}, scada(8.0, 12.0, NAN), ok());
+  r = s.update(hal::Timestamp{0}, scada(8.0, 12.0, kNaN), ok());
   EXPECT_EQ(r.source, TorqueSource::kWind);
   const model::wind::WindLoad wind(d_.turbine);
   EXPECT_DOUBLE_EQ(
@@ -82,7 +84,7 @@ TEST_F(SupervisorTest, NonFiniteAndImplausibleValuesAreRejectedCountedAndSkipped
   EXPECT_EQ(r.source, TorqueSource::kWind);
   EXPECT_TRUE(r.fault_word & kFaultInputRejected);
   // A rotor speed of 100 rpm (6.8 × rated) and a wind of 300 m/s: nothing usable is left.
-  const SupervisorDecision r2 = s.update(hal::Timestamp{0}, scada(300.0, 100.0, NAN), ok());
+  const SupervisorDecision r2 = s.update(hal::Timestamp{0}, scada(300.0, 100.0, kNaN), ok());
   EXPECT_EQ(r2.rejected_this_cycle, 2u);
   EXPECT_EQ(r2.source, TorqueSource::kHeld);  // the previous cycle's inputs, held
 }

@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -66,7 +67,7 @@ struct Db {
   double scalar(const std::string& sql) const {
     sqlite3_stmt* s = nullptr;
     EXPECT_EQ(sqlite3_prepare_v2(db, sql.c_str(), -1, &s, nullptr), SQLITE_OK) << sql;
-    double v = NAN;
+    double v = std::numeric_limits<double>::quiet_NaN();
     if (s && sqlite3_step(s) == SQLITE_ROW && sqlite3_column_type(s, 0) != SQLITE_NULL)
       v = sqlite3_column_double(s, 0);
     sqlite3_finalize(s);

@@ -617,13 +617,47 @@ TEST(CalibrationSpace,
       EXPECT_EQ(v.lower, 0.0);
       EXPECT_EQ(v.upper, 1.0);
     }
-    // Only an error amplitude's lower bound (prior/50, searched in ln) stands for zero.
-    EXPECT_EQ(v.lower_is_zero, v.field == model::calibration::ParameterField::kTransmissionError)
+    // Only an error amplitude's lower bound (prior/50, searched in ln) and the varying
+    // compliance's (prior/100: no fluctuation) stand for zero.
+    EXPECT_EQ(v.lower_is_zero,
+              v.field == model::calibration::ParameterField::kTransmissionError ||
+                  v.field == model::calibration::ParameterField::kBearingComplianceScale)
         << space.name(i);
     zero_lower += v.lower_is_zero ? 1 : 0;
   }
   EXPECT_EQ(relief, 3u);
   EXPECT_EQ(zero_lower, 9u);
+}
+
+TEST(CalibrationSpace, TheDerivedVaryingComplianceIsOneScaleWithAWidePriorThatMayReachZero) {
+  // A description with the varying compliance derived from the bearings' geometry
+  // (bearing_compliance_scale 1) instead of the cosine: the space calibrates its scale, ln,
+  // σ = ln 10 (the unknown operating clearance moves it ×100 over its physical range),
+  // bounds ×/÷ 100, the lower one standing for "none" (not AT BOUND); the same 66 variables.
+  model::DynamicsParameters p = model::paper_2mw().dynamics;
+  p.bearing_compliance_scale = 1.0;
+  p.bearing_stiffness_fluctuation = 0.0;
+  const CalibrationSpace space = CalibrationSpace::standard(p);
+  ASSERT_EQ(space.size(), 66u);
+  std::size_t found = 0;
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const auto& v = space.variable(i);
+    EXPECT_NE(v.field, model::calibration::ParameterField::kBearingFluctuation);
+    if (v.field != model::calibration::ParameterField::kBearingComplianceScale) continue;
+    ++found;
+    EXPECT_TRUE(v.logarithmic);
+    EXPECT_NEAR(v.prior_sd, std::log(10.0), 1e-12);
+    EXPECT_NEAR(v.lower, 0.01, 1e-12);
+    EXPECT_NEAR(v.upper, 100.0, 1e-9);
+    EXPECT_TRUE(v.lower_is_zero);
+  }
+  EXPECT_EQ(found, 1u);
+  double z[model::calibration::kMaxCalibrationVariables] = {};
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    if (space.variable(i).field == model::calibration::ParameterField::kBearingComplianceScale)
+      z[i] = 1.0;  // one prior σ up: ×10
+  }
+  EXPECT_NEAR(space.to_parameters(z, p).bearing_compliance_scale, 10.0, 1e-9);
 }
 
 TEST(CalibrationSpace, TheSeatSpaceAddsTheUnmeasuredSeatsParticipationsAtTheirPriorZero) {

@@ -24,6 +24,7 @@ inline model::Drivetrain quiet_paper() {
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.transmission_error_m.fill(0.0);
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   return d;
 }
 inline model::dynamics::FullModel quiet_model() {

@@ -182,6 +182,7 @@ TEST(FullModelExcitation, TransmissionErrorDrivesTheSensorsAsTheFrequencyRespons
   d.dynamics.transmission_error_m.fill(0.0);
   d.dynamics.transmission_error_m[2 * model::kTransmissionErrorHarmonics] = 2e-6;
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   std::string error;
   auto m = build_full_model(d, {}, &error);
   ASSERT_TRUE(m) << error;
@@ -225,6 +226,7 @@ TEST(SeatParticipation,
   d.dynamics.transmission_error_m.fill(0.0);
   d.dynamics.transmission_error_m[1 * model::kTransmissionErrorHarmonics] = 2e-6;  // ims, 1×
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   model::Drivetrain d0 = d;
   d.dynamics.housing_seat_participation[(3 - model::kHousingSeatFirstBearing) * modes] = 0.5;
   std::string error;
@@ -327,6 +329,7 @@ TEST(GearboxBody, TheRomKeepsTheBodysPathFromTheMeshesToBothSensors) {
   d.dynamics.transmission_error_m.fill(0.0);
   d.dynamics.transmission_error_m[1 * model::kTransmissionErrorHarmonics] = 2e-6;  // ims, 1×
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   model::Drivetrain d0 = d;
   d0.dynamics.gearbox_body_mass_kg = 0.0;
   std::string error;

@@ -224,6 +224,7 @@ TEST(FullModelIntegrator, UndampedFreeVibrationConservesEnergy) {
   d.dynamics.housing_damping_ratio.fill(0.0);  // the housing modes stay, undamped
   d.dynamics.transmission_error_m.fill(0.0);   // free vibration: no mesh excitation
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = model::dynamics::PeriodicTable::constant(1.0);
   NewmarkIntegrator integ(m, 1.0 / 25600);
@@ -253,6 +254,7 @@ TEST(FullModelIntegrator, TorqueStepRingsDownAtTheRayleighDampingRate) {
   // model builds is exactly Rayleigh's, which this checks against the formula.
   model::Drivetrain d = model::paper_2mw();
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   d.dynamics.housing_frequency_hz.fill(0.0);
   d.dynamics.transmission_error_m.fill(0.0);
   FullModel m = paper_model(d);
@@ -564,6 +566,38 @@ TEST(FullModelBuild, PerBearingFactorMultipliesItsShaftScale) {
   const model::Bearing& b6 = *d.bearing("b6");
   EXPECT_NEAR(m.bearings[4].mean_n_m, b5.radial_stiffness_n_m * b5.rows * 3.0, 1.0);
   EXPECT_NEAR(m.bearings[5].mean_n_m, b6.radial_stiffness_n_m * b6.rows * 1.5, 1.0);
+}
+
+TEST(FullModelBuild, EachBearingsVaryingComplianceFollowsItsRollerCount) {
+  // paper-2mw's b5 has 16 rollers, b6 14 (per row): their stiffness at the roller-on-the-load-
+  // line position over the half-pitch one is the line-contact law's by hand
+  // (test_mesh_stiffness.cpp, BearingCompliance): 3.917624/3.916124 and 3.426310/3.428306;
+  // bearing_compliance_scale multiplies the deviation, the explicit cosine adds to it.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.bearing_compliance_scale = 1.0;
+  d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  FullModel m = paper_model(d);
+  const auto ratio = [](const model::dynamics::VaryingStiffness& v) {
+    return v.shape.value(0.0) / v.shape.value(0.5) - 1.0;
+  };
+  EXPECT_NEAR(ratio(m.bearings[4]), 3.9176228 / 3.9161246 - 1.0, 2e-6);
+  EXPECT_NEAR(ratio(m.bearings[5]), 3.4263100 / 3.4283065 - 1.0, 2e-6);
+  d.dynamics.bearing_compliance_scale = 10.0;
+  d.dynamics.bearing_stiffness_fluctuation = 0.05;
+  m = paper_model(d);
+  const model::dynamics::VaryingStiffness& b5 = m.bearings[4];
+  EXPECT_NEAR(b5.shape.value(0.0) - 1.0, 10.0 * 2.1594e-4 + 0.05, 2e-5);
+  EXPECT_NEAR(b5.shape.value(0.5) - 1.0, 10.0 * -1.6654e-4 - 0.05, 2e-5);
+  // The default (scale 0, the cosine 0.1): exactly the cosine, as before the derived shape.
+  d.dynamics = model::paper_2mw().dynamics;
+  m = paper_model(d);
+  const auto cosine = model::dynamics::PeriodicTable::cosine(0.1);
+  for (std::size_t i = 0; i < model::dynamics::PeriodicTable::kSize; ++i)
+    ASSERT_EQ(m.bearings[4].shape.values[i], cosine.values[i]) << i;
+  d.dynamics.bearing_compliance_scale = -1.0;
+  std::string error;
+  EXPECT_FALSE(build_full_model(d, {}, &error));
+  EXPECT_NE(error.find("bearing_compliance_scale"), std::string::npos) << error;
 }
 
 TEST(FullModelBuild, ImpossibleHousingModeIsRejectedNamingTheKey) {

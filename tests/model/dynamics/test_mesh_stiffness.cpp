@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "model/dynamics/bearing_compliance.hpp"
 #include "model/dynamics/mesh_stiffness.hpp"
 
 namespace {
@@ -185,3 +186,46 @@ TEST(PeriodicTableLookup, InterpolatesLinearlyAndWrapsAround) {
 }
 
 }  // namespace
+
+// ---- a bearing's varying compliance (bearing_compliance.hpp) ------------------------------
+
+TEST(BearingCompliance, StiffnessAtTwoRollerPositionsMatchesTheLineContactLawByHand) {
+  // b5 of paper-2mw: 16 cylindrical rollers, zero clearance, inner ring displaced by δ along
+  // the load. Line contact Q = K_n·δ_j^(10/9) (Palmgren's δ ∝ Q^0.9/L^0.8), δ_j = δ·cos ψ_j:
+  // F = K_n δ^(10/9) Σ cos^(19/9) ψ_j over the rollers with cos ψ_j > 0; the secant stiffness
+  // F/δ at two cage positions, by hand:
+  //  roller on the load line: ψ = 0, ±22.5°, ±45°, ±67.5° (±90° carries nothing)
+  //    Σ = 1 + 2·(0.846078 + 0.481112 + 0.131622) = 3.917624
+  //  half a pitch on:         ψ = ±11.25°, ±33.75°, ±56.25°, ±78.75°
+  //    Σ = 2·(0.959868 + 0.677309 + 0.289145 + 0.031740) = 3.916124
+  //  k(0)/k(½) − 1 = 3.917624/3.916124 − 1 = 3.83e-4: the 16-roller bearing's stiffness
+  //  fluctuates by ~2e-4 about its mean at zero clearance, not by 10 %.
+  const PeriodicTable t = model::dynamics::bearing_load_zone_force(16, model::BearingType::kRoller);
+  EXPECT_NEAR(t.value(0.0) / t.value(0.5) - 1.0, 3.9176228 / 3.9161246 - 1.0, 2e-6);
+  EXPECT_NEAR(t.mean(), 1.0, 1e-12);
+  // The roller on the load line is the stiffest position for 16 rollers (an even count puts
+  // one at ±90°, unloaded); for 14 (b6) the half-pitch position is: by hand
+  // Σ(0) = 1 + 2·Σ_{k=1..3} cos^(19/9)(k·25.714°) = 3.426310,
+  // Σ(½) = 2·Σ_{k=0..2} cos^(19/9)((k + ½)·25.714°) = 3.428306.
+  const PeriodicTable t14 =
+      model::dynamics::bearing_load_zone_force(14, model::BearingType::kRoller);
+  EXPECT_NEAR(t14.value(0.0) / t14.value(0.5) - 1.0, 3.4263100 / 3.4283065 - 1.0, 2e-6);
+}
+
+TEST(BearingCompliance, TheModelsShapeScalesTheDerivedFluctuationAndAddsTheCosine) {
+  const PeriodicTable f = model::dynamics::bearing_load_zone_force(16, model::BearingType::kRoller);
+  const PeriodicTable none =
+      model::dynamics::bearing_stiffness_shape(16, model::BearingType::kRoller, 0.0, 0.0);
+  const PeriodicTable x30 =
+      model::dynamics::bearing_stiffness_shape(16, model::BearingType::kRoller, 30.0, 0.05);
+  for (double c : {0.0, 0.1, 0.25, 0.5, 0.8}) {
+    EXPECT_DOUBLE_EQ(none.value(c), 1.0);
+    EXPECT_NEAR(x30.value(c), 1.0 + 30.0 * (f.value(c) - 1.0) + 0.05 * std::cos(2.0 * kPi * c),
+                1e-4);
+  }
+  // A ball's point contact (n = 3/2) fluctuates more than a roller's line contact at the same
+  // count: the sum of cos^(n+1) over the load zone is less even.
+  const PeriodicTable ball =
+      model::dynamics::bearing_load_zone_force(16, model::BearingType::kBall);
+  EXPECT_GT(ball.value(0.0) / ball.value(0.5), f.value(0.0) / f.value(0.5));
+}

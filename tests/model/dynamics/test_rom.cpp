@@ -96,6 +96,7 @@ TEST(Rom, UndampedFreeVibrationConservesModalEnergy) {
   d.dynamics.housing_damping_ratio.fill(0.0);  // the housing modes stay, undamped
   d.dynamics.transmission_error_m.fill(0.0);   // free vibration: no mesh excitation
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
   const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
@@ -444,6 +445,7 @@ TEST(Rom, TransmissionErrorDrivesTheSensorsAsTheFrequencyResponsePredicts) {
   d.dynamics.transmission_error_m.fill(0.0);
   d.dynamics.transmission_error_m[2 * model::kTransmissionErrorHarmonics] = 2e-6;  // hss, 1×
   d.dynamics.bearing_stiffness_fluctuation = 0.0;
+  d.dynamics.bearing_compliance_scale = 0.0;
   FullModel m = paper_model(d);
   for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
   const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);
@@ -485,6 +487,7 @@ TEST(Rom, ATransmissionErrorPhaseShiftsItsToneByThatPhaseAndLeavesItsAmplitude) 
     d.dynamics.transmission_error_m[2 * model::kTransmissionErrorHarmonics] = 2e-6;  // hss, 1×
     d.dynamics.transmission_error_phase_rad[2 * model::kTransmissionErrorHarmonics] = phase_rad;
     d.dynamics.bearing_stiffness_fluctuation = 0.0;
+    d.dynamics.bearing_compliance_scale = 0.0;
     FullModel m = paper_model(d);
     for (auto& v : m.meshes) v.shape = PeriodicTable::constant(1.0);
     const auto data = build_rom(m, kDt, kRomDefaultCutoffHz);

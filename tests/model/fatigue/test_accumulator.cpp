@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 #include <new>
 
@@ -183,7 +184,7 @@ TEST(Accumulator, BadStepsAreCountedAndLeaveDamageAndHistogramUntouched) {
   LoadSample nan_load = f.channels.quasi_static_loads(1e6);
   nan_load.mesh_force_n[2] = std::nan("");
   LoadSample inf_bearing = f.channels.quasi_static_loads(1e6);
-  inf_bearing.bearing_radial_n[4] = INFINITY;
+  inf_bearing.bearing_radial_n[4] = std::numeric_limits<double>::infinity();
   EXPECT_EQ(acc.step(nan_load, 12.0, 100), StepResult::kBadLoad);
   EXPECT_EQ(acc.step(inf_bearing, 12.0, 100), StepResult::kBadLoad);
   EXPECT_EQ(acc.step(f.channels.quasi_static_loads(1e6), -3.0, 100), StepResult::kBadSpeed);

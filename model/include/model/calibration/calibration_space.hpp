@@ -18,8 +18,13 @@
 //                stiffness variation is: its higher    of the modification that evens the
 //                harmonics)                            stiffness out; unknown for a real box)
 //                bearing stiffness b1..b6              ln, σ = ln 2 (preload, clearance), ×/÷ 4
-//                bearing stiffness fluctuation (the    ln, σ = ln 2, ×/÷ 10 (roller count and
-//                varying compliance at ball pass)      load zone; where the prior has one)
+//                varying compliance (the rollers       ln, σ = ln 10, ×/÷ 100 (derived at zero
+//                passing the load zone, derived from   operating clearance; a clearance of up
+//                each bearing's geometry: a scale)     to ~¾ of the load deflection raises it
+//                                                      ~100×; ÷ 100 stands for "none": ending
+//                                                      there is not AT BOUND)
+//                explicit cosine fluctuation at BPFO   ln, σ = ln 2, ×/÷ 10 (only where the
+//                                                      prior has one)
 //   excitation   transmission error per stage and harmonic 1..3
 //                                                      ln, σ = ln 3 (the accuracy grade is a
 //                                                      tolerance, not a measurement), ×/÷ 50
@@ -105,6 +110,8 @@ enum class ParameterField : std::uint8_t {
   kGearboxBodyMass,        // index: 0
   kGearboxMountStiffness,  // index: 0
   kGearboxMountDamping,    // index: 0
+  // The derived varying compliance's scale (bearing_compliance.hpp), index 0.
+  kBearingComplianceScale,
 };
 
 struct CalibrationVariable {

@@ -191,7 +191,14 @@ struct DynamicsParameters {
   /// 0: unmodified involutes (the model before this parameter).
   std::array<double, 3> mesh_tip_relief{};
   std::array<double, 3> bearing_stiffness_scale{1.0, 1.0, 1.0};  // [-] sun_shaft, ims, hss
-  double bearing_stiffness_fluctuation = 0.1;                    // [-] k_θ / k_a
+  /// [-] scale of each bearing's varying compliance derived from its geometry: its rolling
+  /// elements passing through the load zone (model/dynamics/bearing_compliance.hpp; 1: as
+  /// derived at zero operating clearance, ~1e-4 of the stiffness for 14–22 rollers; 0: not
+  /// derived, the default — measured in session 8 to cost two of five calibrations,
+  /// docs/calibration.md).
+  double bearing_compliance_scale = 0.0;
+  /// [-] k_θ / k_a: an explicit cosine at BPFO, on top of the derived fluctuation (0: none).
+  double bearing_stiffness_fluctuation = 0.1;
   /// [-] per bearing b1..b6, on top of its shaft's bearing_stiffness_scale.
   std::array<double, 6> bearing_stiffness_factor{1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
   /// [-] multiplies the gearbox's modal damping ratio (Rayleigh's η/2ω + ζω/2) at the
