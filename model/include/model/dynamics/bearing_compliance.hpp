@@ -40,7 +40,8 @@ PeriodicTable bearing_load_zone_force(int elements, BearingType type) noexcept;
 
 /// The stiffness shape of a bearing in the dynamics models: 1 + scale·(F(c)/F̄ − 1) +
 /// cosine_amplitude·cos 2πc — the derived varying compliance, scaled (1: as derived; 0: none),
-/// plus an explicit cosine (DynamicsParameters::bearing_stiffness_fluctuation; 0 by default).
+/// plus an explicit cosine (DynamicsParameters::bearing_stiffness_fluctuation; 0.1 by
+/// default, the prior the standard space fits).
 PeriodicTable bearing_stiffness_shape(int elements, BearingType type, double scale,
                                       double cosine_amplitude) noexcept;
 
