@@ -165,14 +165,14 @@ void run(const Args& args) {
       std::printf("mismatch %s %.1f-%.1f Hz: %s (share %.2f)\n", m.channel.c_str(), m.band_lo_hz,
                   m.band_hi_hz, m.signature.c_str(), m.share);
     for (std::size_t i = 0; i < r.ranking.size() && i < 8; ++i)
-      std::printf("ranked %zu: %s @ %s (%s), score %.3f\n", i + 1,
-                  md::effect_id(diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].effect),
-                  diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].location.c_str(),
-                  diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].domain ==
-                          md::Domain::kEnvelope
-                      ? "envelope"
-                      : "spectrum",
-                  r.ranking[i].score);
+      std::printf(
+          "ranked %zu: %s @ %s (%s), score %.3f\n", i + 1,
+          md::effect_id(diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].effect),
+          diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].location.c_str(),
+          diagnoser.catalogue().hypotheses[r.ranking[i].hypothesis].domain == md::Domain::kEnvelope
+              ? "envelope"
+              : "spectrum",
+          r.ranking[i].score);
     for (const md::CandidateResult& c : r.candidates)
       std::printf("candidate %s @ %s: score %.3f, confidence %.2f%s — %s\n",
                   md::effect_id(c.effect), c.location.c_str(), c.prior_score, c.confidence,

@@ -644,10 +644,9 @@ void Diagnoser::step_locate() {
                        &w.rec_full[p], &w.sim_cal[p]});
   }
   w.located = locate(catalogue_, w.pairs, config_.locate);
-  report_.ranking.assign(
-      w.located.ranking.begin(),
-      w.located.ranking.begin() +
-          static_cast<long>(std::min<std::size_t>(16, w.located.ranking.size())));
+  report_.ranking.assign(w.located.ranking.begin(),
+                         w.located.ranking.begin() + static_cast<long>(std::min<std::size_t>(
+                                                         16, w.located.ranking.size())));
   // The mismatch: every feature with a share worth naming, largest first.
   std::vector<const ResidualFeature*> feats;
   for (const ResidualFeature& f : w.located.features)
@@ -818,9 +817,8 @@ bool Diagnoser::step_refit() {
       while (w.fit_revs < w.half_a.revs && !clear(w.fit_revs))
         w.fit_revs = std::min(2 * w.fit_revs, w.half_a.revs);
     }
-    const double measured_rate = is_bearing(h.effect) && rate > 0.0
-                                     ? rate / h.lines.front().order * h.rate_order
-                                     : 0.0;
+    const double measured_rate =
+        is_bearing(h.effect) && rate > 0.0 ? rate / h.lines.front().order * h.rate_order : 0.0;
     auto map = std::make_unique<EffectFitMap>(
         simulator_, catalogue_, h, w.params, w.lines, report_.parameters_calibrated, w.op, w.sim_fs,
         w.ref_hz, w.fit_revs, a, w.rec_full.data(), w.env_order, measured_rate, simulations_);
@@ -918,10 +916,14 @@ bool Diagnoser::step_refit() {
     std::sort(windows[p].begin(), windows[p].end());
     windows[p].erase(std::unique(windows[p].begin(), windows[p].end()), windows[p].end());
   }
-  c.signature_fit_calibrated = signature_residual(w.rec_a, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
-  c.signature_fit_effect = signature_residual(w.rec_a, half, h.domain, is_bearing(h.effect), windows);
-  c.signature_holdout_calibrated = signature_residual(w.rec_b, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
-  c.signature_holdout_effect = signature_residual(w.rec_b, half, h.domain, is_bearing(h.effect), windows);
+  c.signature_fit_calibrated =
+      signature_residual(w.rec_a, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
+  c.signature_fit_effect =
+      signature_residual(w.rec_a, half, h.domain, is_bearing(h.effect), windows);
+  c.signature_holdout_calibrated =
+      signature_residual(w.rec_b, w.sim_cal_half, h.domain, is_bearing(h.effect), windows);
+  c.signature_holdout_effect =
+      signature_residual(w.rec_b, half, h.domain, is_bearing(h.effect), windows);
   // Its lines' evidence on the hold-out half (against calibration alone).
   const bool env = h.domain == Domain::kEnvelope;
   c.holdout_evidence = 0.0;

@@ -414,7 +414,8 @@ LocateResult locate(const Catalogue& cat, const std::vector<ChannelPair>& channe
         for (const SignatureLine& l : h.lines) orders.push_back(l.order);
         for (double o : orders) {
           if (!usable(o, h.tolerance)) continue;
-          const LineMeasure m = measure_line(rs, ss, o, h.tolerance, cfg, bearing_exclusions(h, sync, gears));
+          const LineMeasure m =
+              measure_line(rs, ss, o, h.tolerance, cfg, bearing_exclusions(h, sync, gears));
           if (!m.significant) continue;
           bool dup = false;
           for (double q : seen)

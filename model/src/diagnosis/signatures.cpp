@@ -416,8 +416,9 @@ Catalogue build_catalogue(const Drivetrain& d, const std::vector<std::string>& s
     std::vector<SignatureLine> first, lines;
     for (const SignatureLine& l : h.lines)
       if (std::abs(l.order - rate) < 0.5 * rate) first.push_back(l);
-    const int k_top = std::clamp(static_cast<int>(std::floor(cfg.bearing_spectrum_top_order / rate)),
-                                 cfg.bearing_harmonics, cfg.bearing_spectrum_harmonics);
+    const int k_top =
+        std::clamp(static_cast<int>(std::floor(cfg.bearing_spectrum_top_order / rate)),
+                   cfg.bearing_harmonics, cfg.bearing_spectrum_harmonics);
     for (int kk = 1; kk <= k_top; ++kk)
       for (const SignatureLine& l : first) lines.push_back({l.order + (kk - 1) * rate, l.weight});
     h.lines.clear();

@@ -33,7 +33,7 @@ PeriodicTable bearing_stiffness_shape(int elements, BearingType type, double sca
   PeriodicTable t = bearing_load_zone_force(elements, type);
   const PeriodicTable c = PeriodicTable::cosine(cosine_amplitude);
   for (std::size_t i = 0; i < PeriodicTable::kSize; ++i)
-    t.values[i] = 1.0 + scale * (t.values[i] - 1.0) + (c.values[i] - 1.0);
+    t.values[i] = c.values[i] + scale * (t.values[i] - 1.0);  // scale 0: the cosine bit for bit
   return t;
 }
 

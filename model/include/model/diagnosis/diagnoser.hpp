@@ -88,7 +88,8 @@ struct DiagnoserConfig {
     c.trust_region.max_evaluations = model::calibration::kDefaultFitEvaluations;
     return c;
   }();
-  std::size_t max_candidates = 3;             // hypotheses refitted (and as many bearings read in the spectrum)
+  std::size_t max_candidates =
+      3;  // hypotheses refitted (and as many bearings read in the spectrum)
   std::size_t fit_evaluations = 10;           // per candidate, probes included
   std::size_t recalibration_evaluations = 0;  // calibrator with the effect on (0: not run)
   double min_improvement = 0.25;              // [-] of the calibrated hold-out signature residual

@@ -103,11 +103,11 @@ struct CatalogueConfig {
   int bearing_harmonics = 3;  // [-] k = 1..3
   // A bearing's lines in the waveform's spectrum: every harmonic of its rate up to this
   // order (the top of the envelope's synchronous comb, locate.hpp), at most this many.
-  double bearing_spectrum_top_order = 60.0;  // [orders]
-  int bearing_spectrum_harmonics = 12;       // [-]
+  double bearing_spectrum_top_order = 60.0;       // [orders]
+  int bearing_spectrum_harmonics = 12;            // [-]
   double bearing_spectrum_min_shaft_order = 0.2;  // [orders] kSynchronousShaftOrder
-  double slip = 0.02;         // [-] rolling-element slip tolerance on bearing lines
-  double max_order = 1e9;     // [orders] lines above are dropped (analysis band)
+  double slip = 0.02;      // [-] rolling-element slip tolerance on bearing lines
+  double max_order = 1e9;  // [orders] lines above are dropped (analysis band)
 };
 
 /// Rate of a rotating part in orders of the reference shaft.
