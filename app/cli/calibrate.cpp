@@ -280,25 +280,9 @@ nlohmann::json tones_json(const std::vector<ToneRow>& rows) {
   return list;
 }
 
-// Share of the measured order-spectrum energy (0–5 kHz, both points) the
-// simulation does not explain: Σ(a_m − a_s)² / Σ a_m², clipped to [0, 1].
-double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
-                const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated,
-                std::size_t last_line) {
-  double miss = 0.0;
-  double total = 0.0;
-  for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    for (std::size_t k = 1; k <= last_line && k < measured[p].size(); ++k) {
-      const double d = measured[p][k] - simulated[p][k];
-      miss += d * d;
-      total += measured[p][k] * measured[p][k];
-    }
-  }
-  return total > 0.0 ? std::clamp(miss / total, 0.0, 1.0) : 1.0;
-}
-
-// The residual's share before the clip above: > 1 when the twin adds more energy than it
-// explains (lines the recording lacks).
+// Share of the measured order-spectrum energy (0–5 kHz, both points) the simulation does
+// not explain, Σ(a_m − a_s)² / Σ a_m², before any clip: > 1 when the twin adds more energy
+// than it explains (lines the recording lacks).
 double residual_unclipped(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
                           const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated,
                           std::size_t last_line) {
@@ -312,6 +296,13 @@ double residual_unclipped(const std::array<std::vector<double>, mc::kMeasurement
     }
   }
   return total > 0.0 ? miss / total : 1.0;
+}
+
+// The residual as reported: the share above clipped to [0, 1].
+double residual(const std::array<std::vector<double>, mc::kMeasurementPoints>& measured,
+                const std::array<std::vector<double>, mc::kMeasurementPoints>& simulated,
+                std::size_t last_line) {
+  return std::clamp(residual_unclipped(measured, simulated, last_line), 0.0, 1.0);
 }
 
 // What carries the residual: the lines (local maxima of max(measured, simulated) over the
@@ -708,24 +699,20 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     }
     return out;
   };
+  auto residual_last_line = [&](std::size_t c) {  // the last order line below 5 kHz
+    return static_cast<std::size_t>(kResidualBandHz / bundles[c].hss_hz *
+                                    static_cast<double>(fx.config().revolutions));
+  };
   auto residual_of_simulated = [&](const Simulated& sim, std::size_t c) {
-    const MeasuredBundle& b = bundles[c];
-    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
-                                                    static_cast<double>(fx.config().revolutions));
-    return residual(b.spectrum, sim.spectrum, last_line);
+    return residual(bundles[c].spectrum, sim.spectrum, residual_last_line(c));
   };
   auto residual_unclipped_of = [&](const Simulated& sim, std::size_t c) {
-    const MeasuredBundle& b = bundles[c];
-    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
-                                                    static_cast<double>(fx.config().revolutions));
-    return residual_unclipped(b.spectrum, sim.spectrum, last_line);
+    return residual_unclipped(bundles[c].spectrum, sim.spectrum, residual_last_line(c));
   };
   auto residual_lines_of = [&](const Simulated& sim, std::size_t c) {
     const MeasuredBundle& b = bundles[c];
-    const auto last_line = static_cast<std::size_t>(kResidualBandHz / b.hss_hz *
-                                                    static_cast<double>(fx.config().revolutions));
-    return residual_lines(b.spectrum, sim.spectrum, last_line, fx.config().revolutions, b.hss_hz,
-                          drivetrain, kinematics, b.measured.op.rotor_speed_rpm, 8);
+    return residual_lines(b.spectrum, sim.spectrum, residual_last_line(c), fx.config().revolutions,
+                          b.hss_hz, drivetrain, kinematics, b.measured.op.rotor_speed_rpm, 8);
   };
 
   std::array<mc::PointIndicators, mc::kMaxCalibrationCases> fit_before{};
