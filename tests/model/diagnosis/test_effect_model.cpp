@@ -55,6 +55,16 @@ TEST(RomEffectSimulator, ARepeatedCallReturnsWhatAFreshSimulationGivesWithoutSim
     EXPECT_EQ(again_a[p], fresh_a[p]) << "point " << p;
     EXPECT_EQ(first_a[p], fresh_a[p]) << "point " << p;
   }
+
+  // kRemembered other models later, a is forgotten: simulated again, to the same waveforms.
+  for (std::size_t i = 0; i < md::RomEffectSimulator::kRemembered; ++i) {
+    model::DynamicsParameters c = a;
+    c.rayleigh_zeta *= 1.0 + 0.01 * static_cast<double>(i + 1);
+    run(sim, c);
+  }
+  EXPECT_EQ(sim.repeats(), 1u);
+  EXPECT_EQ(run(sim, a), fresh_a);
+  EXPECT_EQ(sim.repeats(), 1u);
 }
 
 TEST(RomEffectSimulator, AnEffectOfAnotherSeverityIsSimulatedAgain) {
