@@ -237,6 +237,8 @@ class Bench {
       f[3 * p + 2] = ind[p].f3;
     }
     if (first_fit == 0 && !mc::needs_calibration(ind)) first_fit = evaluations;
+    for (const mc::Indicators& i : ind)
+      best_ratio = std::min(best_ratio, i.valid ? mc::worst_threshold_ratio(i) : 1e300);
     return f;
   }
 
@@ -246,6 +248,7 @@ class Bench {
 
   std::size_t evaluations = 0;
   std::size_t first_fit = 0;
+  double best_ratio = 1e300;  // lowest worst indicator/threshold over both points so far
 
  private:
   const model::Drivetrain& drivetrain_;
@@ -292,6 +295,7 @@ struct RunResult {
   double cpu_seconds = 0.0;     // process CPU (user + system) of the run
   std::size_t evaluations = 0;  // made (ours may stop short of the budget)
   bool fits_at_end = false;     // ours: the chosen point within every threshold (and no bound)
+  double best_ratio = 0.0;      // lowest worst indicator/threshold (both points) evaluated
 };
 
 double cpu_now() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
@@ -352,7 +356,8 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
           seconds,
           cpu,
           cal.evaluations(),
-          fits};
+          fits,
+          cal.best_ratio()};
 }
 
 // A cold trust-region calibration (not counted): the warm scenarios' previous calibration.
@@ -410,7 +415,8 @@ RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording&
           seconds,
           cpu,
           bench.evaluations,
-          false};
+          false,
+          bench.best_ratio};
 }
 
 // --only: a comma-separated list of texts, a method runs when its name contains one of them;
@@ -542,10 +548,11 @@ int run(int argc, char** argv) {
         secs.push_back(r.seconds);
         cpus.push_back(r.cpu_seconds);
         std::printf(
-            "  %s seed %llu: first fit %s, %zu evaluations%s, wall %.1f s, CPU %.1f s\n", m.name,
-            static_cast<unsigned long long>(seed),
+            "  %s seed %llu: first fit %s, %zu evaluations, best worst indicator/threshold "
+            "%.3f%s, wall %.1f s, CPU %.1f s\n",
+            m.name, static_cast<unsigned long long>(seed),
             r.to_threshold > budget ? "never" : std::to_string(r.to_threshold).c_str(),
-            r.evaluations,
+            r.evaluations, r.best_ratio,
             m.kind == 2 ? (r.fits_at_end ? ", CALIBRATED at its end" : ", not at its end") : "",
             r.seconds, r.cpu_seconds);
         std::fflush(stdout);
