@@ -182,7 +182,9 @@ void run(const Args& args) {
       std::printf("missing physics: %s at %s (confidence %.2f)\n",
                   md::effect_id(r.candidates[i].effect), r.candidates[i].location.c_str(),
                   r.candidates[i].confidence);
-    std::printf("diagnosed in %.1f s (%zu model evaluations)\n", seconds, diagnoser.simulations());
+    std::printf(
+        "diagnosed in %.1f s (%zu model evaluations, %zu of them repeats not simulated again)\n",
+        seconds, diagnoser.simulations(), simulator.repeats());
   }
   // Both reports are built before either is written: nothing is left half-written.
   std::string json_text, html_text;

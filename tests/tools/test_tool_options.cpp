@@ -218,7 +218,12 @@ TEST(ToolOptions, CalibrationBench) {
                     {"--seeds", {"0", "1001"}, {"1", "10"}, true},
                     {"--revolutions", {"0", "7", "1025"}, {"8", "32"}, true},
                     {"--samples-per-rev", {"0", "128", "157", "4097"}, {"158", "256"}, true},
-                    {"--tr-radius", {"0", "-0.5", "11"}, {"0.5"}}});
+                    {"--tr-radius", {"0", "-0.5", "11"}, {"0.5"}},
+                    {"--windows", {"0", "65", "-1"}, {"1", "4"}, true}});
+  // --bundle: a recorded bundle's directory, refused when there is none.
+  const Parsed missing = parse(declare, {"--bundle", "no-such-bundle-dir"});
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.message.find("no-such-bundle-dir"), std::string::npos) << missing.message;
   const Parsed r = parse(declare, {"--scenario", "hot"});
   EXPECT_NE(r.message.find("--scenario: 'hot' is not one of cold, warm-rated, warm-drift, all"),
             std::string::npos)

@@ -20,6 +20,15 @@
 //   warm-drift  yesterday's calibration at the paper point, when the drift was
 //               half as large (damping ×1.41, mesh ×0.894, bearing ×1.14),
 //               is the starting point/previous model in the same way.
+// --bundle DIR: the measurement is a recorded bundle instead (e.g. the independent generator's,
+// tools/gearbox_generator/synth_independent_bundle: a gearbox the twin did not simulate),
+// measured as `drivetwin calibrate` measures it (app/recording/calibration_measurement: windows
+// averaged in power, the averaged order spectrum) with the bench's analysis (--revolutions,
+// --samples-per-rev: 32 x 256 by default, calibrate's is 64 x 1024) and the ROM at the bench's
+// rate (6 x the highest compared harmonic; --recording-rate: the recording's, as calibrate);
+// the space is calibrate's standard space and "ours" is calibrate's calibration (the
+// trust-region rounds with the excitation solve and the spectral residual's rounds), stopped
+// at the budget like every peer. Only the cold scenario (the truth is unknown).
 // Host tool: allocates and throws; pagmo2 stays out of model/ and app/.
 #include <CLI/CLI.hpp>
 #include <pagmo/algorithm.hpp>
@@ -36,6 +45,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <exception>
 #include <memory>
 #include <optional>
@@ -49,6 +59,8 @@
 #include "model/calibration/dynamics_simulator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/drivetrain/kinematics.hpp"
+#include "model/dsp/mesh_features.hpp"
+#include "recording/calibration_measurement.hpp"
 
 namespace {
 
@@ -69,6 +81,11 @@ struct Setup {
   double tr_radius = mc::TrustRegionConfig{}.initial_radius;
   // Calibrate's default space (66 variables on paper-2mw) instead of the paper's 8.
   bool standard_space = false;
+  // A recorded bundle as the measurement ("": the full-order model's drift recording).
+  std::string bundle;
+  std::size_t windows = 4;
+  std::size_t budget = 0;       // evaluations per run
+  bool recording_rate = false;  // --bundle: the ROM at the recording's rate (calibrate's)
 };
 
 // The drift of the Table 3 demonstration, scaled: fraction 1 = damping ×2,
@@ -85,11 +102,20 @@ model::DynamicsParameters drifted(const model::DynamicsParameters& nominal, doub
 struct Recording {
   mc::OperatingPoint op;
   std::array<dsp::PointFeatures, mc::kMeasurementPoints> measured{};
+  // A recorded bundle's (calibrate's measurement): its averaged order spectra, for ours' ρ, and
+  // the rate the ROM runs at (calibrate's: the recording's, clamped to 8192 … 51200 Hz).
+  std::array<std::vector<double>, mc::kMeasurementPoints> spectrum;
+  double simulator_rate_hz = 0.0;  // 0: the bench's own (rom_sample_rate_hz)
 };
 
 std::unique_ptr<mc::VibrationSimulator> calibration_simulator(const model::Drivetrain& d,
                                                               const Setup& s,
-                                                              const mc::OperatingPoint& op) {
+                                                              const Recording& rec) {
+  const mc::OperatingPoint& op = rec.op;
+  if (rec.simulator_rate_hz > 0.0) {
+    return std::make_unique<mc::DynamicsSimulator>(d, mc::DynamicsModel::kRom,
+                                                   rec.simulator_rate_hz, 0.5);
+  }
   if (s.lumped) {
     mc::LumpedSimulatorConfig sim;
     sim.sample_rate_hz =
@@ -109,7 +135,7 @@ Recording make_recording(const model::Drivetrain& d, const Setup& s, const mc::O
   dsp::FeatureConfig fc;
   fc.samples_per_rev = s.samples_per_rev;
   fc.revolutions = s.revolutions;
-  auto sim = calibration_simulator(d, s, op);
+  auto sim = calibration_simulator(d, s, Recording{op, {}, {}, 0.0});
   const mc::Calibrator config_only(*sim, d, fc, mc::CalibratorConfig{});
   const double hss_hz = op.rotor_speed_rpm / 60.0 * model::Kinematics(d).overall_ratio();
   const double duration_s = static_cast<double>(s.revolutions + 2) / hss_hz;
@@ -125,7 +151,7 @@ Recording make_recording(const model::Drivetrain& d, const Setup& s, const mc::O
   std::array<mc::WaveformView, mc::kMeasurementPoints> w{};
   if (!recorder->simulate(truth, op, duration_s, w))
     throw std::runtime_error("recording simulation failed");
-  Recording rec{op, {}};
+  Recording rec{op, {}, {}, 0.0};
   dsp::FeatureExtractor fx(config_only.feature_config());
   std::mt19937_64 rng(7);
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
@@ -145,6 +171,32 @@ Recording make_recording(const model::Drivetrain& d, const Setup& s, const mc::O
   return rec;
 }
 
+// A recorded bundle measured as `drivetwin calibrate` measures it (its drivetrain into `d`).
+Recording bundle_recording(const Setup& s, model::Drivetrain& d) {
+  app::recording::CheckedBundle first = app::recording::load_bundle(s.bundle);
+  d = first.drivetrain;
+  Recording rec;
+  rec.op = {first.recording.operating_point.rotor_speed_rpm, first.input_torque_nm};
+  if (s.recording_rate)
+    rec.simulator_rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
+  dsp::FeatureConfig fc;
+  fc.samples_per_rev = s.samples_per_rev;
+  fc.revolutions = s.revolutions;
+  auto sim = calibration_simulator(d, s, rec);
+  const mc::Calibrator config_only(*sim, d, fc, mc::CalibratorConfig{});
+  dsp::FeatureExtractor fx(config_only.feature_config());
+  app::recording::CalibrationMeasurement m =
+      app::recording::measure_for_calibration(s.bundle, s.windows, fx, "");
+  for (const auto& note : m.bundle.notes) std::printf("note: %s\n", note.c_str());
+  rec.op = m.measured.op;
+  rec.measured = m.measured.measured;
+  rec.spectrum = m.spectrum;
+  std::printf("bundle %s: rotor %.3f rpm (speed from %s), torque %.0f N·m, %zu windows\n",
+              s.bundle.c_str(), rec.op.rotor_speed_rpm, m.speed_source.c_str(),
+              rec.op.input_torque_nm, m.windows);
+  return rec;
+}
+
 constexpr std::array<double, 3> kThreshold = {mc::kF1Threshold, mc::kF2Threshold, mc::kF3Threshold};
 
 // One calibration problem (one recording) and its evaluation bookkeeping.
@@ -153,7 +205,7 @@ class Bench {
   Bench(const model::Drivetrain& d, const Setup& s, const Recording& rec,
         const mc::CalibratorConfig& cc)
       : drivetrain_(d) {
-    simulator_ = calibration_simulator(d, s, rec.op);
+    simulator_ = calibration_simulator(d, s, rec);
     dsp::FeatureConfig fc;
     fc.samples_per_rev = s.samples_per_rev;
     fc.revolutions = s.revolutions;
@@ -163,6 +215,11 @@ class Bench {
       c.space = s.standard_space ? mc::default_space(d) : mc::CalibrationSpace::paper(nominal());
     calibrator_ = std::make_unique<mc::Calibrator>(*simulator_, d, fc, c);
     calibrator_->set_measurement(rec.measured, rec.op);
+    for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
+      if (!rec.spectrum[p].empty())  // false without a ρ row (the peers'): nothing to weigh
+        (void)calibrator_->set_measured_spectrum(0, p, rec.spectrum[p].data(),
+                                                 rec.spectrum[p].size());
+    }
   }
 
   mc::Calibrator& calibrator() { return *calibrator_; }
@@ -180,6 +237,8 @@ class Bench {
       f[3 * p + 2] = ind[p].f3;
     }
     if (first_fit == 0 && !mc::needs_calibration(ind)) first_fit = evaluations;
+    for (const mc::Indicators& i : ind)
+      best_ratio = std::min(best_ratio, i.valid ? mc::worst_threshold_ratio(i) : 1e300);
     return f;
   }
 
@@ -189,6 +248,7 @@ class Bench {
 
   std::size_t evaluations = 0;
   std::size_t first_fit = 0;
+  double best_ratio = 1e300;  // lowest worst indicator/threshold over both points so far
 
  private:
   const model::Drivetrain& drivetrain_;
@@ -232,7 +292,13 @@ struct RunResult {
   std::size_t to_threshold;  // budget + 1 when never
   double hv;
   double seconds;
+  double cpu_seconds = 0.0;     // process CPU (user + system) of the run
+  std::size_t evaluations = 0;  // made (ours may stop short of the budget)
+  bool fits_at_end = false;     // ours: the chosen point within every threshold (and no bound)
+  double best_ratio = 0.0;      // lowest worst indicator/threshold (both points) evaluated
 };
+
+double cpu_now() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // A previous calibration: its parameters and, from the trust region, its feature Jacobian.
 struct Previous {
@@ -249,20 +315,33 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
   cc.mogoa.population = s.population;
   cc.mogoa.max_iterations = s.iterations;
   cc.mogoa.seed = seed;
-  cc.trust_region.max_evaluations = s.population * (s.iterations + 1);  // the same budget
+  cc.trust_region.max_evaluations = s.budget;  // the same budget
   cc.trust_region.seed = seed;
   cc.trust_region.initial_radius = s.tr_radius;
+  if (!s.bundle.empty()) {
+    // calibrate's configuration (app/cli/calibrate.cpp): the rounds' fit budget, ρ against the
+    // recording's spectrum, seed 1 probing along the axes; stopped at the budget below.
+    cc.trust_region.max_evaluations = mc::kDefaultFitEvaluations;
+    cc.trust_region.seed = seed == 1 ? 0 : seed;
+    cc.residual_model_sd = 0.25;
+    cc.residual_band_hz = 5000.0;
+  }
   Bench bench(d, s, rec, cc);
   mc::Calibrator& cal = bench.calibrator();
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_now();
   std::optional<model::DynamicsParameters> previous_parameters;
   if (previous) previous_parameters = previous->parameters;
   cal.start(bench.nominal(), previous_parameters,
             previous && previous->has_jacobian ? &previous->jacobian : nullptr);
   while (cal.step() == mc::StepStatus::kRunning) {
+    if (cal.evaluations() >= s.budget) cal.cancel();  // the budget every method gets
   }
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = cpu_now() - c0;
+  mc::CalibrationResult result;
+  const bool fits = cal.read_result(result) && result.fits && !result.at_bound;
   // The final set is the Pareto archive.
   std::vector<std::vector<double>> front;
   for (std::size_t a = 0; a < cal.archive_count(); ++a) {
@@ -270,9 +349,15 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
     for (std::size_t k = 0; k < f.size(); ++k) f[k] = cal.archive_objective(a, k);
     front.push_back(f);
   }
-  const std::size_t budget = s.population * (s.iterations + 1);
+  const std::size_t budget = s.budget;
   const std::size_t hit = cal.evaluations_to_threshold();
-  return {hit == 0 ? budget + 1 : hit, hypervolume(front), seconds};
+  return {hit == 0 || hit > budget ? budget + 1 : hit,
+          hypervolume(front),
+          seconds,
+          cpu,
+          cal.evaluations(),
+          fits,
+          cal.best_ratio()};
 }
 
 // A cold trust-region calibration (not counted): the warm scenarios' previous calibration.
@@ -297,6 +382,7 @@ RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording&
   mc::CalibratorConfig cc;
   Bench bench(d, s, rec, cc);
   const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = cpu_now();
   pagmo::problem prob{Udp{&bench}};
   pagmo::population pop(prob, 0u, static_cast<unsigned>(seed));
   pagmo::detail::random_engine_type rng(
@@ -319,11 +405,32 @@ RunResult run_pagmo(const model::Drivetrain& d, const Setup& s, const Recording&
   pop = algo.evolve(pop);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = cpu_now() - c0;
   const auto fronts = std::get<0>(pagmo::fast_non_dominated_sorting(pop.get_f()));
   std::vector<std::vector<double>> front;
   for (auto i : fronts.front()) front.push_back(pop.get_f()[i]);
-  const std::size_t budget = s.population * (s.iterations + 1);
-  return {bench.first_fit == 0 ? budget + 1 : bench.first_fit, hypervolume(front), seconds};
+  const std::size_t budget = s.budget;
+  return {bench.first_fit == 0 ? budget + 1 : bench.first_fit,
+          hypervolume(front),
+          seconds,
+          cpu,
+          bench.evaluations,
+          false,
+          bench.best_ratio};
+}
+
+// --only: a comma-separated list of texts, a method runs when its name contains one of them;
+// empty: every method but those `default_off` (improved MOGOA on a bundle: not a peer).
+bool selected(const std::string& only, const std::string& name, bool default_off) {
+  if (only.empty()) return !default_off;
+  std::size_t from = 0;
+  while (from <= only.size()) {
+    const std::size_t comma = std::min(only.find(',', from), only.size());
+    const std::string text = only.substr(from, comma - from);
+    if (!text.empty() && name.find(text) != std::string::npos) return true;
+    from = comma + 1;
+  }
+  return false;
 }
 
 template <class T>
@@ -353,17 +460,40 @@ int run(int argc, char** argv) {
   s.lumped = o.lumped;
   s.tr_radius = o.tr_radius;
   s.standard_space = o.space == "standard";
-  const std::string &scenario = o.scenario, &only = o.only;
-  const model::Drivetrain d = model::paper_2mw();
-  const std::size_t budget = s.population * (s.iterations + 1);
+  s.bundle = o.bundle;
+  s.windows = o.windows;
+  s.recording_rate = o.recording_rate;
+  s.budget = s.population * (s.iterations + 1);
+  std::string scenario = o.scenario;
+  const std::string& only = o.only;
+  model::Drivetrain d = model::paper_2mw();
+  if (!s.bundle.empty()) {
+    // calibrate's problem: its standard space and analysis (unless given), the cold start.
+    if (scenario != "all" && scenario != "cold")
+      throw std::runtime_error("--bundle: only the cold scenario (the truth is not known)");
+    scenario = "cold";
+    s.standard_space = true;
+    if (s.lumped) throw std::runtime_error("--bundle calibrates the ROM; --lumped does not apply");
+  }
+  const std::size_t budget = s.budget;
   const model::DynamicsParameters nominal = mc::with_nominal_damping(d.dynamics);
   const mc::OperatingPoint paper{8.33, 361747.0};
   const mc::OperatingPoint rated{14.8, 1.23e6};
-  std::printf(
-      "problem: Table 3 drift at the paper operating point (8.33 rpm, 361747 N·m), 6 objectives;\n"
-      "  measurement: %s, 25.6 kHz, 5 %% white noise; calibrated model: %s\n",
-      s.lumped ? "lumped stand-in" : "full-order dynamics model",
-      s.lumped ? "lumped stand-in" : "dynamics ROM");
+  if (s.bundle.empty()) {
+    std::printf(
+        "problem: Table 3 drift at the paper operating point (8.33 rpm, 361747 N·m), 6 "
+        "objectives;\n"
+        "  measurement: %s, 25.6 kHz, 5 %% white noise; calibrated model: %s\n",
+        s.lumped ? "lumped stand-in" : "full-order dynamics model",
+        s.lumped ? "lumped stand-in" : "dynamics ROM");
+  } else {
+    std::printf(
+        "problem: the recorded bundle %s, 6 objectives, measured as drivetwin calibrate does "
+        "(%zu windows averaged, order spectrum for ours' residual rounds); calibrated model: "
+        "dynamics ROM at %s; ours: calibrate's calibration\n",
+        s.bundle.c_str(), s.windows,
+        s.recording_rate ? "the recording's rate" : "6 x the highest compared harmonic");
+  }
   std::printf(
       "budget: %zu evaluations per run (population %zu, %zu iterations; trust region: the same "
       "count), "
@@ -373,7 +503,8 @@ int run(int argc, char** argv) {
               s.revolutions, s.samples_per_rev,
               s.standard_space ? "standard (calibrate's default)" : "paper (8 variables)");
   std::fflush(stdout);
-  const Recording paper_rec = make_recording(d, s, paper, drifted(nominal, 1.0));
+  const Recording paper_rec = s.bundle.empty() ? make_recording(d, s, paper, drifted(nominal, 1.0))
+                                               : bundle_recording(s, d);
 
   for (const std::string sc : {"cold", "warm-rated", "warm-drift"}) {
     if (scenario != "all" && scenario != sc) continue;
@@ -385,8 +516,8 @@ int run(int argc, char** argv) {
                 : sc == "warm-rated"
                     ? "warm-rated (previous calibration of the same drift at rated speed)"
                     : "warm-drift (previous calibration at the paper point, half the drift)");
-    std::printf("%-22s %20s %10s %12s %10s\n", "method", "evals to threshold", "reached",
-                "hypervolume", "wall [s]");
+    std::printf("%-22s %20s %10s %12s %10s %10s\n", "method", "evals to threshold", "reached",
+                "hypervolume", "wall [s]", "CPU [s]");
     struct Method {
       const char* name;
       int kind;  // 0 published MOGOA, 1 improved MOGOA, 2 trust region, 3 NSGA-II, 4 MOEA/D
@@ -400,9 +531,9 @@ int run(int argc, char** argv) {
     for (const Method m :
          {Method{"trust region (ours)", 2}, Method{"MOGOA (published)", 0},
           Method{"MOGOA (improved)", 1}, Method{"pagmo NSGA-II", 3}, Method{"pagmo MOEA/D", 4}}) {
-      if (!only.empty() && std::string(m.name).find(only) == std::string::npos) continue;
+      if (!selected(only, m.name, !s.bundle.empty() && m.kind == 1)) continue;
       std::vector<std::size_t> hits;
-      std::vector<double> hvs, secs;
+      std::vector<double> hvs, secs, cpus;
       std::size_t reached = 0;
       for (std::uint64_t seed = 1; seed <= s.seeds; ++seed) {
         const RunResult r = m.kind <= 2
@@ -415,6 +546,16 @@ int run(int argc, char** argv) {
         hits.push_back(r.to_threshold);
         hvs.push_back(r.hv);
         secs.push_back(r.seconds);
+        cpus.push_back(r.cpu_seconds);
+        std::printf(
+            "  %s seed %llu: first fit %s, %zu evaluations, best worst indicator/threshold "
+            "%.3f%s, wall %.1f s, CPU %.1f s\n",
+            m.name, static_cast<unsigned long long>(seed),
+            r.to_threshold > budget ? "never" : std::to_string(r.to_threshold).c_str(),
+            r.evaluations, r.best_ratio,
+            m.kind == 2 ? (r.fits_at_end ? ", CALIBRATED at its end" : ", not at its end") : "",
+            r.seconds, r.cpu_seconds);
+        std::fflush(stdout);
         reached += r.to_threshold <= budget ? 1 : 0;
       }
       const std::size_t med = median(hits);
@@ -424,8 +565,8 @@ int run(int argc, char** argv) {
       } else {
         std::snprintf(hit_text, sizeof hit_text, "%zu", med);
       }
-      std::printf("%-22s %20s %7zu/%zu %12.4g %10.2f   (each: ", m.name, hit_text, reached, s.seeds,
-                  median(hvs), median(secs));
+      std::printf("%-22s %20s %7zu/%zu %12.4g %10.2f %10.2f   (each: ", m.name, hit_text, reached,
+                  s.seeds, median(hvs), median(secs), median(cpus));
       for (std::size_t h : hits) std::printf("%zu ", h);
       std::printf(")\n");
       std::fflush(stdout);

@@ -20,6 +20,9 @@ struct CalibrationBenchOptions {
   std::string scenario = "all";
   std::string only;
   std::string space = "paper";
+  std::string bundle;       // a recorded bundle as the measurement
+  std::size_t windows = 4;  // windows averaged from the bundle (calibrate's default)
+  bool recording_rate = false;
   double tr_radius = 0.0;  // [-] set by the caller to TrustRegionConfig's default
 };
 
@@ -62,7 +65,19 @@ inline void add_options(CLI::App& cli, CalibrationBenchOptions& o) {
                  "space: damping, stiffness, transmission error, housing modes)")
       ->check(opt::one_of({"paper", "standard"}));
   cli.add_option("--only", o.only,
-                 "Run only the method whose name contains this text (e.g. 'trust', 'NSGA')");
+                 "Run only the methods whose names contain one of these comma-separated texts "
+                 "(e.g. 'trust', 'NSGA,MOEA')");
+  cli.add_option("--bundle", o.bundle,
+                 "A recorded bundle as the measurement (e.g. synth_independent_bundle's), measured "
+                 "as drivetwin calibrate does (with this bench's analysis); calibrate's standard "
+                 "space, ours = calibrate's calibration stopped at the budget; cold only; the "
+                 "improved MOGOA only when --only names it")
+      ->check(CLI::ExistingDirectory);
+  cli.add_flag("--recording-rate", o.recording_rate,
+               "With --bundle: the ROM at the recording's rate, as calibrate runs it (default: 6 "
+               "x the highest compared harmonic)");
+  cli.add_option("--windows", o.windows, "With --bundle: windows averaged (default 4)")
+      ->check(opt::integer_in(1, 64, "windows"));
   cli.add_option("--tr-radius", o.tr_radius,
                  "Trust region: initial radius (default: TrustRegionConfig's)")
       ->check(opt::number_in(0.0, 10.0, "", true));

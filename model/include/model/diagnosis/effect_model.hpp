@@ -56,6 +56,16 @@ class EffectSimulator {
 
 /// The twin's dynamics ROM (model/dynamics/simulate.hpp) behind EffectSimulator: the
 /// effect terms model/dynamics provides are switched on per call.
+///
+/// A call with exactly the inputs of one of the last kRemembered distinct calls (the same
+/// parameters bit for bit, effects, operating point, rate and duration) returns that call's
+/// waveforms without simulating again: the model is deterministic, so they are the ones a
+/// new simulation would give. The calibrator evaluates each round's start point twice more
+/// after it was evaluated (the excitation's T, the identification's base), and a hold-out
+/// simulation can repeat a fit's best evaluation. Views stay valid until the entry they
+/// point into is replaced: at least until the next call, as the interface promises. Memory:
+/// kRemembered copies of the two returned waveforms (a calibration evaluation's 64
+/// revolutions at 8–16 kHz: 0.6–1.3 MB each).
 class RomEffectSimulator : public EffectSimulator {
  public:
   /// @param settle_s [s] simulated and discarded before the returned waveforms
@@ -67,10 +77,14 @@ class RomEffectSimulator : public EffectSimulator {
       const calibration::OperatingPoint& op, double sample_rate_hz, double duration_s,
       std::array<calibration::WaveformView, calibration::kMeasurementPoints>& out) override;
   const std::string& error() const override { return error_; }
+  /// [-] calls answered from a remembered simulation (not simulated again)
+  std::size_t repeats() const { return repeats_; }
+  static constexpr std::size_t kRemembered = 8;
 
  private:
   struct State;
   Drivetrain drivetrain_;
+  std::size_t repeats_ = 0;
   double settle_s_;
   std::unique_ptr<State> state_;
   std::string error_;
