@@ -62,8 +62,7 @@ namespace dsp = model::dsp;
 namespace fs = std::filesystem;
 using app::cli::CommandError;
 
-// Residual band of diagnosis-report.md: order-tracked energy 0–5 kHz.
-constexpr double kResidualBandHz = 5000.0;
+using app::recording::kCalibrateResidualBandHz;
 using MeasuredBundle = app::recording::CalibrationMeasurement;
 
 struct CalibrateArgs {
@@ -82,7 +81,7 @@ struct CalibrateArgs {
   std::size_t revolutions = 64;
   std::size_t harmonics = 3;
   std::size_t windows = 4;
-  double residual_sd = 0.25;
+  double residual_sd = app::recording::kCalibrateResidualSd;
   bool force = false;
   bool quiet = false;
 };
@@ -424,8 +423,8 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
   cc.mogoa.seed = args.seed;
   cc.trust_region.max_evaluations = args.evaluations;
   cc.residual_model_sd = args.residual_sd;
-  cc.residual_band_hz = kResidualBandHz;
-  cc.trust_region.seed = args.seed == 1 ? 0 : args.seed;  // seed 1 (default): probes along the axes
+  cc.residual_band_hz = kCalibrateResidualBandHz;
+  cc.trust_region.seed = app::recording::calibrate_trust_region_seed(args.seed);
   // --space body: the gearbox body on its mounts joins the model, at the description's values
   // or the engineering prior (calibration_space.hpp); "before" is that model's.
   const model::DynamicsParameters prior =
@@ -449,7 +448,8 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
   }
 
   // The simulator runs at the first recording's rate (the rate the twin's ROM runs at).
-  const double rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
+  const double rate_hz =
+      app::recording::calibrate_simulator_rate_hz(first.recording.sample_rate_hz);
   std::unique_ptr<mc::VibrationSimulator> simulator;
   if (args.simulator == "lumped") {
     mc::LumpedSimulatorConfig sc;
@@ -529,7 +529,7 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     return out;
   };
   auto residual_last_line = [&](std::size_t c) {  // the last order line below 5 kHz
-    return static_cast<std::size_t>(kResidualBandHz / bundles[c].hss_hz *
+    return static_cast<std::size_t>(kCalibrateResidualBandHz / bundles[c].hss_hz *
                                     static_cast<double>(fx.config().revolutions));
   };
   auto residual_of_simulated = [&](const Simulated& sim, std::size_t c) {

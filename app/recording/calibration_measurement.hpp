@@ -11,8 +11,10 @@
 //
 // Thread context: command / host code (reads files, allocates, throws).
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,6 +24,20 @@
 #include "recording/bundle_check.hpp"
 
 namespace app::recording {
+
+// `drivetwin calibrate`'s settings that a host tool must share to calibrate as it does.
+/// [Hz] band of the spectral residual ρ (diagnosis-report.md: order-tracked energy 0–5 kHz)
+inline constexpr double kCalibrateResidualBandHz = 5000.0;
+/// [-] σ_ρ of the spectral residual row (`calibrate --residual-sd`'s default)
+inline constexpr double kCalibrateResidualSd = 0.25;
+/// [Hz] the rate the calibration's ROM runs at: the recording's, within 8192 … 51200 Hz
+inline double calibrate_simulator_rate_hz(double recording_rate_hz) {
+  return std::clamp(recording_rate_hz, 8192.0, 51200.0);
+}
+/// The trust region's seed for calibrate's `--seed`: seed 1 (the default) probes along the axes
+inline std::uint64_t calibrate_trust_region_seed(std::uint64_t seed) {
+  return seed == 1 ? 0 : seed;
+}
 
 struct CalibrationMeasurement {
   std::filesystem::path dir;

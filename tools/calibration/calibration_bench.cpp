@@ -178,7 +178,8 @@ Recording bundle_recording(const Setup& s, model::Drivetrain& d) {
   Recording rec;
   rec.op = {first.recording.operating_point.rotor_speed_rpm, first.input_torque_nm};
   if (s.recording_rate)
-    rec.simulator_rate_hz = std::clamp(first.recording.sample_rate_hz, 8192.0, 51200.0);
+    rec.simulator_rate_hz =
+        app::recording::calibrate_simulator_rate_hz(first.recording.sample_rate_hz);
   dsp::FeatureConfig fc;
   fc.samples_per_rev = s.samples_per_rev;
   fc.revolutions = s.revolutions;
@@ -319,12 +320,13 @@ RunResult run_ours(const model::Drivetrain& d, const Setup& s, const Recording& 
   cc.trust_region.seed = seed;
   cc.trust_region.initial_radius = s.tr_radius;
   if (!s.bundle.empty()) {
-    // calibrate's configuration (app/cli/calibrate.cpp): the rounds' fit budget, ρ against the
-    // recording's spectrum, seed 1 probing along the axes; stopped at the budget below.
+    // calibrate's configuration (app/recording/calibration_measurement.hpp): the rounds' fit
+    // budget, ρ against the recording's spectrum, seed 1 probing along the axes; stopped at
+    // the budget below.
     cc.trust_region.max_evaluations = mc::kDefaultFitEvaluations;
-    cc.trust_region.seed = seed == 1 ? 0 : seed;
-    cc.residual_model_sd = 0.25;
-    cc.residual_band_hz = 5000.0;
+    cc.trust_region.seed = app::recording::calibrate_trust_region_seed(seed);
+    cc.residual_model_sd = app::recording::kCalibrateResidualSd;
+    cc.residual_band_hz = app::recording::kCalibrateResidualBandHz;
   }
   Bench bench(d, s, rec, cc);
   mc::Calibrator& cal = bench.calibrator();
