@@ -84,6 +84,7 @@ struct CalibrateArgs {
   double residual_sd = app::recording::kCalibrateResidualSd;
   bool force = false;
   bool quiet = false;
+  bool probe_every_round = false;
 };
 
 nlohmann::json fit_json(const mc::PointIndicators& ind) {
@@ -422,6 +423,7 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
   cc.mogoa.max_iterations = args.iterations;
   cc.mogoa.seed = args.seed;
   cc.trust_region.max_evaluations = args.evaluations;
+  cc.warm_rounds = !args.probe_every_round;
   cc.residual_model_sd = args.residual_sd;
   cc.residual_band_hz = kCalibrateResidualBandHz;
   cc.trust_region.seed = app::recording::calibrate_trust_region_seed(args.seed);
@@ -585,9 +587,11 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     if (!args.quiet) {
       if (cc.method == mc::CalibrationMethod::kTrustRegion) {
         std::printf(
-            "calibrating %zu variables (%s space): up to 8 rounds of excitation solve, "
-            "identification (%zu probes) and at most %zu evaluations of the fit\n",
-            space.size(), space_name.c_str(), space.size(), args.evaluations);
+            "calibrating %zu variables (%s space): up to %zu rounds of excitation solve, "
+            "identification (%zu probes%s) and at most %zu evaluations of the fit\n",
+            space.size(), space_name.c_str(), cc.max_rounds, space.size(),
+            cc.warm_rounds ? "; a round after one that improved reuses its model" : "",
+            args.evaluations);
       } else {
         std::printf(
             "calibrating %zu variables: %s MOGOA, %zu grasshoppers x %zu iterations, seed %llu\n",
@@ -620,10 +624,10 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     if (!calibrator->read_result(result)) throw CommandError("calibration published no result");
     if (!args.quiet) {
       std::printf(
-          "done: %zu evaluations in %.1f s; first fitting evaluation: %zu; %zu of %zu "
-          "variables identified\n",
-          result.evaluations, seconds, result.evaluations_to_threshold, result.identified,
-          result.variables);
+          "done: %zu evaluations in %.1f s (%zu rounds, %zu of them probed); first fitting "
+          "evaluation: %zu; %zu of %zu variables identified\n",
+          result.evaluations, seconds, result.rounds, result.probed_rounds,
+          result.evaluations_to_threshold, result.identified, result.variables);
     }
   }
   std::vector<double> residual_after;
@@ -739,6 +743,8 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
     j["identified"] = result.identified;
     j["evaluations"] = result.evaluations;
     j["evaluations_to_threshold"] = result.evaluations_to_threshold;
+    j["rounds"] = result.rounds;
+    j["probed_rounds"] = result.probed_rounds;
     j["seconds"] = seconds;
   }
   return out;
@@ -873,8 +879,11 @@ void setup_calibrate(CLI::App& sub) {
   sub.add_option("--evaluations", args->evaluations,
                  "trust-region: model evaluations of each round's fit at most (default 30; "
                  "up to 8 rounds, each with its excitation solve and identification probes on "
-                 "top)")
+                 "top; a warm round probes nothing)")
       ->check(app::cli::integer_in(0, 100000, "model evaluations"));
+  sub.add_flag("--probe-every-round", args->probe_every_round,
+               "trust-region: probe every variable in every round (before session 10's warm "
+               "rounds, which reuse the model of a round that improved the fit)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)")
       ->check(app::cli::integer_in(2, 64, "grasshoppers"));
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)")

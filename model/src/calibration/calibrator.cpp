@@ -566,6 +566,11 @@ bool Calibrator::start(const DynamicsParameters& current,
     if (has_excitation_ && !start_model_given_) phase_ = Phase::kExcitation;
     probe_ = 0;
     round_ = 0;
+    warm_round_ = false;
+    stage_probed_rounds_ = 1;  // the first round's (its probes or the given model)
+    stage_start_evaluations_ = 0;
+    rounds_ = 1;
+    probed_rounds_ = start_model_given_ ? 0 : 1;
     set_residual_active(false);
     residual_round_ = 0;
     round_start_cost_ = std::numeric_limits<double>::infinity();
@@ -620,7 +625,7 @@ StepStatus Calibrator::step() {
       const double cost = data_cost(phi_start_.data()) + prior_cost(z_start_.data());
       consider(z_start_.data(), f_work_.data(), cost);
       if (round_ == 0 || residual_round_ == 1) round_start_cost_ = cost;
-      probe_ = start_model_given_ && round_ == 0 ? n + 1 : 1;
+      probe_ = (start_model_given_ && round_ == 0) || warm_round_ ? n + 1 : 1;
     } else {
       // Probe variable probe_ − 1 by probe_step prior σ (backwards at the upper bound).
       const std::size_t i = probe_ - 1;
@@ -643,14 +648,18 @@ StepStatus Calibrator::step() {
     if (probe_ > n && !begin_fit()) more = false;
   } else {
     more = tr_->step() && !tr_->finished();
-    // A round ends: another one from the best point while rounds improve F by > 1 %.
+    // A round ends: another one from the best point while rounds improve F by > 1 %; a warm
+    // round that did not improve is followed by a probed one (header). Per stage (the tones,
+    // then ρ) at most its limit of probed rounds, and warm ones while the stage's evaluations
+    // stay below what that many probed rounds may cost.
     const bool improved = have_any_ && best_any_cost_ < 0.99 * round_start_cost_;
-    if (!more && !residual_active_ && improved && round_ + 1 < config_.max_rounds) {
-      begin_round();
-      more = true;
-    } else if (!more && residual_active_ && improved && residual_round_ < config_.residual_rounds) {
-      begin_round();
-      ++residual_round_;
+    const bool warm_next = improved && config_.warm_rounds && tr_->jacobian_valid();
+    const std::size_t limit = residual_active_ ? config_.residual_rounds : config_.max_rounds;
+    const bool allowed = (warm_next || stage_probed_rounds_ < limit) &&
+                         problem_.evaluations - stage_start_evaluations_ < limit * round_cost();
+    if (!more && (improved || warm_round_) && allowed) {
+      begin_round(warm_next);
+      if (residual_active_) ++residual_round_;
       more = true;
     } else if (!more && !residual_active_ && have_any_ && config_.residual_rounds > 0 &&
                std::any_of(residual_weight_.begin(), residual_weight_.end(),
@@ -660,7 +669,9 @@ StepStatus Calibrator::step() {
       z_start_ = have_fit_ ? best_fit_z_ : best_any_z_;
       set_residual_active(true);
       have_fit_ = have_any_ = false;
-      begin_round();
+      stage_probed_rounds_ = 0;
+      stage_start_evaluations_ = problem_.evaluations;
+      begin_round(false);
       residual_round_ = 1;
       more = true;
     }
@@ -839,9 +850,31 @@ void Calibrator::set_residual_active(bool on) {
   }
 }
 
-void Calibrator::begin_round() {
+std::size_t Calibrator::round_cost() const {
+  // A probed round's evaluations at most: the excitation solve's, the start, the probes, the fit.
+  const std::size_t excitation = has_excitation_ ? config_.excitation_iterations + 2 : 0;
+  return excitation + 1 + config_.space.size() + config_.trust_region.max_evaluations;
+}
+
+void Calibrator::begin_round(bool warm) {
   // The next round re-identifies at the best point so far (on the switch to the residual's
-  // rounds: at the point the caller set, the candidates being reset).
+  // rounds: at the point the caller set, the candidates being reset); a warm one on the
+  // model the fit ended with (header), kept in model_ for the probes it skips.
+  warm_round_ = false;
+  if (config_.warm_rounds && warm && phase_ == Phase::kFit && tr_ && tr_->jacobian_valid()) {
+    for (std::size_t k = 0; k < fit_count_; ++k) {
+      model_.col(static_cast<Eigen::Index>(fit_index_[k])) =
+          tr_->jacobian()
+              .col(static_cast<Eigen::Index>(k))
+              .head(static_cast<Eigen::Index>(feature_count_));
+    }
+    warm_round_ = true;
+  }
+  if (!warm_round_) {
+    ++stage_probed_rounds_;
+    ++probed_rounds_;
+  }
+  ++rounds_;
   if (have_any_) {
     z_start_ = best_any_z_;
     round_start_cost_ = best_any_cost_;
@@ -861,6 +894,8 @@ void Calibrator::finish(bool cancelled) {
   r.iterations = iteration();
   r.variables = n;
   r.cases = case_count_;
+  r.rounds = config_.method == CalibrationMethod::kTrustRegion ? rounds_ : 0;
+  r.probed_rounds = config_.method == CalibrationMethod::kTrustRegion ? probed_rounds_ : 0;
   std::array<double, kMaxCalibrationVariables> z{};
   bool chosen = false;
   if (config_.method == CalibrationMethod::kTrustRegion) {

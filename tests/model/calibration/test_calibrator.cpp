@@ -284,6 +284,46 @@ TEST_F(ToneCalibratorTest, AWarmStartWithThePreviousModelRecalibratesInFarFewerE
   EXPECT_LE(w.evaluations_to_threshold, 2u);
 }
 
+TEST_F(ToneCalibratorTest, WarmRoundsSkipTheProbesAndReachTheSameFitOnAMapWithAConstantJacobian) {
+  // Arrange: 2 fit evaluations a round, so the drift takes several rounds. The tones' map is
+  // linear in the variables: a round's probes learn nothing the last round's model did not
+  // (Broyden's update leaves an exact J as it is), so skipping them loses nothing.
+  CalibratorConfig warm_cc = paper_config(0, 2);
+  warm_cc.max_rounds = 12;
+  CalibratorConfig probed_cc = warm_cc;
+  probed_cc.warm_rounds = false;
+  auto warm = make_with(drifted_parameters(), warm_cc, {&op_, 1});
+  auto probed = make_with(drifted_parameters(), probed_cc, {&op_, 1});
+  // Act
+  const CalibrationResult w = run(*warm, nominal_parameters());
+  const CalibrationResult p = run(*probed, nominal_parameters());
+  // Assert: both recover the truth within 1 % (the map is exact)…
+  const DynamicsParameters truth = drifted_parameters();
+  for (const CalibrationResult* r : {&w, &p}) {
+    EXPECT_TRUE(r->fits);
+    EXPECT_NEAR(r->parameters.rayleigh_eta / truth.rayleigh_eta, 1.0, 0.01);
+    for (std::size_t s = 0; s < 3; ++s) {
+      EXPECT_NEAR(r->parameters.mesh_stiffness_scale[s] / truth.mesh_stiffness_scale[s], 1.0, 0.01);
+      EXPECT_NEAR(r->parameters.bearing_stiffness_scale[s] / truth.bearing_stiffness_scale[s], 1.0,
+                  0.01);
+    }
+  }
+  // …to the same least F (the map's floor, FFT leakage)…
+  EXPECT_NEAR(w.cost / p.cost, 1.0, 0.01);
+  // …every round of the probed run probes (1 start + 8 probes + at most 2 fit evaluations);
+  // the warm run probes only its first round and those after a round that did not improve,
+  // so it spends at least one round's 8 probes less, and it settles only on a freshly probed
+  // model (a warm round that does not improve is followed by a probed one: ≥ 2 probed);
+  // neither spends more than 12 probed rounds' evaluations.
+  EXPECT_GT(p.rounds, 2u);
+  EXPECT_EQ(p.probed_rounds, p.rounds);
+  EXPECT_LE(p.evaluations, p.rounds * 11u);
+  EXPECT_LT(w.probed_rounds, w.rounds);
+  EXPECT_GE(w.probed_rounds, 2u);
+  EXPECT_LE(w.evaluations + 8u, p.evaluations);
+  EXPECT_LE(w.evaluations, 12u * 11u);
+}
+
 TEST_F(ToneCalibratorTest, TheTrustRegionIsDeterministic) {
   // The calibrator probes along its variables itself and the seed only draws restart points
   // (none here): two runs of one configuration give the same evaluations, bit for bit.

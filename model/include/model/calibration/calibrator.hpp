@@ -70,7 +70,16 @@
 // variables, its model J taken from the probes (no more probes), the prior's residuals
 // included. Resonances make the features strongly nonlinear, so the identification and
 // the fit repeat from the best point (up to max_rounds rounds, while a round lowers F by
-// more than 1 %). At the end each variable is reported with its posterior σ ratio at the
+// more than 1 %). Warm rounds (`warm_rounds`): a round that follows one that lowered F
+// skips the n probes and identifies on the model the last round ended with — the probes'
+// columns, those of the variables it fitted replaced by the fit's (Broyden-updated along
+// its steps, re-probed by the trust region where its steps failed); a warm round that does
+// not lower F by 1 % is followed by a probed one, so the run settles only on a freshly
+// probed model. max_rounds (residual_rounds) bounds the probed rounds of the stage, and warm
+// rounds go on while the stage's evaluations stay below what that many probed rounds may
+// cost, so a run costs at most what it did with every round probed. The spectral residual's
+// first round always probes.
+// At the end each variable is reported with its posterior σ ratio at the
 // solution (the chosen ones' joint posterior; for the others the information left after
 // the chosen) and whether it is identified, not identified, or at a bound (an identified
 // variable within 1e-3 σ of its bound).
@@ -184,6 +193,9 @@ struct CalibratorConfig {
   double probe_step = 0.1;           // [prior σ] identification probe length
   bool identify = true;              // false: fit every variable (no identification)
   std::size_t max_rounds = 8;        // [-] identification + fit rounds (header)
+  bool warm_rounds = true;           // a round after one that improved F reuses its model
+                                     // instead of probing again (header); false: every
+                                     // round probes every variable
   std::size_t excitation_iterations = 2;  // [-] re-solves of the excitation per round after
                                           // its first solve (header); 0: one solve only
   bool solve_excitation = true;           // false: no excitation solve (header)
@@ -230,6 +242,8 @@ struct CalibrationResult {
   std::size_t evaluations_to_threshold = 0;  // [-] at the first fitting evaluation; 0: none
   std::size_t variables = 0;                 // [-] of the space
   std::size_t identified = 0;                // [-] variables identified and fitted
+  std::size_t rounds = 0;                    // [-] trust-region rounds (both stages)
+  std::size_t probed_rounds = 0;             // [-] of them, those that probed (not warm)
   std::array<VariableStatus, kMaxCalibrationVariables> status{};
   std::array<double, kMaxCalibrationVariables> z{};                // [prior σ] chosen, whitened
   std::array<double, kMaxCalibrationVariables> posterior_ratio{};  // [-] posterior/prior σ
@@ -375,7 +389,8 @@ class Calibrator {
   // `select`, posterior ratios for the current fit_index_ selection into `ratio`.
   void identify(const FeatureJacobian& j, bool select,
                 std::array<double, kMaxCalibrationVariables>& ratio);
-  void begin_round();
+  // `warm`: the round reuses the model the last round's fit ended with (header) when there is one.
+  void begin_round(bool warm);
   // One evaluation of the excitation read-out (header); false when it failed.
   bool excitation_step();
   bool begin_fit();
@@ -441,6 +456,12 @@ class Calibrator {
   std::size_t fit_count_ = 0;
   std::array<double, kMaxCalibrationVariables> ratio_start_{};
   std::size_t round_ = 0;
+  bool warm_round_ = false;                  // this round skipped its probes (header: warm rounds)
+  std::size_t stage_probed_rounds_ = 0;      // probed rounds of the stage (tones, then ρ)
+  std::size_t rounds_ = 0;                   // rounds begun, both stages
+  std::size_t probed_rounds_ = 0;            // of them probed
+  std::size_t stage_start_evaluations_ = 0;  // evaluations before the stage began
+  std::size_t round_cost() const;            // a probed round's evaluations at most
   double round_start_cost_ = 0.0;
   FeatureJacobian residual_;  // forward selection's work columns
   using Square = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kMaxCalibrationVariables,
