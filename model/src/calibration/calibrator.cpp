@@ -356,8 +356,10 @@ void Calibrator::consider(const double* z, const double* f, double cost) {
   bool fits = true;
   static constexpr std::array<double, 3> kThreshold = {kF1Threshold, kF2Threshold, kF3Threshold};
   for (std::size_t k = 0; k < kCalibrationObjectives; ++k) fits = fits && f[k] <= kThreshold[k % 3];
-  // The residual's rounds refine a calibration; a point they take onto a bound is no success.
-  for (std::size_t i = 0; fits && residual_active_ && i < n; ++i) {
+  // A point on a bound is no success (the recording asks for more than the physical range):
+  // it is never chosen over an evaluated fit within the bounds, and the residual's rounds,
+  // which start from the chosen fit, start from one that can stand.
+  for (std::size_t i = 0; fits && i < n; ++i) {
     fits = bound_status(config_.space, i, z[i], VariableStatus::kIdentified) ==
            VariableStatus::kIdentified;
   }

@@ -423,6 +423,27 @@ TEST_F(ToneCalibratorTest, AVariableTheRecordingPushesPastItsBoundIsReportedAtTh
   EXPECT_TRUE(r.at_bound);
 }
 
+TEST_F(ToneCalibratorTest, AFitInsideTheBoundsIsChosenOverACloserOneOnTheBound) {
+  // The truth's high-speed mesh scale 0.48 lies just below the space's bound 0.5: the bound
+  // matches the tones best, but a point inside fits within every threshold too (ln(0.52/0.48)
+  // moves a tone by |G| · 0.08 ≤ 5 %, far inside f1–f3's limits). A point on a bound is no
+  // success, so the chosen calibration is a fit inside the bounds, and it is a calibration.
+  DynamicsParameters truth = nominal_parameters();
+  truth.mesh_stiffness_scale[2] = 0.48;
+  auto cal = make(truth);
+  const CalibrationResult r = run(*cal, nominal_parameters());
+  const CalibrationSpace space = CalibrationSpace::paper(nominal_parameters());
+  EXPECT_TRUE(r.fits);
+  EXPECT_FALSE(r.at_bound);
+  for (std::size_t i = 0; i < space.size(); ++i) {
+    const CalibrationVariable& v = space.variable(i);
+    if (v.field != ParameterField::kMeshScale || v.index != 2) continue;
+    EXPECT_EQ(r.status[i], VariableStatus::kIdentified);
+    EXPECT_GT(r.parameters.mesh_stiffness_scale[2], 0.5);
+  }
+  for (const Indicators& i : r.indicators) EXPECT_LT(worst_threshold_ratio(i), 1.0);
+}
+
 TEST_F(ToneCalibratorTest, AJointCalibrationFitsOneParameterSetToTwoOperatingPoints) {
   const std::array<OperatingPoint, 2> ops{{{8.33, 361747.0}, {14.8, 1.23e6}}};
   auto cal = make_with(drifted_parameters(), paper_config(0, 40), ops);

@@ -83,8 +83,9 @@
 // solution (the chosen ones' joint posterior; for the others the information left after
 // the chosen) and whether it is identified, not identified, or at a bound (an identified
 // variable within 1e-3 σ of its bound).
-// The chosen parameters: the evaluated set with every indicator within its threshold and
-// the least F; if none fits, the least F.
+// The chosen parameters: the evaluated set with every indicator within its threshold and no
+// variable on a bound (within 1e-3 σ: the recording asks for more than the physical range)
+// with the least F; if none, the least F (then reported NOT calibrated or at its bound).
 //
 // Joint calibration: set_measurements() takes up to kMaxCalibrationCases operating
 // points; one parameter set is fitted to all of them (features concatenated), the
