@@ -882,8 +882,8 @@ void setup_calibrate(CLI::App& sub) {
                  "top; a warm round probes nothing)")
       ->check(app::cli::integer_in(0, 100000, "model evaluations"));
   sub.add_flag("--probe-every-round", args->probe_every_round,
-               "trust-region: probe every variable in every round (before session 10's warm "
-               "rounds, which reuse the model of a round that improved the fit)");
+               "trust-region: probe every variable in every round (no warm rounds, which reuse "
+               "the model of a round that improved the fit)");
   sub.add_option("--population", args->population, "Grasshoppers (default 20)")
       ->check(app::cli::integer_in(2, 64, "grasshoppers"));
   sub.add_option("--iterations", args->iterations, "MOGOA iterations (default 50)")

@@ -571,7 +571,6 @@ bool Calibrator::start(const DynamicsParameters& current,
     warm_round_ = false;
     stage_probed_rounds_ = 1;  // the first round's (its probes or the given model)
     stage_start_evaluations_ = 0;
-    rounds_ = 1;
     probed_rounds_ = start_model_given_ ? 0 : 1;
     set_residual_active(false);
     residual_round_ = 0;
@@ -876,7 +875,6 @@ void Calibrator::begin_round(bool warm) {
     ++stage_probed_rounds_;
     ++probed_rounds_;
   }
-  ++rounds_;
   if (have_any_) {
     z_start_ = best_any_z_;
     round_start_cost_ = best_any_cost_;
@@ -896,7 +894,7 @@ void Calibrator::finish(bool cancelled) {
   r.iterations = iteration();
   r.variables = n;
   r.cases = case_count_;
-  r.rounds = config_.method == CalibrationMethod::kTrustRegion ? rounds_ : 0;
+  r.rounds = config_.method == CalibrationMethod::kTrustRegion ? round_ + 1 : 0;
   r.probed_rounds = config_.method == CalibrationMethod::kTrustRegion ? probed_rounds_ : 0;
   std::array<double, kMaxCalibrationVariables> z{};
   bool chosen = false;

@@ -459,7 +459,6 @@ class Calibrator {
   std::size_t round_ = 0;
   bool warm_round_ = false;                  // this round skipped its probes (header: warm rounds)
   std::size_t stage_probed_rounds_ = 0;      // probed rounds of the stage (tones, then ρ)
-  std::size_t rounds_ = 0;                   // rounds begun, both stages
   std::size_t probed_rounds_ = 0;            // of them probed
   std::size_t stage_start_evaluations_ = 0;  // evaluations before the stage began
   std::size_t round_cost() const;            // a probed round's evaluations at most
