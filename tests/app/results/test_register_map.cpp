@@ -126,7 +126,7 @@ TEST(ResultsRegisterMap, EncodeLeavesTheCommandBlockToTheClientsAndAllocatesNoth
 
 TEST(ResultsRegisterMap, TheDocumentedTableIsTheOneTheDeclarationGenerates) {
   // Arrange: docs/results-map.md holds `drivetwin results-map` for paper-2mw.
-  std::ifstream in(std::string(DRIVETWIN_SOURCE_DIR) + "/docs/results-map.md");
+  std::ifstream in(DRIVETWIN_SOURCE_DIR "/docs/results-map.md");
   ASSERT_TRUE(in) << "docs/results-map.md missing";
   std::stringstream doc;
   doc << in.rdbuf();
