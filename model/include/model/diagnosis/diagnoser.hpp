@@ -38,7 +38,7 @@
 //                     calibration alone left in its own lines, on data it was not fitted to;
 //                 (b) its lines are significant there (locate.hpp's evidence ≥ min_evidence);
 //                 (c) it improved half A's signature too and does not raise half B's total
-//                     residual (the contract's) by more than 2 %;
+//                     residual (the contract's sum, not clipped to 1) by more than 2 %;
 //               confidence: the posterior weight of its Bayesian information criterion
 //               on half B's signature residual, BIC = n·ln(residual) + k·ln(n) (n its
 //               significant lines, k its parameter count), against calibration alone and
@@ -175,7 +175,7 @@ struct CandidateResult {
   // The guard against a fit that spoils the rest of the spectrum (half B): the total
   // residual line by line, or, for an impact train (envelope domain: slip makes it
   // non-periodic, its raw-spectrum lines a continuum the model can only match in power), the
-  // same sum over the power of 1/12-octave bands.
+  // same sum over the power of 1/12-octave bands; both not clipped to 1.
   double guard_holdout_calibrated = 0.0, guard_holdout_effect = 0.0;
   bool guard_in_bands = false;
   double signature_fit_calibrated = 0.0, signature_fit_effect = 0.0;          // half A, its lines
