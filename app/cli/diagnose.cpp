@@ -46,6 +46,7 @@ struct Args {
   std::size_t evaluations = model::calibration::kDefaultFitEvaluations;
   std::size_t candidates = 3;
   std::size_t fit_evaluations = 10;
+  bool probe_every_round = false;
   bool quiet = false;
 };
 
@@ -119,6 +120,7 @@ void run(const Args& args) {
   cfg.calibration.trust_region.max_evaluations = args.evaluations;
   cfg.max_candidates = args.candidates;
   cfg.fit_evaluations = args.fit_evaluations;
+  cfg.calibration.warm_rounds = !args.probe_every_round;
   md::RomEffectSimulator simulator(drivetrain, cfg.settle_s);
   md::Diagnoser diagnoser(drivetrain, simulator, cfg);
   const auto t0 = std::chrono::steady_clock::now();
@@ -212,6 +214,9 @@ void setup(CLI::App& sub) {
   sub.add_option("--fit-evaluations", args->fit_evaluations,
                  "Model evaluations per refitted hypothesis (default 10)")
       ->check(app::cli::integer_in(1, 10000, "model evaluations"));
+  sub.add_flag("--probe-every-round", args->probe_every_round,
+               "Calibration: probe every variable in every round, as `drivetwin calibrate "
+               "--probe-every-round`");
   sub.add_flag("--quiet", args->quiet, "Print nothing but errors");
   sub.callback([args] { run(*args); });
 }
