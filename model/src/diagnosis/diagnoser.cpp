@@ -972,11 +972,23 @@ void Diagnoser::step_decide() {
   auto judged = [](const CandidateResult& c) {
     return c.modelled && c.signature_holdout_calibrated > 0.0 && c.signature_holdout_effect > 0.0;
   };
+  // Each judged candidate's BIC on half B's own-line residual relative to calibration
+  // alone's (header): Δ = n·ln(residual with / without its term) + k·ln(n); < 0 where its
+  // term is worth its parameters.
+  std::vector<double> delta(report_.candidates.size(), 0.0);
+  for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
+    const CandidateResult& c = report_.candidates[i];
+    if (!judged(c)) continue;
+    const double n = static_cast<double>(std::max<std::size_t>(c.lines, 1));
+    const double k = static_cast<double>(c.parameters.size());
+    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) +
+               k * std::log(std::max(n, 2.0));
+  }
   std::vector<std::size_t> pass;
   for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
     CandidateResult& c = report_.candidates[i];
     if (!judged(c) || !c.verdict.empty()) continue;
-    char text[260];
+    char text[300];
     const double ratio = c.signature_holdout_effect / c.signature_holdout_calibrated;
     if (ratio > gate) {
       std::snprintf(text, sizeof text,
@@ -999,25 +1011,18 @@ void Diagnoser::step_decide() {
       std::snprintf(
           text, sizeof text,
           "on the hold-out half it leaves %.0f %% of the calibrated residual in its lines "
-          "(%.3f → %.3f), its lines' evidence %.0f",
+          "(%.3f → %.3f), its lines' evidence %.0f, BIC %+.1f against calibration alone "
+          "(%zu lines, %zu parameters)",
           100.0 * ratio, c.signature_holdout_calibrated, c.signature_holdout_effect,
-          c.holdout_evidence);
+          c.holdout_evidence, delta[i], c.lines, c.parameters.size());
       pass.push_back(i);
     }
     c.verdict = text;
   }
   // Posterior weights over calibration alone (Δ = 0) and every judged candidate.
-  std::vector<double> delta(report_.candidates.size(), 0.0);
   double best = 0.0;
-  for (std::size_t i = 0; i < report_.candidates.size(); ++i) {
-    const CandidateResult& c = report_.candidates[i];
-    if (!judged(c)) continue;
-    const double n = static_cast<double>(std::max<std::size_t>(c.lines, 1));
-    const double k = static_cast<double>(c.parameters.size());
-    delta[i] = n * std::log(c.signature_holdout_effect / c.signature_holdout_calibrated) +
-               k * std::log(std::max(n, 2.0));
-    best = std::min(best, delta[i]);
-  }
+  for (std::size_t i = 0; i < report_.candidates.size(); ++i)
+    if (judged(report_.candidates[i])) best = std::min(best, delta[i]);
   double z = std::exp(-0.5 * (0.0 - best));
   for (std::size_t i = 0; i < report_.candidates.size(); ++i)
     if (judged(report_.candidates[i])) z += std::exp(-0.5 * (delta[i] - best));
