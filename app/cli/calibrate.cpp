@@ -52,6 +52,7 @@
 #include "model/calibration/lumped_simulator.hpp"
 #include "model/drivetrain/kinematics.hpp"
 #include "model/dsp/mesh_features.hpp"
+#include "model/dsp/spectrum.hpp"
 #include "recording/bundle_check.hpp"
 #include "recording/calibration_measurement.hpp"
 
@@ -244,11 +245,8 @@ double residual_unclipped(const std::array<std::vector<double>, mc::kMeasurement
   double miss = 0.0;
   double total = 0.0;
   for (std::size_t p = 0; p < mc::kMeasurementPoints; ++p) {
-    for (std::size_t k = 1; k <= last_line && k < measured[p].size(); ++k) {
-      const double d = measured[p][k] - simulated[p][k];
-      miss += d * d;
-      total += measured[p][k] * measured[p][k];
-    }
+    dsp::add_unexplained_energy(measured[p].data(), measured[p].size(), simulated[p].data(),
+                                simulated[p].size(), last_line, miss, total);
   }
   return total > 0.0 ? miss / total : 1.0;
 }

@@ -48,12 +48,8 @@ double spectral_share(const Spectra& rec, const Spectra& sim, double max_hz) {
     if (m.amplitude.empty() || m.revolutions != s.revolutions) return 1.0;
     const auto last =
         static_cast<std::size_t>(max_hz / m.shaft_hz * static_cast<double>(m.revolutions));
-    for (std::size_t k = 1; k <= last && k < m.amplitude.size(); ++k) {
-      const double a_s = k < s.amplitude.size() ? s.amplitude[k] : 0.0;
-      const double d = m.amplitude[k] - a_s;
-      miss += d * d;
-      total += m.amplitude[k] * m.amplitude[k];
-    }
+    dsp::add_unexplained_energy(m.amplitude.data(), m.amplitude.size(), s.amplitude.data(),
+                                s.amplitude.size(), last, miss, total);
   }
   return total > 0.0 ? miss / total : 1.0;
 }

@@ -105,6 +105,17 @@ double SpectrumAnalyzer::tone_amplitude(const double* spectrum, double centre_li
   return std::sqrt(energy / kHannEnbwLines);
 }
 
+void add_unexplained_energy(const double* measured, std::size_t measured_lines,
+                            const double* simulated, std::size_t simulated_lines, std::size_t last,
+                            double& miss, double& total) {
+  for (std::size_t k = 1; k <= last && k < measured_lines; ++k) {
+    const double a_s = k < simulated_lines ? simulated[k] : 0.0;
+    const double d = measured[k] - a_s;
+    miss += d * d;
+    total += measured[k] * measured[k];
+  }
+}
+
 double rms(const double* x, std::size_t n) {
   if (n == 0) return 0.0;
   double mean = 0.0;

@@ -78,6 +78,25 @@ TEST(Rms, OfASineOverWholePeriodsIsAmplitudeOverRootTwoAndIgnoresTheMean) {
   EXPECT_NEAR(model::dsp::rms(x.data(), x.size()), 3.0 / std::sqrt(2.0), 1e-12);
 }
 
+// Hand sums: measured lines 0..4 = {9, 3, 4, 0, 2} (line 0, the mean, never counted), simulated
+// {7, 3, 1} (lines 3, 4 missing: 0). Up to line 4: miss = 0² + 3² + 0² + 2² = 13, total = 9 +
+// 16 + 0 + 4 = 29. Up to line 2: 9 and 25. A last line beyond the measured spectrum stops at it.
+TEST(UnexplainedEnergy, SumsTheMissAndTheMeasuredEnergyFromLineOneAndAddsChannels) {
+  const std::vector<double> m{9.0, 3.0, 4.0, 0.0, 2.0};
+  const std::vector<double> s{7.0, 3.0, 1.0};
+  double miss = 0.0, total = 0.0;
+  model::dsp::add_unexplained_energy(m.data(), m.size(), s.data(), s.size(), 4, miss, total);
+  EXPECT_DOUBLE_EQ(miss, 13.0);
+  EXPECT_DOUBLE_EQ(total, 29.0);
+  model::dsp::add_unexplained_energy(m.data(), m.size(), s.data(), s.size(), 2, miss, total);
+  EXPECT_DOUBLE_EQ(miss, 13.0 + 9.0);
+  EXPECT_DOUBLE_EQ(total, 29.0 + 25.0);
+  double miss2 = 0.0, total2 = 0.0;
+  model::dsp::add_unexplained_energy(m.data(), m.size(), s.data(), s.size(), 100, miss2, total2);
+  EXPECT_DOUBLE_EQ(miss2, 13.0);
+  EXPECT_DOUBLE_EQ(total2, 29.0);
+}
+
 TEST(CheckWaveform, RejectsFlatClippedAndNonFiniteChannelsAndAcceptsANoisySine) {
   auto clean = sine(20000, 25600.0, 372.0, 1.0);
   std::mt19937 rng(1);

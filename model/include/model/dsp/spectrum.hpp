@@ -90,6 +90,15 @@ class SpectrumAnalyzer {
 /// RMS of x[0..n) about its mean: sqrt(1/n·Σ(x − x̄)²). 0 for n = 0.
 double rms(const double* x, std::size_t n);
 
+/// The sums of the share of a recording's spectral energy a simulation does not explain (the
+/// residual of shared/reference/diagnosis-report.md: Σ(a_m − a_s)² / Σ a_m²), over lines
+/// 1..last of a measured and a simulated amplitude spectrum, added to `miss` and `total` so
+/// that channels sum up. A simulated line beyond `simulated_lines` counts 0; lines beyond
+/// `measured_lines` are not read.
+void add_unexplained_energy(const double* measured, std::size_t measured_lines,
+                            const double* simulated, std::size_t simulated_lines, std::size_t last,
+                            double& miss, double& total);
+
 /// Checks a waveform before it is analysed: non-finite samples, a flat
 /// channel (peak-to-peak ≤ flat_threshold) or clipping (more than 0.1 % of the
 /// samples sit in runs of ≥ 3 identical values within 2 % of the extreme).
