@@ -188,17 +188,22 @@ const model::Drivetrain& paper() {
   return d;
 }
 
+// Starts `d` on the recording and steps it until it stops; the final step.
+md::DiagnosisStep run_to_end(md::Diagnoser& d, const Recording& r) {
+  d.start(input_of(r));
+  md::DiagnosisStep st;
+  while ((st = d.step()) == md::DiagnosisStep::kRunning) {
+  }
+  return st;
+}
+
 TEST(Diagnoser, NamesTheCrackOfG4FitsItsSeverityAndHalvesTheResidual) {
   md::RomEffectSimulator unused(paper(), 0.0);
   md::Diagnoser probe(paper(), unused);
   ToneEffectSimulator sim(probe.catalogue());
   md::Diagnoser d(paper(), sim, config());
   const Recording r = record(probe.catalogue(), drifted(), 0.08, 14.0, 1);
-  d.start(input_of(r));
-  md::DiagnosisStep st;
-  while ((st = d.step()) == md::DiagnosisStep::kRunning) {
-  }
-  ASSERT_EQ(st, md::DiagnosisStep::kFinished) << d.report().message;
+  ASSERT_EQ(run_to_end(d, r), md::DiagnosisStep::kFinished) << d.report().message;
   const md::DiagnosisReport& rep = d.report();
   EXPECT_EQ(rep.speed_source, "mesh line");
   ASSERT_EQ(rep.missing.size(), 1u);
@@ -223,11 +228,7 @@ TEST(Diagnoser, ReportsNothingWhenOnlyTheParametersDrifted) {
   ToneEffectSimulator sim(probe.catalogue());
   md::Diagnoser d(paper(), sim, config());
   const Recording r = record(probe.catalogue(), drifted(), 0.0, 14.0, 2);
-  d.start(input_of(r));
-  md::DiagnosisStep st;
-  while ((st = d.step()) == md::DiagnosisStep::kRunning) {
-  }
-  ASSERT_EQ(st, md::DiagnosisStep::kFinished) << d.report().message;
+  ASSERT_EQ(run_to_end(d, r), md::DiagnosisStep::kFinished) << d.report().message;
   EXPECT_TRUE(d.report().missing.empty());
   for (const md::CandidateResult& c : d.report().candidates)
     EXPECT_FALSE(c.accepted) << md::effect_id(c.effect);
@@ -247,11 +248,7 @@ TEST(Diagnoser, ATermThatAddsLinesTheRecordingLacksIsNotReportedWhereTheResidual
   cfg.calibration.max_rounds = 1;  // nothing to win: the always-there line is out of its reach
   md::Diagnoser d(paper(), sim, cfg);
   const Recording r = record(probe.catalogue(), drifted(), 0.08, 6.5, 3);
-  d.start(input_of(r));
-  md::DiagnosisStep st;
-  while ((st = d.step()) == md::DiagnosisStep::kRunning) {
-  }
-  ASSERT_EQ(st, md::DiagnosisStep::kFinished) << d.report().message;
+  ASSERT_EQ(run_to_end(d, r), md::DiagnosisStep::kFinished) << d.report().message;
   const md::DiagnosisReport& rep = d.report();
   EXPECT_EQ(rep.residual_calibrated, 1.0);  // clipped: the always-there line
   EXPECT_TRUE(rep.missing.empty());
