@@ -649,11 +649,13 @@ StepStatus Calibrator::step() {
     if (probe_ > n && !begin_fit()) more = false;
   } else {
     more = tr_->step() && !tr_->finished();
-    // A round ends: another one from the best point while rounds improve F by > 1 %; a warm
-    // round that did not improve is followed by a probed one (header). Per stage (the tones,
-    // then ρ) at most its limit of probed rounds, and warm ones while the stage's evaluations
-    // stay below what that many probed rounds may cost.
-    const bool improved = have_any_ && best_any_cost_ < 0.99 * round_start_cost_;
+    // A round ends: another one from the best point while rounds improve F by > 1 % and by
+    // more than min_round_gain (χ²); a warm round that did not improve is followed by a probed
+    // one (header). Per stage (the tones, then ρ) at most its limit of probed rounds, and warm
+    // ones while the stage's evaluations stay below what that many probed rounds may cost.
+    const bool improved =
+        have_any_ && best_any_cost_ < std::min(0.99 * round_start_cost_,
+                                               round_start_cost_ - config_.min_round_gain);
     const bool warm_next = improved && config_.warm_rounds && tr_->jacobian_valid();
     const std::size_t limit = residual_active_ ? config_.residual_rounds : config_.max_rounds;
     const bool allowed = (warm_next || stage_probed_rounds_ < limit) &&

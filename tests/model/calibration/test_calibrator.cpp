@@ -298,6 +298,10 @@ TEST_F(ToneCalibratorTest, WarmRoundsSkipTheProbesAndReachTheSameFitOnAMapWithAC
   // (Broyden's update leaves an exact J as it is), so skipping them loses nothing.
   CalibratorConfig warm_cc = paper_config(0, 2);
   warm_cc.max_rounds = 12;
+  // The 1 % rule alone: on this exact map F falls below one unit of χ² within a few rounds,
+  // after which the χ² rule ends both runs (RoundsStopWhenTheyLowerFByLessThanOneUnitOfChiSquare);
+  // the rounds compared here are the 1 % rule's.
+  warm_cc.min_round_gain = 0.0;
   CalibratorConfig probed_cc = warm_cc;
   probed_cc.warm_rounds = false;
   auto warm = make_with(drifted_parameters(), warm_cc, {&op_, 1});
@@ -330,6 +334,37 @@ TEST_F(ToneCalibratorTest, WarmRoundsSkipTheProbesAndReachTheSameFitOnAMapWithAC
   EXPECT_GE(w.probed_rounds, 2u);
   EXPECT_LE(w.evaluations + 8u, p.evaluations);
   EXPECT_LE(w.evaluations, 12u * 11u);
+}
+
+TEST_F(ToneCalibratorTest, RoundsStopWhenTheyLowerFByLessThanOneUnitOfChiSquare) {
+  // Arrange: the drift of the warm-rounds test, 2 fit evaluations a round. F is a χ² (tones
+  // weighted by their σ), so a round that lowers it by less than 1 gains nothing the data can
+  // tell from noise. On this exact map F falls to the FFT leakage floor (≪ 1), where the
+  // 1 % rule alone still counts every further round as an improvement.
+  CalibratorConfig percent_cc = paper_config(0, 2);
+  percent_cc.max_rounds = 12;
+  percent_cc.min_round_gain = 0.0;  // the 1 % rule alone
+  CalibratorConfig chi2_cc = percent_cc;
+  chi2_cc.min_round_gain = 1.0;
+  auto percent = make_with(drifted_parameters(), percent_cc, {&op_, 1});
+  auto chi2 = make_with(drifted_parameters(), chi2_cc, {&op_, 1});
+  // Act
+  const CalibrationResult a = run(*percent, nominal_parameters());
+  const CalibrationResult b = run(*chi2, nominal_parameters());
+  // Assert: both fit and recover the truth within 1 %…
+  const DynamicsParameters truth = drifted_parameters();
+  for (const CalibrationResult* r : {&a, &b}) {
+    EXPECT_TRUE(r->fits);
+    EXPECT_NEAR(r->parameters.rayleigh_eta / truth.rayleigh_eta, 1.0, 0.01);
+    for (std::size_t s = 0; s < 3; ++s)
+      EXPECT_NEAR(r->parameters.mesh_stiffness_scale[s] / truth.mesh_stiffness_scale[s], 1.0, 0.01);
+  }
+  // …the χ² rule stops rounds earlier, at no loss the data could show: what the further
+  // rounds of the 1 % rule gain on this map is less than one unit of χ².
+  EXPECT_LT(b.rounds, a.rounds);
+  EXPECT_LT(b.evaluations, a.evaluations);
+  EXPECT_LE(a.cost, b.cost);
+  EXPECT_LT(b.cost - a.cost, 1.0);
 }
 
 TEST_F(ToneCalibratorTest, TheTrustRegionIsDeterministic) {

@@ -30,7 +30,7 @@
 // (a higher mesh harmonic, a resonance the gearbox does not have) and every line the
 // recording has that the model lacks where the model puts something. ρ weighs only in the
 // last `residual_rounds` rounds, after the rounds on the tones and RMS have settled (no
-// round improving F by 1 % more, or max_rounds): they start from the chosen point, the
+// round improving F (below), or max_rounds): they start from the chosen point, the
 // candidates judged again by F with ρ, so that the identification (through ρ's column of the
 // Jacobian: a tip relief that smooths a stiffness harmonic no tone compares) and the fit
 // remove such lines where the indicators allow it — the paper's indicators choose first (a
@@ -70,18 +70,19 @@
 // variables, its model J taken from the probes (no more probes), the prior's residuals
 // included. Resonances make the features strongly nonlinear, so the identification and
 // the fit repeat from the best point (up to max_rounds rounds, while a round lowers F by
-// more than 1 %). Warm rounds (`warm_rounds`): a round that follows one that lowered F
-// skips the n probes and identifies on the model the last round ended with — the probes'
-// columns, those of the variables it fitted replaced by the fit's (Broyden-updated along
-// its steps, re-probed by the trust region where its steps failed); a warm round that does
-// not lower F by 1 % is followed by a probed one, so the run settles only on a freshly
-// probed model. max_rounds (residual_rounds) bounds the probed rounds of the stage, and warm
-// rounds go on while the stage's evaluations stay below what that many probed rounds may
-// cost, so a run costs at most what it did with every round probed. The spectral residual's
-// first round always probes.
-// At the end each variable is reported with its posterior σ ratio at the
-// solution (the chosen ones' joint posterior; for the others the information left after
-// the chosen) and whether it is identified, not identified, or at a bound (an identified
+// more than 1 % and by more than `min_round_gain`, 1: F is a χ², and a change of χ² below 1 is
+// not statistically meaningful — Press et al., Numerical Recipes, 3rd ed., §15.5.2 — so the
+// rounds stop where they would only fit the noise; "improved" below means both). Warm rounds
+// (`warm_rounds`): a round that follows one that lowered F skips the n probes and identifies on the
+// model the last round ended with — the probes' columns, those of the variables it fitted replaced
+// by the fit's (Broyden-updated along its steps, re-probed by the trust region where its steps
+// failed); a warm round that does not improve is followed by a probed one, so the run
+// settles only on a freshly probed model. max_rounds (residual_rounds) bounds the probed rounds of
+// the stage, and warm rounds go on while the stage's evaluations stay below what that many probed
+// rounds may cost, so a run costs at most what it did with every round probed. The spectral
+// residual's first round always probes. At the end each variable is reported with its posterior σ
+// ratio at the solution (the chosen ones' joint posterior; for the others the information left
+// after the chosen) and whether it is identified, not identified, or at a bound (an identified
 // variable within 1e-3 σ of its bound).
 // The chosen parameters: the evaluated set with every indicator within its threshold and no
 // variable on a bound (within 1e-3 σ: the recording asks for more than the physical range)
@@ -194,6 +195,8 @@ struct CalibratorConfig {
   double probe_step = 0.1;           // [prior σ] identification probe length
   bool identify = true;              // false: fit every variable (no identification)
   std::size_t max_rounds = 8;        // [-] identification + fit rounds (header)
+  double min_round_gain = 1.0;       // [χ²] a round improves F only when it lowers F by more
+                                     // than this as well as by 1 % (header); 0: by 1 % alone
   bool warm_rounds = true;           // a round after one that improved F reuses its model
                                      // instead of probing again (header); false: every
                                      // round probes every variable
