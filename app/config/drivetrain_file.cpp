@@ -173,6 +173,7 @@ const std::vector<Key<DynamicsParameters>> kDynamicsKeys{
     {"bearing_compliance_scale", &DynamicsParameters::bearing_compliance_scale,
      Range::kNonNegative},
     {"bearing_stiffness_factor", &DynamicsParameters::bearing_stiffness_factor, Range::kPositive},
+    {"sun_shaft_torsion_scale", &DynamicsParameters::sun_shaft_torsion_scale, Range::kPositive},
     {"damping_band_factor", &DynamicsParameters::damping_band_factor, Range::kPositive},
     {"transmission_error_m", &DynamicsParameters::transmission_error_m},
     {"transmission_error_phase_rad", &DynamicsParameters::transmission_error_phase_rad},

@@ -887,6 +887,11 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       return std::nullopt;
     }
   }
+  if (!(dp.sun_shaft_torsion_scale > 0.0) || !std::isfinite(dp.sun_shaft_torsion_scale)) {
+    fail(error,
+         "drivetrain '" + d.name + "': dynamics: sun_shaft_torsion_scale must be finite and > 0");
+    return std::nullopt;
+  }
   for (std::size_t i = 0; i < dp.mesh_tip_relief.size(); ++i) {
     if (!(dp.mesh_tip_relief[i] >= 0.0 && dp.mesh_tip_relief[i] <= 1.0)) {
       fail(error, "drivetrain '" + d.name +
@@ -1024,8 +1029,8 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
       ims_centre + hs_geo.centre_distance_m * Eigen::Vector2d(std::cos(s.hss_axis_angle_rad),
                                                               std::sin(s.hss_axis_angle_rad));
 
-  auto build_shaft = [&](const Shaft& shaft, int elements,
-                         const Eigen::Vector2d& centre) -> std::optional<std::vector<Node>> {
+  auto build_shaft = [&](const Shaft& shaft, int elements, const Eigen::Vector2d& centre,
+                         double torsion_scale) -> std::optional<std::vector<Node>> {
     const Material* mat = d.material(shaft.material);
     if (mat == nullptr) {
       fail(error, "drivetrain '" + d.name + "': shafts: '" + shaft.id + "': unknown material '" +
@@ -1047,7 +1052,7 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     const double phi = 12.0 * e * i_area / (kappa * gmod * area * le * le);
     const double k_lat = 12.0 * e * i_area / (le * le * le * (1.0 + phi));
     const double k_ax = e * area / le;
-    const double k_tor = gmod * j_polar / le;
+    const double k_tor = torsion_scale * gmod * j_polar / le;
     const double m_half = 0.5 * mat->density_kg_m3 * area * le;
     const double j_half = 0.5 * mat->density_kg_m3 * j_polar * le;
     for (int i = 0; i < elements; ++i) {
@@ -1062,11 +1067,12 @@ std::optional<FullModel> build_full_model(const Drivetrain& d, const StructuralP
     }
     return nodes;
   };
-  const auto sun_shaft = build_shaft(*sh[0], kSunShaftElements, Eigen::Vector2d::Zero());
+  const auto sun_shaft = build_shaft(*sh[0], kSunShaftElements, Eigen::Vector2d::Zero(),
+                                     d.dynamics.sun_shaft_torsion_scale);
   if (!sun_shaft) return std::nullopt;
-  const auto ims = build_shaft(*sh[1], kImsElements, ims_centre);
+  const auto ims = build_shaft(*sh[1], kImsElements, ims_centre, 1.0);
   if (!ims) return std::nullopt;
-  const auto hss = build_shaft(*sh[2], kHssElements, hss_centre);
+  const auto hss = build_shaft(*sh[2], kHssElements, hss_centre, 1.0);
   if (!hss) return std::nullopt;
   const Node& sunn = (*sun_shaft)[kSunNode];
   as.add_mass(sunn, sun.mass_kg, disc_inertia(sun.mass_kg, r_sun));

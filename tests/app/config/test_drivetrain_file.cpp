@@ -123,6 +123,8 @@ void expect_equal(const model::Drivetrain& a, const model::Drivetrain& b) {
   };
   same_array(a.dynamics.bearing_stiffness_factor, b.dynamics.bearing_stiffness_factor,
              "bearing factor");
+  expect_same(a.dynamics.sun_shaft_torsion_scale, b.dynamics.sun_shaft_torsion_scale,
+              "sun shaft torsion");
   same_array(a.dynamics.damping_band_factor, b.dynamics.damping_band_factor, "band factor");
   same_array(a.dynamics.transmission_error_m, b.dynamics.transmission_error_m, "TE");
   same_array(a.dynamics.housing_frequency_hz, b.dynamics.housing_frequency_hz, "housing f");
@@ -232,6 +234,16 @@ TEST(DrivetrainFile, TipReliefIsReadPerStageAndRefusedOutsideZeroToOne) {
   EXPECT_NE(
       e.find("key 'dynamics.mesh_tip_relief[1]': expected a finite number in [0, 1], got 1.5"),
       std::string::npos)
+      << e;
+}
+
+TEST(DrivetrainFile, SunShaftTorsionIsReadAndRefusedWhenNotPositive) {
+  const auto d = app::config::parse_drivetrain(
+      "base = \"paper-2mw\"\n[dynamics]\nsun_shaft_torsion_scale = 2.5\n", "s.toml");
+  EXPECT_DOUBLE_EQ(d.dynamics.sun_shaft_torsion_scale, 2.5);
+  const std::string e = error_of("base = \"paper-2mw\"\n[dynamics]\nsun_shaft_torsion_scale = 0\n");
+  EXPECT_NE(e.find("key 'dynamics.sun_shaft_torsion_scale': expected a finite number > 0"),
+            std::string::npos)
       << e;
 }
 

@@ -36,6 +36,7 @@ model::DynamicsParameters unusual() {
   for (double& x : p.bearing_stiffness_scale) x = next();
   p.bearing_stiffness_fluctuation = next() / 10.0;
   for (double& x : p.bearing_stiffness_factor) x = next();
+  p.sun_shaft_torsion_scale = next();
   for (double& x : p.damping_band_factor) x = next();
   for (double& x : p.transmission_error_m) x = next() * 1e-6;
   for (double& x : p.transmission_error_phase_rad) x = -next();
@@ -61,6 +62,7 @@ void expect_same(const model::DynamicsParameters& a, const model::DynamicsParame
   expect_same(a.bearing_stiffness_scale, b.bearing_stiffness_scale, "bearing_stiffness_scale");
   EXPECT_EQ(a.bearing_stiffness_fluctuation, b.bearing_stiffness_fluctuation);
   expect_same(a.bearing_stiffness_factor, b.bearing_stiffness_factor, "bearing_stiffness_factor");
+  EXPECT_EQ(a.sun_shaft_torsion_scale, b.sun_shaft_torsion_scale);
   expect_same(a.damping_band_factor, b.damping_band_factor, "damping_band_factor");
   expect_same(a.transmission_error_m, b.transmission_error_m, "transmission_error_m");
   expect_same(a.transmission_error_phase_rad, b.transmission_error_phase_rad,

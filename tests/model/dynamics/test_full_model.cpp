@@ -568,6 +568,73 @@ TEST(FullModelBuild, PerBearingFactorMultipliesItsShaftScale) {
   EXPECT_NEAR(m.bearings[5].mean_n_m, b6.radial_stiffness_n_m * b6.rows * 1.5, 1.0);
 }
 
+TEST(FullModelBuild, SunShaftTorsionScaleMultipliesItsTorsionalElementsOnly) {
+  // Arrange: the reference's sun shaft, 1.40 m × 0.26 m solid 17CrNiMo6 in 11 elements.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.sun_shaft_torsion_scale = 3.0;
+  const double g_mod = 206e9 / 2.6;
+  const double gj_over_le = g_mod * kPi * std::pow(0.26, 4) / 32 / (1.40 / 11);
+
+  // Act
+  const FullModel m = paper_model(d);
+  const FullModel m0 = paper_model();
+
+  // Assert: two neighbouring nodes' twist coupled by 3·GJ/L_e (by hand), the ims's by its own.
+  const int a = m.dof("sun_shaft.3.theta"), b = m.dof("sun_shaft.4.theta");
+  ASSERT_GE(a, 0);
+  ASSERT_GE(b, 0);
+  EXPECT_NEAR(-m.stiffness(a, b) / gj_over_le, 3.0, 1e-9);
+  EXPECT_NEAR(-m0.stiffness(a, b) / gj_over_le, 1.0, 1e-9);
+  const int i = m.dof("ims.3.theta"), j = m.dof("ims.4.theta");
+  ASSERT_GE(i, 0);
+  EXPECT_EQ(m.stiffness(i, j), m0.stiffness(i, j));
+}
+
+TEST(FullModelModes, AStifferSunShaftLowersNoModeAndLiftsThePlanetaryTorsionalMode) {
+  // Arrange: the sun shaft's torsion ×3 adds a positive semi-definite stiffness and no
+  // mass, so by Weyl's inequality no natural frequency falls. The planetary stage's torsional
+  // mode (the one with the most kinetic energy in the carrier's rotation below 260 Hz) has
+  // that shaft as its spring (the carrier turning against the intermediate shaft) and rises.
+  model::Drivetrain stiff = model::paper_2mw();
+  stiff.dynamics.sun_shaft_torsion_scale = 3.0;
+  const FullModel m0 = paper_model();
+  const FullModel m3 = paper_model(stiff);
+  const int carrier = m0.dof("carrier.theta");
+  ASSERT_GE(carrier, 0);
+  const auto planetary_mode_hz = [&](const FullModel& m, const Modes& md) {
+    double best = 0.0, hz = 0.0;
+    for (int k = 0; k < md.hz.size(); ++k) {
+      if (!(md.hz[k] < 260.0)) continue;
+      const double share = m.mass[carrier] * md.phi(carrier, k) * md.phi(carrier, k);
+      if (share > best) {
+        best = share;
+        hz = md.hz[k];
+      }
+    }
+    return hz;
+  };
+
+  // Act
+  const Modes before = modes_of(m0);
+  const Modes after = modes_of(m3);
+
+  // Assert
+  ASSERT_EQ(before.hz.size(), after.hz.size());
+  for (int k = 0; k < before.hz.size(); ++k)
+    EXPECT_GE(after.hz[k], before.hz[k] * (1.0 - 1e-9)) << "mode " << k;
+  const double f0 = planetary_mode_hz(m0, before), f3 = planetary_mode_hz(m3, after);
+  EXPECT_GT(f3, 1.2 * f0) << f0 << " Hz -> " << f3 << " Hz";
+  RecordProperty("planetary_torsional_hz", std::to_string(f0) + " -> " + std::to_string(f3));
+}
+
+TEST(FullModelBuild, ANonPositiveSunShaftTorsionScaleIsRejectedNamingTheKey) {
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.sun_shaft_torsion_scale = 0.0;
+  std::string error;
+  EXPECT_FALSE(build_full_model(d, {}, &error).has_value());
+  EXPECT_NE(error.find("sun_shaft_torsion_scale"), std::string::npos) << error;
+}
+
 TEST(FullModelBuild, EachBearingsVaryingComplianceFollowsItsRollerCount) {
   // paper-2mw's b5 has 16 rollers, b6 14 (per row): their stiffness at the roller-on-the-load-
   // line position over the half-pitch one is the line-contact law's by hand

@@ -201,6 +201,12 @@ struct DynamicsParameters {
   double bearing_stiffness_fluctuation = 0.1;
   /// [-] per bearing b1..b6, on top of its shaft's bearing_stiffness_scale.
   std::array<double, 6> bearing_stiffness_factor{1.0, 1.0, 1.0, 1.0, 1.0, 1.0};
+  /// [-] the sun shaft's torsional stiffness against its solid-shaft value G·J/L. The sun
+  /// shaft is the quill between the floating sun and the intermediate stage's wheel: its
+  /// splines at both ends and its bore make its effective torsional stiffness a factor of
+  /// two or more off the mean-diameter figure, and it is the spring of the planetary stage's
+  /// torsional mode (the carrier turning against the intermediate shaft, docs/calibration.md).
+  double sun_shaft_torsion_scale = 1.0;
   /// [-] multiplies the gearbox's modal damping ratio (Rayleigh's η/2ω + ζω/2) at the
   /// knots kDampingKnotsHz, linear in log frequency between them, constant outside.
   std::array<double, kDampingKnots> damping_band_factor{1.0, 1.0, 1.0};
