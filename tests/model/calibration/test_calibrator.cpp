@@ -19,6 +19,7 @@
 
 #include "model/calibration/calibrator.hpp"
 #include "model/calibration/lumped_simulator.hpp"
+#include "model/calibration/resonance_placement.hpp"
 #include "model/drivetrain/kinematics.hpp"
 
 // GCC 12 at -O2 (with ASan) inlines the replaced operator delete below into
@@ -862,6 +863,85 @@ TEST_F(CalibratorTest, StepsDoNotAllocate) {
   while (cal->step() == StepStatus::kRunning) {
   }
   EXPECT_EQ(g_allocations.load(), before);
+}
+
+// A torsional mode whose spring is the sun shaft (f_n = f_1·√s, s the stiffness scale) lifts
+// the harmonics of a 13.745 Hz mesh through a single-degree-of-freedom response (ζ = 0.03):
+// the residual of the harmonics' amplitudes against those at s_true, the quantity the
+// placement lowers. It is not monotonic in s (each harmonic peaks as the mode crosses it).
+double harmonics_residual(double s, double s_true) {
+  const auto amplitude = [](double scale, int n) {
+    const double r = 13.745 * n / (118.7 * std::sqrt(scale));
+    return 1.0 / std::sqrt((1 - r * r) * (1 - r * r) + (0.06 * r) * (0.06 * r));
+  };
+  double num = 0.0, den = 0.0;
+  for (int n = 1; n <= 20; ++n) {
+    const double a = amplitude(s, n), b = amplitude(s_true, n);
+    num += (a - b) * (a - b);
+    den += b * b;
+  }
+  return std::sqrt(num / den);
+}
+
+TEST(ResonancePlacement, AModeFarFromTheRecordingsIsScannedAndRefittedAtTheNearestGridPoint) {
+  // Arrange: the recording's mode at s = 3 (206 Hz), the fit at the prior's (1: 118.7 Hz),
+  // where a step of +10 % raises the residual: no local step finds it.
+  const DynamicsParameters prior = model::paper_2mw().dynamics;
+  DynamicsParameters fitted = prior;
+  fitted.rayleigh_eta = 7.0;  // a fitted value of another parameter, to be kept
+  std::size_t calls = 0;
+  const auto residual = [&](const DynamicsParameters& p) {
+    ++calls;
+    EXPECT_EQ(p.rayleigh_eta, 7.0);  // only the scanned parameter moves
+    return harmonics_residual(p.sun_shaft_torsion_scale, 3.0);
+  };
+  EXPECT_GT(harmonics_residual(1.1, 3.0), harmonics_residual(1.0, 3.0));
+
+  // Act
+  const PlacementScan scan = scan_placement(prior, fitted, 0.25, residual);
+
+  // Assert: nine log-centres of equal intervals of 1/9 … 9, ×81^(1/9) apart, 1 among them,
+  // neither bound; the lowest residual at 9^(4/9) = 2.655, the grid point nearest 3, lower
+  // than the fit's by more than the threshold: a refit from there.
+  EXPECT_EQ(calls, kPlacementPoints + 1);
+  EXPECT_NEAR(scan.value.front(), std::pow(9.0, -8.0 / 9.0), 1e-12);
+  EXPECT_NEAR(scan.value.back(), std::pow(9.0, 8.0 / 9.0), 1e-9);
+  EXPECT_NEAR(scan.value[4], 1.0, 1e-12);
+  EXPECT_NEAR(scan.value[1] / scan.value[0], std::pow(81.0, 1.0 / 9.0), 1e-9);
+  EXPECT_NEAR(scan.best, std::pow(9.0, 4.0 / 9.0), 1e-9);
+  EXPECT_LT(scan.best_residual, scan.fitted_residual - 0.25);
+  EXPECT_TRUE(scan.refit);
+}
+
+TEST(ResonancePlacement, TheGridFollowsTheDescriptionsPrior) {
+  DynamicsParameters prior = model::paper_2mw().dynamics;
+  prior.sun_shaft_torsion_scale = 2.0;
+  const PlacementScan scan =
+      scan_placement(prior, prior, 0.25, [](const DynamicsParameters&) { return 1.0; });
+  EXPECT_NEAR(scan.value[4], 2.0, 1e-12);
+  EXPECT_NEAR(scan.value.front(), 2.0 * std::pow(9.0, -8.0 / 9.0), 1e-12);
+  EXPECT_FALSE(scan.refit);  // a flat residual: nothing to place
+  EXPECT_EQ(scan.best, 2.0);
+}
+
+TEST(ResonancePlacement, AModeWhereTheRecordingHasItIsLeftThere) {
+  const DynamicsParameters prior = model::paper_2mw().dynamics;
+  const auto residual = [](const DynamicsParameters& p) {
+    return harmonics_residual(p.sun_shaft_torsion_scale, 1.0);
+  };
+  const PlacementScan scan = scan_placement(prior, prior, 0.25, residual);
+  EXPECT_FALSE(scan.refit);
+  EXPECT_EQ(scan.best, 1.0);
+  EXPECT_EQ(scan.best_residual, 0.0);
+}
+
+TEST(ResonancePlacement, TheFitThatCalibratesIsKeptThenTheLowerResidualThenTheLowerWorstIndicator) {
+  EXPECT_TRUE(keep_refit(false, 0.5, 1.2, true, 0.9, 0.8));   // only the refit calibrates
+  EXPECT_FALSE(keep_refit(true, 0.9, 0.8, false, 0.2, 1.1));  // only the first does
+  EXPECT_TRUE(keep_refit(true, 0.9, 0.8, true, 0.3, 0.9));    // both: the lower residual
+  EXPECT_FALSE(keep_refit(true, 0.3, 0.8, true, 0.9, 0.5));
+  EXPECT_TRUE(keep_refit(false, 0.3, 1.5, false, 0.9, 1.2));  // neither: the lower worst
+  EXPECT_FALSE(keep_refit(false, 0.9, 1.2, false, 0.3, 1.5));
 }
 
 }  // namespace
