@@ -38,6 +38,16 @@ void CalibrationSpace::add(ParameterField f, std::size_t index, bool logarithmic
   ++count_;
 }
 
+CalibrationSpace CalibrationSpace::with_sun_shaft_torsion() const {
+  CalibrationSpace s = *this;
+  for (std::size_t i = 0; i < count_; ++i)
+    if (vars_[i].field == ParameterField::kSunShaftTorsion) return s;
+  const double v = prior_.sun_shaft_torsion_scale;
+  s.add(ParameterField::kSunShaftTorsion, 0, true, kLn3, v / 9.0, v * 9.0,
+        "sun_shaft_torsion_scale", "-");
+  return s;
+}
+
 CalibrationSpace CalibrationSpace::paper(const DynamicsParameters& prior) {
   CalibrationSpace s;
   s.prior_ = prior;
@@ -196,6 +206,8 @@ double CalibrationSpace::get(const DynamicsParameters& p, const CalibrationVaria
       return p.mesh_tip_relief[i];
     case ParameterField::kBearingFluctuation:
       return p.bearing_stiffness_fluctuation;
+    case ParameterField::kSunShaftTorsion:
+      return p.sun_shaft_torsion_scale;
     case ParameterField::kBearingComplianceScale:
       return p.bearing_compliance_scale;
     case ParameterField::kBearingShaftScale:
@@ -255,6 +267,9 @@ void CalibrationSpace::set(DynamicsParameters& p, const CalibrationVariable& v, 
       break;
     case ParameterField::kBearingComplianceScale:
       p.bearing_compliance_scale = value;
+      break;
+    case ParameterField::kSunShaftTorsion:
+      p.sun_shaft_torsion_scale = value;
       break;
     case ParameterField::kBearingShaftScale:
       p.bearing_stiffness_scale[i] = value;

@@ -902,8 +902,9 @@ TEST(ResonancePlacement, AModeFarFromTheRecordingsIsScannedAndRefittedAtTheNeare
 
   // Assert: nine log-centres of equal intervals of 1/9 … 9, ×81^(1/9) apart, 1 among them,
   // neither bound; the lowest residual at 9^(4/9) = 2.655, the grid point nearest 3, lower
-  // than the fit's by more than the threshold: a refit from there.
-  EXPECT_EQ(calls, kPlacementPoints + 1);
+  // than the fit's by more than the threshold: a refit from there. The fit sits on the grid
+  // point 1: simulated once, as the fit, not again as a grid point.
+  EXPECT_EQ(calls, kPlacementPoints);
   EXPECT_NEAR(scan.value.front(), std::pow(9.0, -8.0 / 9.0), 1e-12);
   EXPECT_NEAR(scan.value.back(), std::pow(9.0, 8.0 / 9.0), 1e-9);
   EXPECT_NEAR(scan.value[4], 1.0, 1e-12);
@@ -933,6 +934,75 @@ TEST(ResonancePlacement, AModeWhereTheRecordingHasItIsLeftThere) {
   EXPECT_FALSE(scan.refit);
   EXPECT_EQ(scan.best, 1.0);
   EXPECT_EQ(scan.best_residual, 0.0);
+}
+
+TEST(ResonancePlacement, WithNoThresholdAnyLowerGridPointRefitsAndTheFitsOwnPointNever) {
+  // The command's threshold is 0: a refit wherever another grid point is lower at all. A fit
+  // off the grid (a released refit's 4.85) is compared with all nine points, each simulated.
+  const DynamicsParameters prior = model::paper_2mw().dynamics;
+  DynamicsParameters fitted = prior;
+  fitted.sun_shaft_torsion_scale = 4.85;
+  std::size_t calls = 0;
+  const auto toward_3 = [&](const DynamicsParameters& p) {
+    ++calls;
+    return std::abs(std::log(p.sun_shaft_torsion_scale / 3.0));  // lowest at 3, V-shaped
+  };
+  const PlacementScan off = scan_placement(prior, fitted, 0.0, toward_3);
+  EXPECT_EQ(calls, kPlacementPoints + 1);
+  EXPECT_NEAR(off.best, std::pow(9.0, 4.0 / 9.0), 1e-9);  // 2.655: |ln(2.655/3)| < |ln(4.85/3)|
+  EXPECT_TRUE(off.refit);
+  // At the prior, with the residual lowest there: nothing lower, no refit, however small the
+  // threshold (its own grid point is not a second, rounding-different sample of it).
+  const auto at_1 = [](const DynamicsParameters& p) {
+    return 0.07 + std::abs(std::log(p.sun_shaft_torsion_scale));
+  };
+  const PlacementScan on = scan_placement(prior, prior, 0.0, at_1);
+  EXPECT_FALSE(on.refit);
+  EXPECT_EQ(on.best, 1.0);
+  EXPECT_EQ(on.best_residual, on.fitted_residual);
+}
+
+TEST(CalibrationSpace, TheSunShaftTorsionIsReleasedOnlyOnRequestCentredOnTheDescription) {
+  // Arrange: a description whose sun shaft is already twice the model's default.
+  model::Drivetrain d = model::paper_2mw();
+  d.dynamics.sun_shaft_torsion_scale = 2.0;
+  const CalibrationSpace standard = model::calibration::default_space(d);
+  const auto index_of_sun = [](const CalibrationSpace& s) {
+    for (std::size_t i = 0; i < s.size(); ++i)
+      if (s.variable(i).field == model::calibration::ParameterField::kSunShaftTorsion) return i;
+    return s.size();
+  };
+  ASSERT_EQ(index_of_sun(standard), standard.size());  // not in the standard space
+
+  // Act
+  const CalibrationSpace released = standard.with_sun_shaft_torsion();
+
+  // Assert: one variable more, the others as they were; ln, σ = ln 3, ×/÷ 9 about 2.
+  ASSERT_EQ(released.size(), standard.size() + 1);
+  EXPECT_EQ(released.overflow(), 0u);
+  for (std::size_t i = 0; i < standard.size(); ++i)
+    EXPECT_STREQ(released.name(i), standard.name(i));
+  const std::size_t k = index_of_sun(released);
+  ASSERT_EQ(k, standard.size());
+  const auto& v = released.variable(k);
+  EXPECT_STREQ(released.name(k), "sun_shaft_torsion_scale");
+  EXPECT_TRUE(v.logarithmic);
+  EXPECT_NEAR(v.prior_sd, std::log(3.0), 1e-15);
+  EXPECT_NEAR(v.lower, 2.0 / 9.0, 1e-15);
+  EXPECT_NEAR(v.upper, 18.0, 1e-12);
+  EXPECT_NEAR(released.whiten(k, 2.0), 0.0, 1e-12);
+  EXPECT_NEAR(released.whiten(k, 6.0), 1.0, 1e-12);  // one prior σ: ×3
+  // Setting it moves the sun shaft and nothing else.
+  std::array<double, model::calibration::kMaxCalibrationVariables> z{};
+  z[k] = -1.0;
+  const DynamicsParameters p = released.to_parameters(z.data());
+  EXPECT_NEAR(p.sun_shaft_torsion_scale, 2.0 / 3.0, 1e-12);
+  std::array<double, model::calibration::kMaxCalibrationVariables> zp{}, zq{};
+  standard.to_variables(p, zp.data());
+  standard.to_variables(released.prior(), zq.data());
+  for (std::size_t i = 0; i < standard.size(); ++i) EXPECT_EQ(zp[i], zq[i]) << standard.name(i);
+  // Released twice is released once.
+  EXPECT_EQ(released.with_sun_shaft_torsion().size(), released.size());
 }
 
 TEST(ResonancePlacement, TheFitThatCalibratesIsKeptThenTheLowerResidualThenTheLowerWorstIndicator) {

@@ -61,10 +61,11 @@
 
 namespace model::calibration {
 
-/// Largest calibration space (the standard one has 69 variables on paper-2mw: 66 and the
-/// gearbox body's 3; the two unmeasured seats add 4, 73 — over this capacity, which the
+/// Largest calibration space (the standard one has 66 variables on paper-2mw; the gearbox
+/// body adds 3, 69; the two unmeasured seats add 4, 70; each with the released sun shaft
+/// torsion one more, 71; body and seats together 74 — over this capacity, which the
 /// Jacobian's fixed storage sets (trust_region.hpp): standard() then says so, overflow()).
-inline constexpr std::size_t kMaxCalibrationVariables = 70;
+inline constexpr std::size_t kMaxCalibrationVariables = 72;
 
 /// The gearbox body on its mounts (DynamicsParameters::gearbox_body_mass_kg) where a
 /// description has none: an engineering estimate for a 2 MW three-stage box in a three-point
@@ -112,6 +113,10 @@ enum class ParameterField : std::uint8_t {
   kGearboxMountDamping,    // index: 0
   // The derived varying compliance's scale (bearing_compliance.hpp), index 0.
   kBearingComplianceScale,
+  // The sun shaft's torsional stiffness scale (DynamicsParameters::sun_shaft_torsion_scale),
+  // index 0: never in a space as built, only released after the placement scan
+  // (release_sun_shaft_torsion, resonance_placement.hpp).
+  kSunShaftTorsion,
 };
 
 struct CalibrationVariable {
@@ -144,6 +149,16 @@ class CalibrationSpace {
       const std::array<bool, kHousingSeatBearings>& unmeasured_seats = {});
 
   CalibrationSpace() = default;
+
+  /// This space with the sun shaft's torsional stiffness scale added as a variable, centred on
+  /// the prior's value: ln, σ = ln 3, bounds ×/÷ 9 (the reference fixes no shaft dimension: bore
+  /// and splines put the effective d⁴/L ~×/÷ 3 off; the bounds are the placement scan's range,
+  /// kPlacementRange). Not in the standard space: fitted locally from the prior it does not move
+  /// the planetary torsional mode toward the recording's (the residual is not monotonic in it:
+  /// docs/calibration.md, Session 14); it is released only for the refit that starts where the
+  /// placement scan put it. A space already holding it, or full, is returned unchanged but for
+  /// overflow().
+  CalibrationSpace with_sun_shaft_torsion() const;
 
   std::size_t size() const { return count_; }
   /// Variables the space was asked for beyond kMaxCalibrationVariables (left out: a caller

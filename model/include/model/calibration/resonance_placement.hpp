@@ -10,21 +10,22 @@
 // with bore and splines, d⁴; torsional length ×/÷ 1.5): a recording's planetary mode may sit
 // anywhere in ×/÷ 9 of it (2σ).
 //
-// A calibration variable cannot carry it. The lines the mode lifts are high planetary-mesh
-// harmonics that the tones do not compare, and the spectral residual over them is not
-// monotonic in the stiffness (each line peaks as the mode crosses it and falls beyond), so the
-// trust region, which is local, keeps the mode where the prior put it; tried as a fitted
-// variable (σ = ln 3, ×/÷ 9, branch sunshaft-fitted-exp), it also gave the fit a freedom
-// to trade the residual for the tones on recordings whose mode was already right (rated-3's
-// residual 0.70 → 1.48).
+// Fitted from the prior, it does not get there. The lines the mode lifts are high
+// planetary-mesh harmonics that the tones do not compare, and the spectral residual over them
+// is not monotonic in the stiffness (each line peaks as the mode crosses it and falls beyond),
+// so the trust region, which is local, keeps the mode where the prior put it; tried as a fitted
+// variable from the prior (σ = ln 3, ×/÷ 9, branch sunshaft-fitted-exp), it also gave the fit a
+// freedom to trade the residual for the tones on recordings whose mode was already right
+// (rated-3's residual 0.70 → 1.48).
 //
-// So it is placed, not fitted: after the fit, the stiffness scale is set to each of
+// So it is first placed, then fitted: after the fit, the stiffness scale is set to each of
 // kPlacementPoints values — the log-centres of as many equal intervals of prior ×/÷ 9 (0.141 …
 // 7.05 of the prior, ×1.63 apart, the prior itself among them) — with every other parameter at
 // its fitted value, and the residual of each is computed. Where the lowest falls below the
-// fitted one by more than the residual's own uncertainty in the fit (the calibrator's
-// residual_model_sd: a smaller fall is what the fit already treats as noise), the fit runs
-// again with the scale there, and the better of the two fits is kept (keep_refit()).
+// fitted one by more than `threshold` (the command passes 0: the other variables were fitted
+// under the first mode, so the fall is a lower bound on what a refit gains), the fit runs again
+// from there with the scale released (CalibrationSpace::with_sun_shaft_torsion: a variable
+// centred on the description), and the better of the two fits is kept (keep_refit()).
 //
 // Thread context: pure functions; the caller's `residual` simulates (non-real-time).
 
@@ -69,7 +70,10 @@ PlacementScan scan_placement(const DynamicsParameters& prior, const DynamicsPara
     DynamicsParameters p = fitted;
     p.sun_shaft_torsion_scale = lower * std::pow(kPlacementRange * kPlacementRange, t);
     s.value[g] = p.sun_shaft_torsion_scale;
-    s.residual[g] = residual(p);
+    // The grid point the fit sits on (the prior, when the fit left the scale there) is the
+    // fit itself: its residual is the fitted one, not a rounding-different simulation of it.
+    const bool at_fit = std::abs(s.value[g] - s.fitted) <= 1e-9 * s.fitted;
+    s.residual[g] = at_fit ? s.fitted_residual : residual(p);
     if (s.residual[g] < s.best_residual) {
       s.best_residual = s.residual[g];
       s.best = s.value[g];
