@@ -661,10 +661,11 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
       if (release) fitted_space = &released->space();
     }
     res.evaluations = first_evaluations + again.evaluations;
-    res.evaluations_to_threshold = first_threshold > 0 ? first_threshold
-                                   : again.evaluations_to_threshold > 0
-                                       ? first_evaluations + again.evaluations_to_threshold
-                                       : 0;
+    // 0 when neither fit reached the thresholds.
+    std::size_t to_threshold = first_threshold;
+    if (to_threshold == 0 && again.evaluations_to_threshold > 0)
+      to_threshold = first_evaluations + again.evaluations_to_threshold;
+    res.evaluations_to_threshold = to_threshold;
   };
   if (!run_optimizer) {
     if (!args.quiet) std::printf("every indicator within its threshold: no calibration needed\n");
