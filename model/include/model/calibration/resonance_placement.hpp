@@ -33,6 +33,7 @@
 #include <cmath>
 #include <cstddef>
 
+#include "model/calibration/calibrator.hpp"
 #include "model/drivetrain/description.hpp"
 
 namespace model::calibration {
@@ -83,13 +84,15 @@ PlacementScan scan_placement(const DynamicsParameters& prior, const DynamicsPara
   return s;
 }
 
-/// Of the first fit and the refit from the scan's best point: the one that calibrates
-/// (every indicator within its threshold, nothing at a bound); of two that do, the lower
-/// residual; of two that do not, the lower worst indicator/threshold. true: the refit.
+/// Of the first fit and the refit from the scan's best point: of two that calibrate (every
+/// indicator within its threshold, nothing at a bound), the lower residual; otherwise
+/// choose_space()'s rule, the refit in the richer's place — the one that calibrates, else the
+/// lower worst indicator/threshold. true: the refit.
 inline bool keep_refit(bool first_calibrates, double first_residual, double first_worst,
                        bool refit_calibrates, double refit_residual, double refit_worst) {
-  if (first_calibrates != refit_calibrates) return refit_calibrates;
-  return first_calibrates ? refit_residual < first_residual : refit_worst < first_worst;
+  if (first_calibrates && refit_calibrates) return refit_residual < first_residual;
+  return choose_space({first_calibrates, first_worst}, {refit_calibrates, refit_worst}) ==
+         SpaceChoice::kRicher;
 }
 
 }  // namespace model::calibration
