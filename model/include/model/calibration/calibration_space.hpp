@@ -115,7 +115,7 @@ enum class ParameterField : std::uint8_t {
   kBearingComplianceScale,
   // The sun shaft's torsional stiffness scale (DynamicsParameters::sun_shaft_torsion_scale),
   // index 0: never in a space as built, only released after the placement scan
-  // (release_sun_shaft_torsion, resonance_placement.hpp).
+  // (with_sun_shaft_torsion, resonance_placement.hpp).
   kSunShaftTorsion,
 };
 
