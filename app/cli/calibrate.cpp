@@ -757,7 +757,11 @@ Attempt attempt(const CalibrateArgs& args, const std::string& space_name) {
   const bool success = result.fits && !result.at_bound;
   if (!args.quiet) {
     if (run_optimizer) {
-      std::printf("variables (value = prior unless identified; sd/pr = posterior/prior sd):\n");
+      // A variable not identified keeps its start: the prior, or, for the sun shaft's torsion
+      // released in the placement's refit, the value the scan placed it at.
+      std::printf(
+          "variables (value = start unless identified: the prior, or the placement's for "
+          "the sun shaft; sd/pr = posterior/prior sd):\n");
       print_variables(*fitted_space, result);
     }
     for (std::size_t c = 0; c < bundles.size(); ++c) {
